@@ -1,0 +1,105 @@
+#include "core/cvars.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <sstream>
+
+namespace hdrc {
+
+const std::vector<CvarInfo>& cvar_table() {
+  // Defaults and meanings: spec §10 (RenderCore.cpp, PostProcessCombineLUTs.cpp,
+  // PostProcessTonemap.cpp of UE 5.5). Ranges are what a case may ask for: UE clamps the enum
+  // cvars to these ranges; a case outside them is a mistake in the case, not a UE behaviour to
+  // test.
+  static const std::vector<CvarInfo> table = {
+      {"r.HDR.EnableHDROutput", CvarType::kInt, 0, 0, 1,
+       "HDR swap chain on/off (RenderCore.cpp: IsHDREnabled)"},
+      {"r.HDR.Display.OutputDevice", CvarType::kInt, 0, 0, 9,
+       "EDisplayOutputFormat: LUT shaper, device encoding, tonemapper post conversion"},
+      {"r.HDR.Display.ColorGamut", CvarType::kInt, 0, 0, 4,
+       "EDisplayColorGamut: OuputGamutMappingMatrix in CombineLUTs"},
+      {"r.HDR.Display.MaxLuminance", CvarType::kInt, 0, 0, 10000,
+       "display peak nits: ACES tone scale max, scRGB scale (0 resolves to 1000 when HDR is on)"},
+      {"r.HDR.Display.MinLuminanceLog10", CvarType::kFloat, -4.0, -6.0, 0.0,
+       "log10 of the ACES tone scale minimum (nits)"},
+      {"r.HDR.Display.MidLuminance", CvarType::kFloat, 15.0, 1.0, 100.0,
+       "nits of 18% grey after the ACES tone scale"},
+      {"r.HDR.Aces.SceneColorMultiplier", CvarType::kFloat, 1.5, 0.0, 16.0,
+       "scene colour multiplier before the ACES output transform"},
+      {"r.HDR.Aces.GamutCompression", CvarType::kFloat, 0.0, 0.0, 1.0,
+       "blend towards the ACES 1.3 reference gamut compression"},
+      {"r.LUT.Size", CvarType::kInt, 32, 16, 64, "edge length of the CombineLUTs LUT"},
+  };
+  return table;
+}
+
+const CvarInfo* find_cvar(std::string_view name) {
+  for (const auto& c : cvar_table())
+    if (c.name == name) return &c;
+  return nullptr;
+}
+
+namespace {
+size_t edit_distance(std::string_view a, std::string_view b) {
+  std::vector<size_t> prev(b.size() + 1), cur(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) prev[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    cur[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const bool same = std::tolower(static_cast<unsigned char>(a[i - 1])) ==
+                        std::tolower(static_cast<unsigned char>(b[j - 1]));
+      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (same ? 0 : 1)});
+    }
+    std::swap(prev, cur);
+  }
+  return prev[b.size()];
+}
+
+std::string format_number(double v) {
+  std::ostringstream s;
+  s.precision(9);
+  s << v;
+  return s.str();
+}
+}  // namespace
+
+std::vector<std::string> nearest_cvar_names(std::string_view name, size_t n) {
+  std::vector<std::pair<size_t, std::string>> scored;
+  for (const auto& c : cvar_table()) scored.emplace_back(edit_distance(name, c.name), c.name);
+  std::stable_sort(scored.begin(), scored.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<std::string> out;
+  for (size_t i = 0; i < scored.size() && i < n; ++i) out.push_back(scored[i].second);
+  return out;
+}
+
+Status CvarValues::set(std::string_view name, double value) {
+  const CvarInfo* info = find_cvar(name);
+  if (!info) {
+    std::string near;
+    for (const auto& s : nearest_cvar_names(name)) near += (near.empty() ? "" : ", ") + s;
+    return Error{"", "", "unknown cvar '" + std::string(name) + "'", "nearest: " + near};
+  }
+  if (info->type == CvarType::kInt && value != std::floor(value)) {
+    return Error{
+        "", "", "cvar " + std::string(name) + " is an integer, got " + format_number(value),
+        "integers " + format_number(info->min_value) + " to " + format_number(info->max_value)};
+  }
+  if (!(value >= info->min_value && value <= info->max_value)) {
+    return Error{"", "",
+                 "cvar " + std::string(name) + " = " + format_number(value) + " is out of range",
+                 format_number(info->min_value) + " to " + format_number(info->max_value)};
+  }
+  values_[std::string(name)] = value;
+  return {};
+}
+
+double CvarValues::get(std::string_view name) const {
+  auto it = values_.find(std::string(name));
+  if (it != values_.end()) return it->second;
+  const CvarInfo* info = find_cvar(name);
+  return info ? info->default_value : 0.0;
+}
+
+}  // namespace hdrc

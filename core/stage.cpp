@@ -1,0 +1,37 @@
+#include "core/stage.h"
+
+namespace hdrc {
+
+const std::vector<StageInfo>& stage_table() {
+  static const std::vector<StageInfo> table = {
+      {StageId::kShaper,
+       "shaper",
+       "stages/shaper.comp",
+       "LUT shaper of the output device: encode (PQ of 100x for devices 3-9, LinToLog(x + "
+       "LogToLin(0)) for 0-2), clamp to the LUT's [0,1] as the sampler does, decode as "
+       "CombineLUTs does (spec 3.1, 3.2, 3.4, 4.3, 6.1 step 7)",
+       {0, 1, 2, 3, 4, 5, 6, 7, 8, 9}},
+      {StageId::kLinearDevice,
+       "linear_device",
+       "stages/linear_device.comp",
+       "shaper round trip, then device 8 (HDR_LinearNoToneCurve: working colour space) or "
+       "device 7 (HDR_LinearEXR: PQ in the output gamut, decoded by the tonemapper) "
+       "(spec 4.12 rows 7-8, 6.1 step 9)",
+       {7, 8}},
+  };
+  return table;
+}
+
+const StageInfo* find_stage(std::string_view name) {
+  for (const auto& s : stage_table())
+    if (s.name == name) return &s;
+  return nullptr;
+}
+
+std::string stage_names() {
+  std::string out;
+  for (const auto& s : stage_table()) out += (out.empty() ? "" : ", ") + std::string(s.name);
+  return out;
+}
+
+}  // namespace hdrc

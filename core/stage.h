@@ -1,0 +1,28 @@
+// The pipeline stages a case can name. Each stage is one compute shader on the GPU side and one
+// function on the reference side.
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace hdrc {
+
+enum class StageId {
+  kShaper,        // LUT shaper encode → clamp (sampler addressing) → CombineLUTs decode
+  kLinearDevice,  // shaper round trip, then device 7 or 8 encode and the tonemapper's decode
+};
+
+struct StageInfo {
+  StageId id;
+  std::string_view name;         // the name cases use
+  std::string_view shader;       // compute shader, relative to the shader directory
+  std::string_view description;  // one line, with the spec sections it implements
+  std::vector<int> devices;      // output devices the stage is defined for
+};
+
+const std::vector<StageInfo>& stage_table();
+const StageInfo* find_stage(std::string_view name);
+std::string stage_names();  // "shaper, linear_device"
+
+}  // namespace hdrc

@@ -1,0 +1,31 @@
+// The LUT shaper of the output device: encode as ColorLookupTable does (PostProcessTonemap.usf,
+// spec §6.1 step 7), decode as CombineLUTsCommon does (spec §4.3). Reference: reference/lut_shaper.h.
+#ifndef HDRC_LUT_SHAPER_GLSL
+#define HDRC_LUT_SHAPER_GLSL
+
+#include "st2084.glsl"
+#include "ue_log_shaper.glsl"
+
+bool uses_pq_shaper(int output_device) { return output_device >= 3; }
+
+vec3 lut_encode(int output_device, vec3 x) {
+  if (uses_pq_shaper(output_device)) {
+    return vec3(pq_from_nits(x.r * LINEAR_TO_NITS_SCALE), pq_from_nits(x.g * LINEAR_TO_NITS_SCALE),
+                pq_from_nits(x.b * LINEAR_TO_NITS_SCALE));
+  }
+  float black = lin_from_log(0.0);
+  return vec3(log_from_lin(x.r + black), log_from_lin(x.g + black), log_from_lin(x.b + black));
+}
+
+vec3 lut_decode(int output_device, vec3 e) {
+  if (uses_pq_shaper(output_device)) {
+    return vec3(nits_from_pq(e.r), nits_from_pq(e.g), nits_from_pq(e.b)) / LINEAR_TO_NITS_SCALE;
+  }
+  float black = lin_from_log(0.0);
+  return vec3(lin_from_log(e.r), lin_from_log(e.g), lin_from_log(e.b)) - black;
+}
+
+// The sampler's clamp-to-edge addressing applied to the lattice coordinate.
+vec3 lut_clamp(vec3 e) { return vec3(clamp_address(e.r), clamp_address(e.g), clamp_address(e.b)); }
+
+#endif

@@ -1,0 +1,35 @@
+// The IEEE behaviour of the HLSL intrinsics UE's shaders rely on, as D3D (the platform UE 5.5 ships
+// its HDR path on) defines them, so the double-precision reference produces the same non-finite
+// values. GLSL leaves several of these undefined; the GPU port spells each out (gpu/shaders/lib/
+// d3d_math.glsl). Decisions: docs/ue55-decisions.md, "Non-finite values".
+#pragma once
+
+#include <cmath>
+#include <limits>
+
+namespace hdrc::ref::d3d {
+
+inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// HLSL pow(x, y) compiles to exp2(y · log2(x)): NaN for x < 0 (also for x = −Inf, where C's pow
+// would give +Inf), NaN for NaN input.
+inline double pow(double x, double y) {
+  if (std::isnan(x) || x < 0.0) return kNaN;
+  return std::pow(x, y);
+}
+
+// saturate(NaN) = 0 on D3D (D3D11.3 functional spec §3.1.3 / DXIL saturate).
+inline double saturate(double x) {
+  if (std::isnan(x)) return 0.0;
+  return x < 0.0 ? 0.0 : (x > 1.0 ? 1.0 : x);
+}
+
+// A sampler's clamp-to-edge addressing on a coordinate in [0, 1] units. A NaN coordinate selects no
+// defined texel on any API; the reference propagates NaN so that a port producing NaN there is
+// "consistent" and one producing a number is a visible mismatch (docs/ue55-decisions.md).
+inline double clamp_address(double x) {
+  if (std::isnan(x)) return x;
+  return x < 0.0 ? 0.0 : (x > 1.0 ? 1.0 : x);
+}
+
+}  // namespace hdrc::ref::d3d

@@ -1,0 +1,125 @@
+// The hdrconform binary end to end: help and exit codes, bad input, and a planted defect.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#ifndef HDRC_BINARY
+#error "HDRC_BINARY must be defined"
+#endif
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Ran {
+  int code;
+  std::string out;  // stdout and stderr
+};
+
+Ran run(const std::string& args) {
+  const std::string cmd = std::string(HDRC_BINARY) + " " + args + " 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  std::string out;
+  std::array<char, 4096> buf;
+  while (size_t n = fread(buf.data(), 1, buf.size(), p)) out.append(buf.data(), n);
+  const int status = pclose(p);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+fs::path temp_dir(const std::string& name) {
+  fs::path p = fs::temp_directory_path() / ("hdrc_cli_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(p);
+  fs::create_directories(p);
+  return p;
+}
+
+std::string read(const fs::path& p) {
+  std::ifstream f(p);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+TEST(Cli, HelpExplainsOptionsAndExitCodes) {
+  for (const char* sub : {"", "run ", "list ", "devices "}) {
+    const Ran r = run(std::string(sub) + "--help");
+    EXPECT_EQ(r.code, 0) << sub;
+    EXPECT_NE(r.out.find("Exit codes:"), std::string::npos) << sub;
+    EXPECT_NE(r.out.find("3  engine unavailable"), std::string::npos) << sub;
+  }
+  EXPECT_NE(run("run --help").out.find("--shader-dir"), std::string::npos);
+}
+
+TEST(Cli, UsageErrorIsExitCode2) {
+  EXPECT_EQ(run("").code, 2);
+  EXPECT_EQ(run("frobnicate").code, 2);
+  EXPECT_EQ(run("run --engine metal").code, 2);
+}
+
+// A bad case file: one clear error, exit 2, and the previous results are left as they were.
+TEST(Cli, BadCaseFileRunsNothingAndOverwritesNothing) {
+  const fs::path cases = temp_dir("badcases");
+  const fs::path out = temp_dir("badout");
+  {
+    std::ofstream f(cases / "a.json");
+    f << R"({"stage": "shaper", "cvars": {"r.HDR.Display.OutputDevice": 12}, "input": {"stimulus": "log_ramp"}})";
+  }
+  std::ofstream(out / "results.json") << "previous results";
+  const Ran r = run("run --cases " + cases.string() + " --out " + out.string());
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find((cases / "a.json").string() +
+                       ": /cvars/r.HDR.Display.OutputDevice: cvar r.HDR.Display.OutputDevice = 12 "
+                       "is out of range; valid choices: 0 to 9"),
+            std::string::npos)
+      << r.out;
+  EXPECT_EQ(read(out / "results.json"), "previous results");
+  EXPECT_FALSE(fs::exists(out / "junit.xml"));
+  fs::remove_all(cases);
+  fs::remove_all(out);
+}
+
+TEST(Cli, UnavailableDeviceSkipsAndExits3) {
+  const fs::path out = temp_dir("nodevice");
+  const Ran r =
+      run("run --filter 'tonemap/shaper_pq/dev3_*' --device no-such-gpu --out " + out.string());
+  EXPECT_EQ(r.code, 3) << r.out;
+  EXPECT_NE(r.out.find("SKIP"), std::string::npos);
+  EXPECT_NE(r.out.find("0 passed"), std::string::npos);
+  EXPECT_NE(read(out / "junit.xml").find("<skipped"), std::string::npos);
+  fs::remove_all(out);
+}
+
+// Planted defect: one output pixel of the shaper stage altered by 0.1 %. The suite must fail,
+// naming the case and locating the pixel and channel exactly. (A one-ULP change of PQ's m2 is
+// below lavapipe's own float32 error here, see docs/precision.md.)
+TEST(Cli, PlantedDefectOnePixelFailsAndIsLocated) {
+  const fs::path shaders = temp_dir("defect_shaders");
+  const fs::path out = temp_dir("defect_out");
+  fs::copy(fs::path(HDRC_SOURCE_DIR) / "gpu/shaders", shaders, fs::copy_options::recursive);
+  std::string text = read(shaders / "stages/shaper.comp");
+  const std::string from = "  out_px[i] = vec4(rgb, px.a);";
+  const size_t at = text.find(from);
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, from.size(), "  if (i == 517u) rgb.g *= 1.001;\n" + from);
+  std::ofstream(shaders / "stages/shaper.comp") << text;
+
+  const Ran r = run("run --filter 'tonemap/shaper_pq/dev3_log_ramp' --shader-dir " +
+                    shaders.string() + " --out " + out.string());
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_NE(r.out.find("FAIL  tonemap/shaper_pq/dev3_log_ramp  linear rel error"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("(1 values over) at (517, 0) G: input"), std::string::npos) << r.out;
+  const std::string results = read(out / "results.json");
+  EXPECT_NE(results.find("\"verdict\": \"FAIL\""), std::string::npos);
+  EXPECT_NE(read(out / "junit.xml").find("<failure message=\"linear rel error"), std::string::npos);
+  fs::remove_all(shaders);
+  fs::remove_all(out);
+}
+
+}  // namespace
