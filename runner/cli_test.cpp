@@ -21,8 +21,8 @@ struct Ran {
   std::string out;  // stdout and stderr
 };
 
-Ran run(const std::string& args) {
-  const std::string cmd = std::string(HDRC_BINARY) + " " + args + " 2>&1";
+Ran run(const std::string& args, const std::string& env = "") {
+  const std::string cmd = env + std::string(HDRC_BINARY) + " " + args + " 2>&1";
   FILE* p = popen(cmd.c_str(), "r");
   std::string out;
   std::array<char, 4096> buf;
@@ -91,6 +91,18 @@ TEST(Cli, UnavailableDeviceSkipsAndExits3) {
   EXPECT_NE(r.out.find("SKIP"), std::string::npos);
   EXPECT_NE(r.out.find("0 passed"), std::string::npos);
   EXPECT_NE(read(out / "junit.xml").find("<skipped"), std::string::npos);
+  fs::remove_all(out);
+}
+
+// No Vulkan driver at all (an ICD list naming no file): unavailable with the reason, exit 3.
+TEST(Cli, NoVulkanDriverSkipsAndExits3) {
+  const fs::path out = temp_dir("noicd");
+  const Ran r = run("run --filter 'tonemap/linear_dev8/*' --out " + out.string(),
+                    "VK_ICD_FILENAMES=/nonexistent/icd.json ");
+  EXPECT_EQ(r.code, 3) << r.out;
+  EXPECT_NE(r.out.find("candidate unavailable: vulkan engine unavailable"), std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("10 skipped"), std::string::npos) << r.out;
   fs::remove_all(out);
 }
 

@@ -98,6 +98,7 @@ std::string results_json(const RunReport& r) {
         {"worst_rel", pixel(s.worst_rel)},
         {"worst_pq", pixel(s.worst_pq)},
         {"seconds", {{"reference", c.reference_seconds}, {"candidate", c.candidate_seconds}}},
+        {"device", device(r.candidate_device)},
     });
   }
   json doc = {
