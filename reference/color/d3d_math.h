@@ -12,9 +12,9 @@ namespace hdrc::ref::d3d {
 inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // HLSL pow(x, y) compiles to exp2(y · log2(x)): NaN for x < 0 (also for x = −Inf, where C's pow
-// would give +Inf), NaN for NaN input.
+// would give +Inf), NaN for NaN input, and NaN for pow(0, 0) (0 · −Inf), where C's pow gives 1.
 inline double pow(double x, double y) {
-  if (std::isnan(x) || x < 0.0) return kNaN;
+  if (std::isnan(x) || x < 0.0 || (x == 0.0 && y == 0.0)) return kNaN;
   return std::pow(x, y);
 }
 

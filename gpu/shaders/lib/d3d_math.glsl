@@ -5,8 +5,13 @@
 
 float hdrc_nan() { return uintBitsToFloat(0x7fc00000u); }
 
-// HLSL pow(x, y) = exp2(y * log2(x)): NaN for negative or NaN x. GLSL pow is undefined for x < 0.
-float pow_d3d(float x, float y) { return (isnan(x) || x < 0.0) ? hdrc_nan() : pow(x, y); }
+// HLSL pow(x, y) = exp2(y * log2(x)): NaN for negative or NaN x and for pow(0, 0). GLSL pow is
+// undefined for x < 0 and for x = 0, y <= 0.
+float pow_d3d(float x, float y) {
+  if (isnan(x) || x < 0.0 || (x == 0.0 && y == 0.0)) return hdrc_nan();
+  if (x == 0.0) return y > 0.0 ? 0.0 : uintBitsToFloat(0x7f800000u);
+  return pow(x, y);
+}
 
 // HLSL saturate(NaN) = 0 on D3D. GLSL clamp() with NaN is undefined.
 float saturate_d3d(float x) { return isnan(x) ? 0.0 : clamp(x, 0.0, 1.0); }

@@ -1,0 +1,53 @@
+#include "reference/grading/color_correct.h"
+
+#include "reference/color/d3d_math.h"
+#include "reference/color/ue_matrices.h"
+#include "reference/grading/hlsl_ops.h"
+
+namespace hdrc::ref::grading {
+namespace {
+
+Vec4 mul4(const Vec4& a, const Vec4& b) {
+  return {a[0] * b[0], a[1] * b[1], a[2] * b[2], a[3] * b[3]};
+}
+Vec4 add4(const Vec4& a, const Vec4& b) {
+  return {a[0] + b[0], a[1] + b[1], a[2] + b[2], a[3] + b[3]};
+}
+
+}  // namespace
+
+ColorCorrectZone combine_with_global(const ColorCorrectZone& zone, const ColorCorrectZone& global) {
+  return {mul4(zone.saturation, global.saturation), mul4(zone.contrast, global.contrast),
+          mul4(zone.gamma, global.gamma), mul4(zone.gain, global.gain),
+          add4(zone.offset, global.offset)};
+}
+
+Vec3 color_correct(const Vec3& ap1, const ColorCorrectZone& z) {
+  const double luma = dot(ap1, ue_literal::kAp1RgbToY);
+  Vec3 c;
+  for (int i = 0; i < 3; ++i) {
+    double v = hlsl::max(0.0, hlsl::lerp(luma, ap1[i], z.saturation[i] * z.saturation[3]));
+    v = d3d::pow(v * (1.0 / 0.18), z.contrast[i] * z.contrast[3]) * 0.18;
+    v = d3d::pow(v, 1.0 / (z.gamma[i] * z.gamma[3]));
+    c[i] = v * (z.gain[i] * z.gain[3]) + (z.offset[i] + z.offset[3]);
+  }
+  return c;
+}
+
+ZoneWeights color_correct_weights(double luma_ap1, const ColorCorrectParams& p) {
+  const double shadows = 1.0 - hlsl::smoothstep(0.0, p.shadows_max, luma_ap1);
+  const double highlights = hlsl::smoothstep(p.highlights_min, p.highlights_max, luma_ap1);
+  return {shadows, 1.0 - shadows - highlights, highlights};
+}
+
+Vec3 color_correct_all(const Vec3& ap1, const ColorCorrectParams& p) {
+  const ZoneWeights w = color_correct_weights(dot(ap1, ue_literal::kAp1RgbToY), p);
+  const Vec3 s = color_correct(ap1, combine_with_global(p.shadows, p.global));
+  const Vec3 h = color_correct(ap1, combine_with_global(p.highlights, p.global));
+  const Vec3 m = color_correct(ap1, combine_with_global(p.midtones, p.global));
+  Vec3 out;
+  for (int i = 0; i < 3; ++i) out[i] = s[i] * w.shadows + m[i] * w.midtones + h[i] * w.highlights;
+  return out;
+}
+
+}  // namespace hdrc::ref::grading
