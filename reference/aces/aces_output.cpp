@@ -1,0 +1,193 @@
+#include "reference/aces/aces_output.h"
+
+#include <cmath>
+
+#include "reference/aces/aces_common.h"
+#include "reference/color/d3d_math.h"
+#include "reference/color/ue_matrices.h"
+
+namespace hdrc::ref::aces {
+namespace {
+
+namespace lit = ue_literal;
+
+// ACES.ush constants.
+constexpr double kHalfPosInf = 65535.0;  // HALF_POS_INF (sic, not 65504)
+constexpr double kHalfMax = 65504.0;     // HALF_MAX
+constexpr double kRrtGlowGain = 0.05;    // RRT_GLOW_GAIN
+constexpr double kRrtGlowMid = 0.08;     // RRT_GLOW_MID
+constexpr double kRrtRedScale = 0.82;    // RRT_RED_SCALE
+constexpr double kRrtRedPivot = 0.03;    // RRT_RED_PIVOT
+constexpr double kRrtRedHue = 0.0;       // RRT_RED_HUE, degrees
+constexpr double kRrtRedWidth = 135.0;   // RRT_RED_WIDTH, degrees
+constexpr double kRrtSatFactor = 0.96;   // RRT_SAT_FACTOR
+// compressColor: LIM_CYAN/MAGENTA/YELLOW, THR_CYAN/MAGENTA/YELLOW, PWR.
+constexpr Vec3 kCompressLimit{1.147, 1.264, 1.312};
+constexpr Vec3 kCompressThreshold{0.815, 0.803, 0.880};
+constexpr double kCompressPower = 1.2;
+
+// HLSL clamp(x, lo, hi) = min(max(x, lo), hi) with maxNum/minNum: NaN → lo.
+double hlsl_clamp(double x, double lo, double hi) {
+  return std::fmin(std::fmax(x, lo), hi);
+}
+
+Vec3 hlsl_clamp(const Vec3& v, double lo, double hi) {
+  return {hlsl_clamp(v[0], lo, hi), hlsl_clamp(v[1], lo, hi), hlsl_clamp(v[2], lo, hi)};
+}
+
+// HLSL lerp(a, b, t) = a + t·(b − a).
+double lerp(double a, double b, double t) {
+  return a + t * (b - a);
+}
+
+// ACES.ush: ssts, one spline half. knot_coord = (N_KNOTS − 1)·(lx − lo)/(hi − lo), j = int() (the
+// HLSL float→int conversion truncates toward zero; knot_coord > 0 here), t = knot_coord − j;
+// logy = (t², t, 1) · mul(cf, M1) with M1 = [[0.5, −1, 0.5], [−1, 1, 0.5], [0.5, 0, 0]] applied
+// to the row vector cf = coefs[j..j+2].
+double spline_half(double lx, double log_lo, double log_hi, const std::array<double, 6>& coefs) {
+  const double knot_coord = 3.0 * (lx - log_lo) / (log_hi - log_lo);
+  const int j = static_cast<int>(knot_coord);
+  const double t = knot_coord - j;
+  const double c0 = coefs[j], c1 = coefs[j + 1], c2 = coefs[j + 2];
+  const double a = 0.5 * c0 - c1 + 0.5 * c2;
+  const double b = -c0 + c1;
+  const double c = 0.5 * c0 + 0.5 * c1;
+  return t * t * a + t * b + c;
+}
+
+// ACES.ush: compress — distance compression above the threshold (forward only).
+double compress(double dist, double lim, double thr, double pwr) {
+  if (dist < thr) return dist;
+  const double scl =
+      (lim - thr) / d3d::pow(d3d::pow((1.0 - thr) / (lim - thr), -pwr) - 1.0, 1.0 / pwr);
+  const double nd = (dist - thr) / scl;
+  const double p = d3d::pow(nd, pwr);
+  return thr + scl * nd / d3d::pow(1.0 + p, 1.0 / pwr);
+}
+
+// ACES.ush: limit_to_primaries with LIMITING_PRI = ACEScg (XYZ_2_AP1_MAT / AP1_2_XYZ_MAT).
+Vec3 limit_to_ap1(const Vec3& xyz) {
+  return lit::kAp1ToXyz * hlsl_clamp(lit::kXyzToAp1 * xyz, 0.0, 1.0);
+}
+
+// TonemapCommon.ush: ACESOutputTransforms1000/2000 body.
+Vec3 aces_output_transforms(const Vec3& scene_linear, const Mat3& wcs_to_ap0,
+                            const AcesShaderParams& params) {
+  const double scm = params.scene_color_multiplier;
+  Vec3 aces =
+      wcs_to_ap0 * Vec3{scene_linear[0] * scm, scene_linear[1] * scm, scene_linear[2] * scm};
+  const Vec3 compressed = compress_color(aces);
+  for (int i = 0; i < 3; ++i) aces[i] = lerp(aces[i], compressed[i], params.gamut_compression);
+  return output_transform(aces, params.aces_params);
+}
+
+}  // namespace
+
+AcesShaderParams compute_aces_tonemap_params(const AcesTonemapParams& packed) {
+  AcesShaderParams out;
+  TsParams& p = out.aces_params;
+  p.min = {packed.min_max_data[0], packed.min_max_data[1], 0.0};
+  p.mid = {packed.mid_data[0], packed.mid_data[1], packed.mid_data[2]};
+  p.max = {packed.min_max_data[2], packed.min_max_data[3], 0.0};
+  p.coefs_low = {packed.coefs_low_0[0], packed.coefs_low_0[1], packed.coefs_low_0[2],
+                 packed.coefs_low_0[3], packed.coefs_low_4,    packed.coefs_low_4};
+  p.coefs_high = {packed.coefs_high_0[0], packed.coefs_high_0[1], packed.coefs_high_0[2],
+                  packed.coefs_high_0[3], packed.coefs_high_4,    packed.coefs_high_4};
+  out.scene_color_multiplier = packed.scene_color_multiplier;
+  out.gamut_compression = packed.gamut_compression;
+  return out;
+}
+
+double ssts(double x, const TsParams& c) {
+  // max(x, 1e-10) is maxNum: NaN → 1e-10, i.e. NaN maps to Min.y like any x ≤ Min.x.
+  const double lx = std::log10(std::fmax(x, 1e-10));
+  const double log_min_x = std::log10(c.min.x);
+  const double log_mid_x = std::log10(c.mid.x);
+  const double log_max_x = std::log10(c.max.x);
+  double ly;
+  if (lx <= log_min_x) {
+    ly = lx * c.min.slope + (std::log10(c.min.y) - c.min.slope * log_min_x);
+  } else if (lx > log_min_x && lx < log_mid_x) {
+    ly = spline_half(lx, log_min_x, log_mid_x, c.coefs_low);
+  } else if (lx >= log_mid_x && lx < log_max_x) {
+    ly = spline_half(lx, log_mid_x, log_max_x, c.coefs_high);
+  } else {
+    ly = lx * c.max.slope + (std::log10(c.max.y) - c.max.slope * log_max_x);
+  }
+  return d3d::pow(10.0, ly);  // ACES.ush: pow10(x) = pow(10, x)
+}
+
+Vec3 rrt_sweeteners(const Vec3& in_value) {
+  Vec3 aces = in_value;
+
+  // Glow module.
+  const double saturation = rgb_2_saturation(aces);
+  const double yc_in = rgb_2_yc(aces);
+  const double s = sigmoid_shaper((saturation - 0.4) / 0.2);
+  const double added_glow = 1.0 + glow_fwd(yc_in, kRrtGlowGain * s, kRrtGlowMid);
+  for (double& v : aces) v *= added_glow;
+
+  // Red modifier: hue after glow, saturation from before it (as ACES.ush).
+  const double hue = rgb_2_hue(aces);
+  const double centered_hue = center_hue(hue, kRrtRedHue);
+  const double hue_weight = cubic_basis_shaper(centered_hue, kRrtRedWidth);
+  aces[0] += hue_weight * saturation * (kRrtRedPivot - aces[0]) * (1.0 - kRrtRedScale);
+
+  // ACES to the AP1 rendering space; clamp() maps NaN to 0 (see header).
+  aces = hlsl_clamp(aces, 0.0, kHalfPosInf);
+  Vec3 rgb_pre = hlsl_clamp(lit::kAp0ToAp1 * aces, 0.0, kHalfMax);
+
+  // Global desaturation: lerp(dot(rgbPre, AP1_RGB2Y), rgbPre, RRT_SAT_FACTOR).
+  const double y = dot(rgb_pre, lit::kAp1RgbToY);
+  for (double& v : rgb_pre) v = lerp(y, v, kRrtSatFactor);
+  return rgb_pre;
+}
+
+Vec3 compress_color(const Vec3& aces) {
+  const Vec3 lin_ap1 = lit::kAp0ToAp1 * aces;
+  // max_f3 is maxNum-based; comparisons with NaN are false, so a NaN `ach` does not bypass.
+  const double ach = std::fmax(lin_ap1[0], std::fmax(lin_ap1[1], lin_ap1[2]));
+  Vec3 compr_lin_ap1 = lin_ap1;
+  if (!(ach < 1e-10 || aces[0] < 0.0 || aces[1] < 0.0 || aces[2] < 0.0)) {
+    for (int i = 0; i < 3; ++i) {
+      const double dist = (ach - lin_ap1[i]) / std::fabs(ach);
+      const double compr_dist =
+          compress(dist, kCompressLimit[i], kCompressThreshold[i], kCompressPower);
+      compr_lin_ap1[i] = ach - compr_dist * std::fabs(ach);
+    }
+  }
+  return lit::kAp1ToAp0 * compr_lin_ap1;
+}
+
+Vec3 output_transform(const Vec3& aces, const TsParams& params) {
+  const double y_min = params.min.y;  // Y_MIN, nits
+  const double y_max = params.max.y;  // Y_MAX, nits
+
+  const Vec3 rgb_pre = rrt_sweeteners(aces);
+  Vec3 linear_cv;
+  for (int i = 0; i < 3; ++i) {
+    const double rgb_post = ssts(rgb_pre[i], params);     // nits, AP1
+    linear_cv[i] = (rgb_post - y_min) / (y_max - y_min);  // Y_2_linCV
+  }
+  // AP1 → XYZ; dark surround: no adjustment; limit to the AP1 primaries; the display white is D60
+  // so no CAT; XYZ → display primaries (AP1).
+  const Vec3 xyz = limit_to_ap1(lit::kAp1ToXyz * linear_cv);
+  linear_cv = hlsl_clamp(lit::kXyzToAp1 * xyz, 0.0, kHalfPosInf);
+  // EOTF 4 (linear) with STRETCH_BLACK: clamp(linCV_2_Y(linearCV, Y_MAX, 0), 0, HALF_POS_INF).
+  Vec3 out;
+  for (int i = 0; i < 3; ++i)
+    out[i] = hlsl_clamp(linear_cv[i] * (y_max - 0.0) + 0.0, 0.0, kHalfPosInf);
+  return out;
+}
+
+Vec3 aces_output_transforms_1000(const Vec3& scene_linear, const Mat3& wcs_to_ap0,
+                                 const AcesShaderParams& params) {
+  return aces_output_transforms(scene_linear, wcs_to_ap0, params);
+}
+
+Vec3 aces_output_transforms_2000(const Vec3& scene_linear, const Mat3& wcs_to_ap0,
+                                 const AcesShaderParams& params) {
+  return aces_output_transforms(scene_linear, wcs_to_ap0, params);
+}
+
+}  // namespace hdrc::ref::aces
