@@ -11,6 +11,7 @@ endmacro()
 
 hdrc_require(OpenImageIO libopenimageio-dev CONFIG)
 hdrc_require(OpenEXR libopenexr-dev CONFIG)
+hdrc_require(Imath libimath-dev CONFIG)
 hdrc_require(GTest libgtest-dev)
 hdrc_require(nlohmann_json nlohmann-json3-dev CONFIG)
 hdrc_require(CLI11 libcli11-dev CONFIG)

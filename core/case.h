@@ -5,6 +5,7 @@
 
 #include "core/cvars.h"
 #include "core/image.h"
+#include "core/settings.h"
 #include "core/shader_interface.h"
 #include "core/stage.h"
 
@@ -35,6 +36,7 @@ struct Case {
   std::string file;  // the case file it came from
   const StageInfo* stage = nullptr;
   CvarValues cvars;
+  SettingValues settings;  // post-process and view settings (UE defaults when unset)
   InputSpec input;
   Tolerance tolerance;
 };
@@ -44,6 +46,9 @@ struct ResolvedCase {
   Case spec;
   ParamBlock params;
   Image input;
+  // Non-empty when UE computes degenerate parameters for this combination (e.g. an ACES device
+  // while MaxLuminance resolves to 0): the case is reported as DEGENERATE, never evaluated as a pass.
+  std::string degenerate;
 };
 
 }  // namespace hdrc

@@ -6,8 +6,8 @@
 namespace hdrc {
 
 namespace {
-// std430 rules for the three field kinds: scalars align to 4 bytes; an array of vec4 aligns to 16
-// with a 16-byte stride.
+// std430 rules for the field kinds: scalars align to 4 bytes; a vec4 and an array of vec4 align to
+// 16 (arrays with a 16-byte stride).
 uint32_t align_up(uint32_t v, uint32_t a) {
   return (v + a - 1) / a * a;
 }
@@ -16,27 +16,29 @@ std::vector<FieldLayout> compute_layout() {
   std::vector<FieldLayout> out;
   uint32_t offset = 0;
   auto add = [&](char type, const char* name) {
-    const uint32_t align = type == 'M' ? 16 : 4;
-    const uint32_t size = type == 'M' ? 48 : 4;
+    const uint32_t align = (type == 'M' || type == 'V') ? 16 : 4;
+    const uint32_t size = type == 'M' ? 48 : (type == 'V' ? 16 : 4);
     offset = align_up(offset, align);
     out.push_back({name, type, offset});
     offset += size;
   };
 #define HDRC_X_I(name) add('I', #name);
 #define HDRC_X_F(name) add('F', #name);
+#define HDRC_X_V4(name) add('V', #name);
 #define HDRC_X_M3(name) add('M', #name);
 #define HDRC_X(type, name, doc) HDRC_X_##type(name)
   HDRC_PARAM_BLOCK(HDRC_X)
 #undef HDRC_X
 #undef HDRC_X_I
 #undef HDRC_X_F
+#undef HDRC_X_V4
 #undef HDRC_X_M3
   return out;
 }
 
 uint32_t block_size(const std::vector<FieldLayout>& layout) {
   const auto& last = layout.back();
-  return align_up(last.offset + (last.type == 'M' ? 48 : 4), 16);
+  return align_up(last.offset + (last.type == 'M' ? 48 : (last.type == 'V' ? 16 : 4)), 16);
 }
 }  // namespace
 
@@ -50,9 +52,16 @@ std::vector<uint8_t> pack_std430(const ParamBlock& p) {
   std::vector<uint8_t> bytes(block_size(layout), 0);
   size_t i = 0;
   auto put_i = [&](int32_t v) { std::memcpy(&bytes[layout[i++].offset], &v, 4); };
-  [[maybe_unused]] auto put_f = [&](double v) {
+  auto put_f = [&](double v) {
     const float f = static_cast<float>(v);
     std::memcpy(&bytes[layout[i++].offset], &f, 4);
+  };
+  auto put_v = [&](const std::array<double, 4>& v) {
+    const uint32_t base = layout[i++].offset;
+    for (int c = 0; c < 4; ++c) {
+      const float f = static_cast<float>(v[c]);
+      std::memcpy(&bytes[base + c * 4], &f, 4);
+    }
   };
   auto put_m = [&](const ref::Mat3& m) {
     const uint32_t base = layout[i++].offset;
@@ -64,12 +73,14 @@ std::vector<uint8_t> pack_std430(const ParamBlock& p) {
   };
 #define HDRC_X_I(name) put_i(p.name);
 #define HDRC_X_F(name) put_f(p.name);
+#define HDRC_X_V4(name) put_v(p.name);
 #define HDRC_X_M3(name) put_m(p.name);
 #define HDRC_X(type, name, doc) HDRC_X_##type(name)
   HDRC_PARAM_BLOCK(HDRC_X)
 #undef HDRC_X
 #undef HDRC_X_I
 #undef HDRC_X_F
+#undef HDRC_X_V4
 #undef HDRC_X_M3
   return bytes;
 }
@@ -84,12 +95,14 @@ std::string glsl_param_block() {
   s << "layout(std430, set = 0, binding = HDRC_BINDING_PARAMS) readonly buffer HdrcParams {\n";
 #define HDRC_X_I(name) s << "  int " #name ";\n";
 #define HDRC_X_F(name) s << "  float " #name ";\n";
+#define HDRC_X_V4(name) s << "  vec4 " #name ";\n";
 #define HDRC_X_M3(name) s << "  vec4 " #name "[3];\n";
 #define HDRC_X(type, name, doc) HDRC_X_##type(name)
   HDRC_PARAM_BLOCK(HDRC_X)
 #undef HDRC_X
 #undef HDRC_X_I
 #undef HDRC_X_F
+#undef HDRC_X_V4
 #undef HDRC_X_M3
   s << "} P;\n";
   s << "layout(std430, set = 0, binding = HDRC_BINDING_INPUT) readonly buffer HdrcInput "

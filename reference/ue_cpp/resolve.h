@@ -1,7 +1,11 @@
-// From cvars to the parameters the shaders receive, as UE 5.5's C++ computes them
-// (PostProcessTonemap.cpp: GetTonemapperOutputDeviceParameters, PostProcessCombineLUTs.cpp,
-// SceneManagement.cpp: FDefaultWorkingColorSpaceUniformBuffer). Both engines get the result.
+// From cvars and settings to the parameters the shaders receive, as UE 5.5's C++ computes them:
+// PostProcessTonemap.cpp: GetTonemapperOutputDeviceParameters, PostProcessCombineLUTs.cpp
+// (FCombineLUTParameters, GetMappingPolynomial), RenderCore.cpp: HDRConfigureCVars /
+// ConfigureACESTonemapParams, UnrealEngine.cpp: HDRSettingChangedSinkCallback (the 0 → 1000 rule),
+// SceneManagement.cpp: FDefaultWorkingColorSpaceUniformBuffer. Both engines get the result.
 #pragma once
+
+#include <string>
 
 #include "core/case.h"
 #include "core/result.h"
@@ -12,7 +16,18 @@ namespace hdrc::ref {
 // The working colour space of every case unless it names another (UE's default project setting).
 const Chromaticities& default_working_chromaticities();
 
-// Resolves the case's cvars for an image of `width` × `height`. The error names the cvar.
+struct Resolution {
+  ParamBlock params;
+  std::string degenerate;  // why UE's parameters are degenerate here ("" when they are not)
+};
+
+// Resolves the case's cvars and settings for an image of `width` × `height`.
+Result<Resolution> resolve(const Case& c, int width, int height);
+
+// Kept for the stages that need only the block.
 Result<ParamBlock> resolve_params(const Case& c, int width, int height);
+
+// Halton(index, base), the radical inverse used for the dither grain offset.
+double halton(int index, int base);
 
 }  // namespace hdrc::ref

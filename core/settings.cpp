@@ -1,0 +1,141 @@
+#include "core/settings.h"
+
+#include <algorithm>
+#include <cctype>
+#include <sstream>
+
+namespace hdrc {
+
+namespace {
+constexpr Vec4d k1{1, 1, 1, 1};
+constexpr Vec4d k0{0, 0, 0, 0};
+Vec4d s(double v) {
+  return {v, 0, 0, 0};
+}
+}  // namespace
+
+const std::vector<SettingInfo>& setting_table() {
+  // Scene.cpp: FPostProcessSettings constructor (UE 5.5), spec §4.1; view values from
+  // FViewInfo (ColorScale / OverlayColor camera fade) and GEngine->DisplayGamma.
+  static const std::vector<SettingInfo> table = [] {
+    std::vector<SettingInfo> t = {
+        {"WhiteTemp", 1, s(6500), 1000, 40000, "white balance temperature, K"},
+        {"WhiteTint", 1, s(0), -1, 1, "white balance tint"},
+        {"TemperatureType", 1, s(0), 0, 1,
+         "0 TEMP_WhiteBalance, 1 TEMP_ColorTemperature (swaps source and destination white)"},
+        {"ColorCorrectionShadowsMax", 1, s(0.09), -1, 1, "ColorCorrectAll shadow range"},
+        {"ColorCorrectionHighlightsMin", 1, s(0.5), -1, 2, "ColorCorrectAll highlight start"},
+        {"ColorCorrectionHighlightsMax", 1, s(1.0), 0, 10, "ColorCorrectAll highlight end"},
+        {"BlueCorrection", 1, s(0.6), 0, 1, "SDR film path blue correction"},
+        {"ExpandGamut", 1, s(1.0), 0, 1, "fake wide gamut amount"},
+        {"ToneCurveAmount", 1, s(1.0), 0, 1, "FilmToneMap blend"},
+        {"FilmSlope", 1, s(0.88), 0, 1, "FilmToneMap slope"},
+        {"FilmToe", 1, s(0.55), 0, 1, "FilmToneMap toe"},
+        {"FilmShoulder", 1, s(0.26), 0, 1, "FilmToneMap shoulder"},
+        {"FilmBlackClip", 1, s(0.0), 0, 1, "FilmToneMap black clip"},
+        {"FilmWhiteClip", 1, s(0.04), 0, 1, "FilmToneMap white clip"},
+        {"ViewColorScale", 4, k1, 0, 16, "View.ColorScale (camera fade), rgb"},
+        {"ViewOverlayColor", 4, k0, 0, 16, "View.OverlayColor (camera fade), rgb and blend in a"},
+        {"DisplayGamma", 1, s(2.2), 1, 5, "GEngine->DisplayGamma (InverseGamma)"},
+        {"SceneColorTint", 4, k1, 0, 16, "tonemapper SceneColorTint, rgb"},
+        {"Exposure", 1, s(1.0), 0, 1e6,
+         "OneOverPreExposure * GlobalExposure applied by the tonemapper (eye adaptation result)"},
+        {"VignetteIntensity", 1, s(0.4), 0, 1, "tonemapper vignette"},
+        {"BloomIntensity", 1, s(0.675), 0, 8, "bloom intensity (divides the dirt mask tint)"},
+        {"BloomDirtMaskIntensity", 1, s(0.0), 0, 8, "dirt mask intensity"},
+        {"BloomDirtMaskTint", 4, {0.5, 0.5, 0.5, 1}, 0, 8, "dirt mask tint, rgb"},
+        {"Sharpen", 1, s(0.0), 0, 10, "tonemapper sharpen (r.Tonemapper.Sharpen < 0)"},
+        {"SceneFringeIntensity", 1, s(0.0), 0, 5, "chromatic aberration intensity"},
+        {"ChromaticAberrationStartOffset", 1, s(0.0), 0, 1, "chromatic aberration start offset"},
+        {"FrameIndex", 1, s(0), 0, 1e9, "view-state OutputFrameIndex (dither Halton index, mod 8)"},
+        // Platform properties rather than UE settings (FSceneViewState::CreateLUTRenderTarget picks
+        // them from RHI capabilities); cases choose them to cover every path a port may take.
+        {"LUTFormat", 1, s(0), 0, 2,
+         "LUT storage: 0 A2B10G10R10 UNORM (UE default), 1 RGBA16F (PF_FloatRGBA), 2 RGBA32F"},
+        {"LUTLayout", 1, s(0), 0, 1, "LUT layout: 0 volume N^3 (desktop), 1 2-D unwrapped N^2 x N"},
+    };
+    // ColorCorrectAll: global and per-zone Saturation/Contrast/Gamma/Gain/Offset (vec4).
+    static const std::vector<std::string> cc_names = [] {
+      std::vector<std::string> n;
+      for (const char* zone : {"", "Shadows", "Midtones", "Highlights"})
+        for (const char* control : {"Saturation", "Contrast", "Gamma", "Gain", "Offset"})
+          n.push_back(std::string("Color") + control + zone);
+      return n;
+    }();
+    for (const std::string& n : cc_names) {
+      const bool offset = n.rfind("ColorOffset", 0) == 0;
+      const bool gamma = n.rfind("ColorGamma", 0) == 0;
+      t.push_back({n, 4, offset ? k0 : k1, offset ? -1.0 : (gamma ? 0.01 : 0.0),
+                   offset ? 1.0 : 10.0, "ColorCorrectAll control (rgb, w multiplies/adds all)"});
+    }
+    return t;
+  }();
+  return table;
+}
+
+const SettingInfo* find_setting(std::string_view name) {
+  for (const auto& s : setting_table())
+    if (s.name == name) return &s;
+  return nullptr;
+}
+
+std::vector<std::string> nearest_setting_names(std::string_view name, size_t n) {
+  auto distance = [](std::string_view a, std::string_view b) {
+    std::vector<size_t> prev(b.size() + 1), cur(b.size() + 1);
+    for (size_t j = 0; j <= b.size(); ++j) prev[j] = j;
+    for (size_t i = 1; i <= a.size(); ++i) {
+      cur[0] = i;
+      for (size_t j = 1; j <= b.size(); ++j) {
+        const bool same = std::tolower(static_cast<unsigned char>(a[i - 1])) ==
+                          std::tolower(static_cast<unsigned char>(b[j - 1]));
+        cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (same ? 0 : 1)});
+      }
+      std::swap(prev, cur);
+    }
+    return prev[b.size()];
+  };
+  std::vector<std::pair<size_t, std::string>> scored;
+  for (const auto& s : setting_table()) scored.emplace_back(distance(name, s.name), s.name);
+  std::stable_sort(scored.begin(), scored.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<std::string> out;
+  for (size_t i = 0; i < scored.size() && i < n; ++i) out.push_back(scored[i].second);
+  return out;
+}
+
+Status SettingValues::set(std::string_view name, const Vec4d& value, int components) {
+  const SettingInfo* info = find_setting(name);
+  if (!info) {
+    std::string near;
+    for (const auto& s : nearest_setting_names(name)) near += (near.empty() ? "" : ", ") + s;
+    return Error{"", "", "unknown setting '" + std::string(name) + "'", "nearest: " + near};
+  }
+  if (components != info->components) {
+    return Error{"", "",
+                 "setting " + std::string(name) + " takes " +
+                     (info->components == 1 ? "a number" : "4 numbers [r, g, b, a]"),
+                 info->components == 1 ? "a number" : "an array of 4 numbers"};
+  }
+  for (int c = 0; c < components; ++c) {
+    if (!(value[c] >= info->min_value && value[c] <= info->max_value)) {
+      std::ostringstream msg, range;
+      msg << "setting " << name << (components > 1 ? "[" + std::to_string(c) + "]" : "") << " = "
+          << value[c] << " is out of range";
+      range << info->min_value << " to " << info->max_value;
+      return Error{"", "", msg.str(), range.str()};
+    }
+  }
+  Vec4d v = info->default_value;
+  for (int c = 0; c < components; ++c) v[c] = value[c];
+  values_[std::string(name)] = v;
+  return {};
+}
+
+Vec4d SettingValues::get4(std::string_view name) const {
+  auto it = values_.find(std::string(name));
+  if (it != values_.end()) return it->second;
+  const SettingInfo* info = find_setting(name);
+  return info ? info->default_value : Vec4d{0, 0, 0, 0};
+}
+
+}  // namespace hdrc

@@ -1,0 +1,42 @@
+// Post-process and view settings a case may set (UE's FPostProcessSettings members and the view
+// values CombineLUTs and the tonemapper read), with UE 5.5's defaults
+// (Scene.cpp: FPostProcessSettings::FPostProcessSettings, spec §4.1, §6.1).
+#pragma once
+
+#include <array>
+#include <map>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/result.h"
+
+namespace hdrc {
+
+struct SettingInfo {
+  std::string_view name;
+  int components;  // 1 (scalar) or 4 (a vec4 / linear colour with alpha)
+  std::array<double, 4> default_value;
+  double min_value, max_value;  // inclusive, per component
+  std::string_view feeds;
+};
+
+const std::vector<SettingInfo>& setting_table();
+const SettingInfo* find_setting(std::string_view name);
+std::vector<std::string> nearest_setting_names(std::string_view name, size_t n = 3);
+
+using Vec4d = std::array<double, 4>;
+
+class SettingValues {
+ public:
+  // Scalars are given as {v, 0, 0, 0}. Validates name, arity (`components`) and range.
+  Status set(std::string_view name, const Vec4d& value, int components);
+  double get(std::string_view name) const { return get4(name)[0]; }
+  Vec4d get4(std::string_view name) const;
+  const std::map<std::string, Vec4d>& explicit_values() const { return values_; }
+
+ private:
+  std::map<std::string, Vec4d> values_;
+};
+
+}  // namespace hdrc

@@ -1,0 +1,59 @@
+// CombineLUTs (PostProcessCombineLUTs.usf: CombineLUTsCommon, spec §4): the colour function of one
+// LUT texel, the bake of the whole LUT in its storage format and layout, and the tonemapper's
+// lookup into it (PostProcessTonemap.usf: ColorLookupTable, spec §6.1 step 7).
+#pragma once
+
+#include <vector>
+
+#include "core/shader_interface.h"
+#include "reference/color/vec.h"
+
+namespace hdrc::ref {
+
+// Every intermediate value of one texel, for `hdrconform probe --stage`.
+struct CombineLutsTrace {
+  Vec3 lattice{};          // the neutral lattice coordinate (shaper-encoded)
+  Vec3 decoded{};          // LinearColor: shaper decoded, working colour space
+  Vec3 white_balanced{};   // after WhiteBalance (or skipped)
+  Vec3 ap1{};              // ToAP1 · balanced
+  Vec3 expanded{};         // after fake wide gamut
+  Vec3 color_corrected{};  // after ColorCorrectAll (AP1)
+  Vec3 film{};             // SDR film path: FilmColor after r.Color and fade, before gamma
+  Vec3 graded{};           // GradedColor: FromAP1 · AP1 with fade (HDR / linear devices)
+  Vec3 aces_nits{};        // ACES output transform, nits in AP1 (devices 3-6)
+  Vec3 device{};           // OutDeviceColor
+  Vec3 stored{};           // OutDeviceColor / 1.05 (before storage quantisation)
+};
+
+// The colour function at a lattice coordinate (each channel in [0, 1]).
+Vec3 combine_luts_texel(const ParamBlock& p, const Vec3& lattice,
+                        CombineLutsTrace* trace = nullptr);
+
+// Rounds a stored value to what the LUT's storage format holds (p.lut_format): 10-bit UNORM
+// (clamped to [0, 1], round to nearest k/1023, NaN → 0 as D3D's float→UNORM conversion), IEEE
+// half (round to nearest even, overflow → ±Inf), or float32.
+double quantize_lut_value(int lut_format, double v);
+
+// The baked LUT: N³ texels (r fastest, then g, then b), stored values after quantisation.
+struct BakedLut {
+  int size = 0;
+  int layout = 0;  // 0 volume, 1 2-D unwrapped
+  std::vector<Vec3> texels;
+  const Vec3& at(int r, int g, int b) const {
+    return texels[(static_cast<size_t>(b) * size + g) * size + r];
+  }
+};
+
+// Bakes the LUT as the GPU does: volume texels at (i, j, k)/(N−1); 2-D texels with UE's
+// +1e-5/(N−1) bias on r and g from the 0.49999 half-texel trick (spec §4.2).
+BakedLut bake_lut(const ParamBlock& p);
+
+// The lattice coordinate of texel (r, g, b) for the layout (spec §4.2).
+Vec3 lattice_coordinate(int layout, int size, int r, int g, int b);
+
+// The tonemapper's lookup of an encoded colour (`ColorLookupTable` after the shaper encode):
+// UVW = enc·(N−1)/N + 0.5/N, exact trilinear for the volume LUT or UE's two-tap
+// UnwrappedTexture3DSample for the 2-D LUT, clamp-to-edge addressing; returns the sample × 1.05.
+Vec3 sample_lut(const BakedLut& lut, const Vec3& encoded);
+
+}  // namespace hdrc::ref

@@ -1,0 +1,156 @@
+// CombineLUTs against hand-derived values (spec §13), UE's quirks and properties over every
+// output device × gamut.
+#include "reference/combine_luts.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "reference/color/st2084.h"
+#include "reference/lut_shaper.h"
+#include "reference/ue_cpp/resolve.h"
+
+namespace {
+
+using hdrc::ref::Vec3;
+
+hdrc::ParamBlock params(int device, int gamut, bool hdr = true) {
+  hdrc::Case c;
+  c.cvars.set("r.HDR.EnableHDROutput", hdr ? 1 : 0);
+  c.cvars.set("r.HDR.Display.OutputDevice", device);
+  c.cvars.set("r.HDR.Display.ColorGamut", gamut);
+  return *hdrc::ref::resolve_params(c, 1, 1);
+}
+
+Vec3 grey_texel(const hdrc::ParamBlock& p, double scene, hdrc::ref::CombineLutsTrace* t) {
+  const double e = hdrc::ref::lut_encode(p.output_device, scene);
+  return hdrc::ref::combine_luts_texel(p, {e, e, e}, t);
+}
+
+// Spec §13: SDR sRGB code for scene grey 0.18 ≈ 0.4613561 and for 1.0 ≈ 0.8668283, ignoring the
+// blue-correction grey drift (measured 2.7e-6 by the grading tests) and the LUT.
+TEST(CombineLuts, SdrGreyMatchesHandDerived) {
+  const auto p = params(0, 0, false);
+  hdrc::ref::CombineLutsTrace t;
+  grey_texel(p, 0.18, &t);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(t.device[c], 0.4613561, 5e-6) << c;
+  grey_texel(p, 1.0, &t);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(t.device[c], 0.8668283, 5e-6) << c;
+  EXPECT_NEAR(t.stored[1], t.device[1] / 1.05, 1e-15);
+}
+
+// Spec §13 HDR grey chain (SCM 1.5, GC 0, max 1000): scene 0.18 → 25.497585 nits → PQ 0.378296436
+// (LUT stores 0.360282320), "ignoring gamut-matrix grey drift"; with AP1 output (gamut 4) there is
+// no drift beyond the WCS matrices.
+TEST(CombineLuts, HdrGreyChainMatchesHandDerived) {
+  const auto p = params(3, 4);
+  hdrc::ref::CombineLutsTrace t;
+  grey_texel(p, 0.18, &t);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(t.aces_nits[c], 25.497585, 25.497585 * 2e-6) << c;
+    EXPECT_NEAR(t.device[c], 0.378296436, 2e-6) << c;
+    EXPECT_NEAR(t.stored[c], 0.360282320, 2e-6) << c;
+  }
+  grey_texel(p, 1.0, &t);
+  EXPECT_NEAR(t.device[1], 0.552035909, 2e-6);
+  grey_texel(p, 10.0, &t);
+  EXPECT_NEAR(t.aces_nits[1], 606.611787, 606.611787 * 2e-6);
+  grey_texel(p, 100.0, &t);
+  EXPECT_NEAR(t.aces_nits[1], 930.719800, 930.719800 * 2e-6);
+}
+
+// The black lattice point decodes to exactly 0; UE's 0/0 in the fake wide gamut is decided to give
+// the ordinary black result (docs/ue55-decisions.md D-NaN): no device stores NaN there.
+TEST(CombineLuts, BlackLatticeIsFiniteOnEveryDevice) {
+  for (int device = 0; device <= 9; ++device)
+    for (int gamut = 0; gamut < 5; ++gamut) {
+      const Vec3 v = hdrc::ref::combine_luts_texel(params(device, gamut), {0, 0, 0});
+      for (int c = 0; c < 3; ++c)
+        EXPECT_TRUE(std::isfinite(v[c])) << "device " << device << " gamut " << gamut;
+    }
+}
+
+TEST(CombineLuts, StorageQuantisation) {
+  using hdrc::ref::quantize_lut_value;
+  EXPECT_EQ(quantize_lut_value(0, 0.5), 512.0 / 1023.0);  // 511.5: round to nearest (even)
+  EXPECT_EQ(quantize_lut_value(0, 1.2), 1.0);
+  EXPECT_EQ(quantize_lut_value(0, -0.1), 0.0);
+  EXPECT_EQ(quantize_lut_value(0, std::nan("")), 0.0);
+  EXPECT_EQ(quantize_lut_value(1, 1.0 / 3.0), 0.333251953125);  // nearest half
+  EXPECT_TRUE(std::isinf(quantize_lut_value(1, 70000.0)));
+  EXPECT_EQ(quantize_lut_value(2, 0.1), static_cast<double>(0.1f));
+}
+
+// Spec §4.2: the 2-D layout biases r and g by +1e-5/(N−1); b is exact; the volume layout is exact.
+TEST(CombineLuts, LatticeCoordinateQuirkOf2DLayout) {
+  for (int n : {16, 32, 33, 64}) {
+    for (int i : {0, 1, n / 2, n - 1}) {
+      const Vec3 v = hdrc::ref::lattice_coordinate(0, n, i, i, i);
+      EXPECT_DOUBLE_EQ(v[0], i / (n - 1.0));
+      const Vec3 u = hdrc::ref::lattice_coordinate(1, n, i, n - 1 - i, i);
+      EXPECT_NEAR(u[0], (i + 1e-5) / (n - 1.0), 1e-12) << n << " " << i;
+      EXPECT_NEAR(u[1], (n - 1 - i + 1e-5) / (n - 1.0), 1e-12);
+      EXPECT_NEAR(u[2], i / (n - 1.0), 1e-12);
+    }
+  }
+}
+
+hdrc::ParamBlock lut_params(int device, int gamut, int size, int format, int layout) {
+  hdrc::Case c;
+  c.cvars.set("r.HDR.EnableHDROutput", 1);
+  c.cvars.set("r.HDR.Display.OutputDevice", device);
+  c.cvars.set("r.HDR.Display.ColorGamut", gamut);
+  c.cvars.set("r.LUT.Size", size);
+  c.settings.set("LUTFormat", {static_cast<double>(format), 0, 0, 0}, 1);
+  c.settings.set("LUTLayout", {static_cast<double>(layout), 0, 0, 0}, 1);
+  return *hdrc::ref::resolve_params(c, 1, 1);
+}
+
+// Sampling exactly at a lattice point returns that texel × 1.05 (float storage), for both layouts;
+// between lattice points the volume and 2-D lookups agree up to the 2-D layout's 1e-5 bias.
+TEST(CombineLuts, SamplingAtLatticeAndBetween) {
+  const auto vol = hdrc::ref::bake_lut(lut_params(3, 4, 16, 2, 0));
+  const auto two_d = hdrc::ref::bake_lut(lut_params(3, 4, 16, 2, 1));
+  for (const auto* lut : {&vol, &two_d}) {
+    const Vec3 s = hdrc::ref::sample_lut(*lut, {3 / 15.0, 7 / 15.0, 11 / 15.0});
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(s[k], lut->at(3, 7, 11)[k] * 1.05, 1e-12);
+  }
+  const Vec3 a = hdrc::ref::sample_lut(vol, {0.31, 0.52, 0.77});
+  const Vec3 b = hdrc::ref::sample_lut(two_d, {0.31, 0.52, 0.77});
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(a[k], b[k], 1e-5 * a[k]) << k;
+}
+
+// ACES output converted to sRGB is negative for saturated texels: PQ of a negative is NaN, which a
+// float LUT keeps and the default 10-bit UNORM LUT stores as 0 (D3D float→UNORM).
+TEST(CombineLuts, OutOfGamutTexelsAreNaNInFloatAndZeroInUnorm) {
+  const auto flt = hdrc::ref::bake_lut(lut_params(3, 0, 16, 2, 0));
+  const auto unorm = hdrc::ref::bake_lut(lut_params(3, 0, 16, 0, 0));
+  EXPECT_TRUE(std::isnan(flt.at(3, 7, 11)[0]) || std::isnan(flt.at(3, 7, 11)[2]));
+  for (int k = 0; k < 3; ++k) EXPECT_TRUE(std::isfinite(unorm.at(3, 7, 11)[k]));
+}
+
+// Over every device × gamut: grey stays (nearly) neutral and the device value rises along a grey
+// ramp wherever UE's curve is monotonic. Bounds measured: see docs/precision.md.
+TEST(CombineLuts, GreyRampPropertiesOnEveryDeviceAndGamut) {
+  for (int device = 0; device <= 9; ++device) {
+    for (int gamut = 0; gamut < 5; ++gamut) {
+      const auto p = params(device, gamut);
+      double prev = -1.0;
+      double worst_spread = 0.0;
+      for (int i = 1; i <= 64; ++i) {
+        const double e = i / 64.0;
+        const Vec3 v = hdrc::ref::combine_luts_texel(p, {e, e, e});
+        const double mid = v[1];
+        EXPECT_GE(mid, prev - 1e-12) << "device " << device << " gamut " << gamut << " e " << e;
+        prev = mid;
+        worst_spread =
+            std::fmax(worst_spread, std::fmax(std::fabs(v[0] - mid), std::fabs(v[2] - mid)));
+      }
+      // Neutral in, neutral out, up to the literal matrices' drift (largest with the CATs of the
+      // D65 gamuts); the bound is the measured maximum rounded up.
+      EXPECT_LT(worst_spread, 2e-3) << "device " << device << " gamut " << gamut;
+    }
+  }
+}
+
+}  // namespace
