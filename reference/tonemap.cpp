@@ -1,0 +1,191 @@
+#include "reference/tonemap.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "reference/color/d3d_math.h"
+#include "reference/color/st2084.h"
+#include "reference/color/ue_matrices.h"
+#include "reference/lut_shaper.h"
+
+namespace hdrc::ref {
+
+namespace {
+
+constexpr double kAcesHdrYMin = 0.0001;  // UE_ACES_HDR_Y_MIN (TonemapCommon.ush)
+
+Vec3 lookup(const ParamBlock& p, const Vec3& final_linear, const BakedLut* lut, Vec3* encoded) {
+  Vec3 e;
+  for (int c = 0; c < 3; ++c) e[c] = lut_encode(p.output_device, final_linear[c]);
+  if (encoded) *encoded = e;
+  if (lut) return sample_lut(*lut, e);
+  Vec3 clamped;
+  for (int c = 0; c < 3; ++c) {
+    clamped[c] = d3d::clamp_address(e[c]);
+    if (std::isnan(clamped[c])) return {d3d::kNaN, d3d::kNaN, d3d::kNaN};
+  }
+  const Vec3 stored = combine_luts_texel(p, clamped);
+  return {stored[0] * 1.05, stored[1] * 1.05, stored[2] * 1.05};
+}
+
+Vec3 post_convert(const ParamBlock& p, const Vec3& out_device) {
+  switch (p.output_device) {
+    case 5:
+    case 6:
+      return st2084_to_scrgb(out_device, p.output_max_luminance);
+    case 7:
+      return {st2084::nits_from_pq(out_device[0]), st2084::nits_from_pq(out_device[1]),
+              st2084::nits_from_pq(out_device[2])};
+    default:
+      return out_device;
+  }
+}
+
+// Bilinear sample of `img` at buffer UV with clamp-to-edge addressing.
+Vec3 sample_bilinear(const Image& img, double u, double v, double* alpha = nullptr) {
+  const double x = u * img.width - 0.5, y = v * img.height - 0.5;
+  const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
+  const double fx = x - x0, fy = y - y0;
+  auto at = [&](int xi, int yi) {
+    return img.px(std::clamp(xi, 0, img.width - 1), std::clamp(yi, 0, img.height - 1));
+  };
+  double out[4];
+  for (int c = 0; c < 4; ++c) {
+    const double top = at(x0, y0)[c] + (at(x0 + 1, y0)[c] - at(x0, y0)[c]) * fx;
+    const double bot = at(x0, y0 + 1)[c] + (at(x0 + 1, y0 + 1)[c] - at(x0, y0 + 1)[c]) * fx;
+    out[c] = top + (bot - top) * fy;
+  }
+  if (alpha) *alpha = out[3];
+  return {out[0], out[1], out[2]};
+}
+
+double luminance_sharpen(const Vec3& c) {
+  return c[0] * 0.3 + c[1] * 0.59 + c[2] * 0.11;
+}
+
+double sign_d3d(double x) {
+  return x > 0 ? 1.0 : (x < 0 ? -1.0 : 0.0);
+}
+
+}  // namespace
+
+Vec3 st2084_to_scrgb(const Vec3& pq, double max_odt_nits) {
+  // nits = clamp(ST2084ToLinear(pq), 1e-4, Max); linCV = (nits − 1e-4)/(Max − 1e-4);
+  // scRGB = (XYZ→sRGB · D60→D65 · AP1→XYZ) · linCV · Max/80.
+  Vec3 lin;
+  for (int c = 0; c < 3; ++c) {
+    const double nits = std::clamp(st2084::nits_from_pq(pq[c]), kAcesHdrYMin, max_odt_nits);
+    lin[c] = (nits - kAcesHdrYMin) / (max_odt_nits - kAcesHdrYMin);
+    if (std::isnan(pq[c])) lin[c] = d3d::kNaN;
+  }
+  const Vec3 s = ap1_to_output_gamut(0) * lin;
+  const double k = max_odt_nits / 80.0;
+  return {s[0] * k, s[1] * k, s[2] * k};
+}
+
+Vec3 tonemap_centre_pixel(const ParamBlock& p, const Vec3& scene, const BakedLut* lut,
+                          TonemapTrace* trace) {
+  TonemapTrace t;
+  t.scene = scene;
+  for (int c = 0; c < 3; ++c) t.exposed[c] = scene[c] * p.scene_color_tint[c] * p.exposure;
+  t.lut = lookup(p, t.exposed, lut, &t.encoded);
+  t.luminance = t.lut[0] * 0.299 + t.lut[1] * 0.587 + t.lut[2] * 0.114;
+  t.output = post_convert(p, t.lut);
+  if (trace) *trace = t;
+  return t.output;
+}
+
+Image tonemap_image(const ParamBlock& p, const Image& scene, const Image* bloom,
+                    const BakedLut* lut) {
+  Image out(scene.width, scene.height);
+  const double w = scene.width, h = scene.height;
+  const double aspect = h / w;  // ViewportHeight / ViewportWidth
+  for (int y = 0; y < scene.height; ++y) {
+    for (int x = 0; x < scene.width; ++x) {
+      const double u = (x + 0.5) / w, v = (y + 0.5) / h;
+      const double pos_x = u * 2.0 - 1.0, pos_y = 1.0 - v * 2.0;  // screen position, y up
+      const double* px = scene.px(x, y);
+      Vec3 s{px[0], px[1], px[2]};
+      // 1. Colour fringe: R (and alpha) and G from shifted lens positions, B in place.
+      if (p.fringe[3] != 0.0) {
+        auto shifted = [&](double scale) {
+          const double lx =
+              pos_x - sign_d3d(pos_x) * d3d::saturate(std::fabs(pos_x) - p.fringe[2]) * scale;
+          const double ly =
+              pos_y - sign_d3d(pos_y) * d3d::saturate(std::fabs(pos_y) - p.fringe[2]) * scale;
+          return sample_bilinear(scene, lx * 0.5 + 0.5, 0.5 - ly * 0.5);
+        };
+        s[0] = shifted(p.fringe[0])[0];
+        s[1] = shifted(p.fringe[1])[1];
+      }
+      // 2. Sharpen against the four neighbours.
+      if (p.sharpen_div6 > 0.0) {
+        auto at = [&](int dx, int dy) {
+          const double* q = scene.px(std::clamp(x + dx, 0, scene.width - 1),
+                                     std::clamp(y + dy, 0, scene.height - 1));
+          return Vec3{q[0], q[1], q[2]};
+        };
+        const Vec3 n[4] = {at(-1, 0), at(1, 0), at(0, -1), at(0, 1)};
+        const double a0 = luminance_sharpen(s);
+        double edge = 0.0;
+        for (const Vec3& c : n) edge = std::fmax(edge, std::fabs(a0 - luminance_sharpen(c)));
+        const double mask = d3d::saturate(1.0 - p.exposure * edge);
+        for (int c = 0; c < 3; ++c) {
+          const double sum = n[0][c] + n[1][c] + n[2][c] + n[3][c];
+          s[c] += (sum - 4.0 * s[c]) * (-mask * p.sharpen_div6);
+        }
+      }
+      // 3. Vignette (cos⁴ law in the viewport's aspect).
+      double vignette = 1.0;
+      if (p.vignette_intensity > 0.0) {
+        const double k = std::sqrt(2.0) / std::sqrt(1.0 + aspect * aspect);
+        const double vx = pos_x * k * p.vignette_intensity,
+                     vy = pos_y * aspect * k * p.vignette_intensity;
+        const double m = 1.0 / (vx * vx + vy * vy + 1.0);
+        vignette = m * m;
+      }
+      // 4–5. Tint, exposure, vignette; bloom.
+      Vec3 final_linear;
+      for (int c = 0; c < 3; ++c)
+        final_linear[c] = s[c] * p.scene_color_tint[c] * (p.exposure * vignette);
+      if (bloom) {
+        const Vec3 b = sample_bilinear(*bloom, u, v);
+        for (int c = 0; c < 3; ++c) final_linear[c] += b[c] * (p.exposure * vignette);
+      }
+      // 7–9. LUT, luminance, per-device post conversion.
+      const Vec3 lut_out = lookup(p, final_linear, lut, nullptr);
+      const Vec3 o = post_convert(p, lut_out);
+      double* dst = out.px(x, y);
+      dst[0] = o[0];
+      dst[1] = o[1];
+      dst[2] = o[2];
+      dst[3] = lut_out[0] * 0.299 + lut_out[1] * 0.587 + lut_out[2] * 0.114;
+    }
+  }
+  return out;
+}
+
+double dither_grain(double u, double v) {
+  // PostProcessTonemap.usf grain: frac(sin(u + v·543.31)·493013.0), float32 arithmetic.
+  const float a = static_cast<float>(u) + static_cast<float>(v) * 543.31f;
+  const float g = std::sin(a) * 493013.0f;
+  return g - std::floor(g);
+}
+
+Image dither_image(const ParamBlock& p, const Image& in) {
+  Image out = in;
+  for (int y = 0; y < in.height; ++y)
+    for (int x = 0; x < in.width; ++x) {
+      const double u = (x + 0.5) / in.width + p.grain_random[0];
+      const double v = (y + 0.5) / in.height + p.grain_random[1];
+      const double n = 2.0 * dither_grain(u, v) - 1.0;
+      // clamp(n·∞, −1, 1) − that · sqrt(saturate(1 − |n|)) (docs/ue55-decisions.md D6.1).
+      const double sg = sign_d3d(n);
+      const double tri = sg - sg * std::sqrt(d3d::saturate(1.0 - std::fabs(n)));
+      double* o = out.px(x, y);
+      for (int c = 0; c < 3; ++c) o[c] += tri * p.dither_amount;
+    }
+  return out;
+}
+
+}  // namespace hdrc::ref
