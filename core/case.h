@@ -47,7 +47,8 @@ struct ResolvedCase {
   ParamBlock params;
   Image input;
   // Non-empty when UE computes degenerate parameters for this combination (e.g. an ACES device
-  // while MaxLuminance resolves to 0): the case is reported as DEGENERATE, never evaluated as a pass.
+  // while MaxLuminance resolves to 0): the case is reported as DEGENERATE, never evaluated as a
+  // pass.
   std::string degenerate;
 };
 

@@ -31,11 +31,13 @@ const std::vector<CvarInfo>& cvar_table() {
        "blend towards the ACES 1.3 reference gamut compression"},
       {"r.LUT.Size", CvarType::kInt, 32, 16, 64, "edge length of the CombineLUTs LUT"},
       {"r.Color.Min", CvarType::kFloat, 0.0, -10.0, 10.0,
-       "r.Color.* remap polynomial: output at 0 (PostProcessCombineLUTs.cpp: GetMappingPolynomial)"},
+       "r.Color.* remap polynomial: output at 0 (PostProcessCombineLUTs.cpp: "
+       "GetMappingPolynomial)"},
       {"r.Color.Mid", CvarType::kFloat, 0.5, -10.0, 10.0, "r.Color.* remap: output at 0.5"},
       {"r.Color.Max", CvarType::kFloat, 1.0, -10.0, 10.0, "r.Color.* remap: output at 1"},
       {"r.TonemapperGamma", CvarType::kFloat, 0.0, 0.0, 10.0,
-       "> 0 forces the explicit-gamma device 2 for devices 0/1 (GetTonemapperOutputDeviceParameters)"},
+       "> 0 forces the explicit-gamma device 2 for devices 0/1 "
+       "(GetTonemapperOutputDeviceParameters)"},
       {"r.Tonemapper.Sharpen", CvarType::kFloat, -1.0, -1.0, 10.0,
        "< 0: the post-process Sharpen setting; else overrides it (clamped to 10)"},
       {"r.BackbufferQuantizationDitheringOverride", CvarType::kInt, 0, 0, 16,

@@ -10,14 +10,36 @@ const std::vector<StageInfo>& stage_table() {
        "LUT shaper of the output device: encode (PQ of 100x for devices 3-9, LinToLog(x + "
        "LogToLin(0)) for 0-2), clamp to the LUT's [0,1] as the sampler does, decode as "
        "CombineLUTs does (spec 3.1, 3.2, 3.4, 4.3, 6.1 step 7)",
-       {0, 1, 2, 3, 4, 5, 6, 7, 8, 9}},
+       {0, 1, 2, 3, 4, 5, 6, 7, 8, 9},
+       true},
       {StageId::kLinearDevice,
        "linear_device",
        "stages/linear_device.comp",
        "shaper round trip, then device 8 (HDR_LinearNoToneCurve: working colour space) or "
        "device 7 (HDR_LinearEXR: PQ in the output gamut, decoded by the tonemapper) "
        "(spec 4.12 rows 7-8, 6.1 step 9)",
-       {7, 8}},
+       {7, 8},
+       true},
+      {StageId::kCombineLuts,
+       "combine_luts",
+       "",
+       "CombineLUTs: every texel of the LUT as stored (OutDeviceColor / 1.05, quantised to the "
+       "storage format), for any device, gamut, r.LUT.Size, format and layout (spec 4); output "
+       "N^2 x N with texel (r, g, b) at (r + N b, g)",
+       {0, 1, 2, 3, 4, 5, 6, 7, 8, 9},
+       false},
+      {StageId::kTonemap,
+       "tonemap",
+       "",
+       "the Tonemap pass: fringe, sharpen, vignette, tint and exposure, the shaper encode, the "
+       "baked LUT's lookup x 1.05, the per-device post conversion; alpha = OutLuminance (spec 6.1 "
+       "steps 1-9)",
+       {0, 1, 2, 3, 4, 5, 6, 7, 8, 9}},
+      {StageId::kDither,
+       "dither",
+       "",
+       "the tonemapper's triangular quantisation dither added to the input (spec 6.1 step 10)",
+       {0, 1, 2, 3, 4, 5, 6, 7, 8, 9}},
   };
   return table;
 }

@@ -11,14 +11,19 @@ namespace hdrc {
 enum class StageId {
   kShaper,        // LUT shaper encode → clamp (sampler addressing) → CombineLUTs decode
   kLinearDevice,  // shaper round trip, then device 7 or 8 encode and the tonemapper's decode
+  kCombineLuts,   // the baked LUT itself (stored, quantised texels), laid out N² × N
+  kTonemap,       // the Tonemap pass up to the per-device post conversion (no dither)
+  kDither,        // the quantisation dither added to the input image
 };
 
 struct StageInfo {
   StageId id;
   std::string_view name;         // the name cases use
-  std::string_view shader;       // compute shader, relative to the shader directory
+  std::string_view shader;       // compute shader, relative to the shader directory; "" = none
+                                 // yet (its cases are listed in cases/known_limits.json)
   std::string_view description;  // one line, with the spec sections it implements
   std::vector<int> devices;      // output devices the stage is defined for
+  bool takes_input = true;       // false: the output does not depend on an input image
 };
 
 const std::vector<StageInfo>& stage_table();

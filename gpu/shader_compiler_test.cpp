@@ -20,12 +20,16 @@ fs::path temp_dir(const std::string& name) {
 }
 
 TEST(ShaderCompiler, EveryStageShaderCompiles) {
+  int compiled = 0;
   for (const auto& stage : hdrc::stage_table()) {
+    if (stage.shader.empty()) continue;  // listed in cases/known_limits.json
+    ++compiled;
     auto spirv =
         hdrc::gpu::compile_compute(hdrc::gpu::default_shader_dir(), std::string(stage.shader));
     ASSERT_TRUE(spirv.ok()) << spirv.error().to_string();
     EXPECT_EQ((*spirv)[0], 0x07230203u) << "SPIR-V magic";
   }
+  EXPECT_GE(compiled, 2);
 }
 
 // A compile error names the file and line where it is, also inside an included file.

@@ -346,6 +346,11 @@ Result<Image> VulkanEngine::run(const ResolvedCase& c) {
   if (!state_) return Error{"", "", "Vulkan engine used before a successful init()", ""};
   State& s = *state_;
   const std::string shader(c.spec.stage->shader);
+  if (shader.empty())
+    return Error{
+        "", "",
+        "stage " + std::string(c.spec.stage->name) + " has no GPU implementation in this version",
+        ""};
 
   // Pipelines are compiled once per stage shader and cached for the engine's lifetime.
   auto it = s.pipelines.find(shader);

@@ -2,6 +2,7 @@
 
 #include "reference/color/ue_matrices.h"
 #include "reference/lut_shaper.h"
+#include "reference/tonemap.h"
 
 namespace hdrc::ref {
 
@@ -42,8 +43,28 @@ Vec3 run_pixel(StageId stage, const ParamBlock& p, const Vec3& rgb) {
       return shaper_round_trip(p, rgb);
     case StageId::kLinearDevice:
       return linear_device(p, shaper_round_trip(p, rgb));
+    case StageId::kCombineLuts:
+    case StageId::kTonemap:
+    case StageId::kDither:
+      break;  // whole-image stages: see ReferenceEngine::run
   }
   return rgb;
+}
+
+Image lut_image(const BakedLut& lut) {
+  const int n = lut.size;
+  Image out(n * n, n);
+  for (int b = 0; b < n; ++b)
+    for (int g = 0; g < n; ++g)
+      for (int r = 0; r < n; ++r) {
+        double* o = out.px(r + n * b, g);
+        const Vec3& t = lut.at(r, g, b);
+        o[0] = t[0];
+        o[1] = t[1];
+        o[2] = t[2];
+        o[3] = 0.0;  // CombineLUTs writes alpha 0
+      }
+  return out;
 }
 
 DeviceInfo ReferenceEngine::device() const {
@@ -51,6 +72,18 @@ DeviceInfo ReferenceEngine::device() const {
 }
 
 Result<Image> ReferenceEngine::run(const ResolvedCase& c) {
+  switch (c.spec.stage->id) {
+    case StageId::kCombineLuts:
+      return lut_image(bake_lut(c.params));
+    case StageId::kTonemap: {
+      const BakedLut lut = bake_lut(c.params);
+      return tonemap_image(c.params, c.input, nullptr, &lut);
+    }
+    case StageId::kDither:
+      return dither_image(c.params, c.input);
+    default:
+      break;
+  }
   Image out(c.input.width, c.input.height);
   for (size_t i = 0; i < c.input.pixel_count(); ++i) {
     const double* in = &c.input.data[i * 4];

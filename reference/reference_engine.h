@@ -2,6 +2,7 @@
 #pragma once
 
 #include "core/engine.h"
+#include "reference/combine_luts.h"
 
 namespace hdrc::ref {
 
@@ -13,7 +14,10 @@ class ReferenceEngine final : public Engine {
   Result<Image> run(const ResolvedCase& c) override;
 };
 
-// One pixel of a stage, for tests and `probe`: rgb in, rgb out.
+// One pixel of a per-pixel stage (shaper, linear_device), for tests: rgb in, rgb out.
 Vec3 run_pixel(StageId stage, const ParamBlock& p, const Vec3& rgb);
+
+// The LUT laid out as the combine_luts stage outputs it: texel (r, g, b) at (r + N·b, g).
+Image lut_image(const BakedLut& lut);
 
 }  // namespace hdrc::ref

@@ -46,6 +46,8 @@ const char* css_class(CaseVerdict v) {
     case CaseVerdict::kError:
       return "error";
     case CaseVerdict::kSkipped:
+    case CaseVerdict::kKnownLimit:
+    case CaseVerdict::kDegenerate:
       return "skip";
   }
   return "";
@@ -67,7 +69,10 @@ std::string html_report(const RunReport& r) {
   h += "<span class=\"pass\">pass " + std::to_string(r.count(CaseVerdict::kPass)) + "</span>";
   h += "<span class=\"fail\">fail " + std::to_string(r.count(CaseVerdict::kFail)) + "</span>";
   h += "<span class=\"error\">error " + std::to_string(r.count(CaseVerdict::kError)) + "</span>";
-  h += "<span class=\"skip\">skipped " + std::to_string(r.count(CaseVerdict::kSkipped)) +
+  h += "<span class=\"skip\">skipped " + std::to_string(r.count(CaseVerdict::kSkipped)) + "</span>";
+  h += "<span class=\"skip\">known limits " + std::to_string(r.count(CaseVerdict::kKnownLimit)) +
+       "</span>";
+  h += "<span class=\"skip\">degenerate " + std::to_string(r.count(CaseVerdict::kDegenerate)) +
        "</span></p>\n";
   h += "<p>Started " + html_escape(r.started_utc) + ", " + num(r.wall_seconds) +
        " s. Reference: " + html_escape(r.reference_device.device) +
@@ -91,7 +96,7 @@ std::string html_report(const RunReport& r) {
          "</td><td class=\"num\">" + num(s.max_pq10) + "</td><td>rel " + num(t.linear_rel) +
          " (floor " + num(t.rel_floor) + "), pq10 " + num(t.pq_code10) + "<br><small>" +
          html_escape(t.source) + "</small></td><td>" + html_escape(c.reason);
-    if (c.verdict != CaseVerdict::kSkipped && s.worst_rel.valid())
+    if ((c.verdict == CaseVerdict::kPass || c.verdict == CaseVerdict::kFail) && s.worst_rel.valid())
       h += "<br><small>worst rel at " + html_escape(describe_pixel(s.worst_rel)) + "</small>";
     h += "</td></tr>\n";
   }

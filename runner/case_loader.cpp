@@ -11,6 +11,7 @@
 #include <set>
 #include <sstream>
 
+#include "reference/combine_luts.h"
 #include "reference/ue_cpp/resolve.h"
 #include "runner/stimuli.h"
 
@@ -36,6 +37,7 @@ bool matches_filter(const std::string& id, const std::string& glob) {
 
 std::string InputSpec::describe() const {
   if (!file.empty()) return "file " + file;
+  if (stimulus.empty()) return "lattice";
   return stimulus + " " + std::to_string(width) + "x" + std::to_string(height);
 }
 
@@ -162,6 +164,25 @@ class Parser {
     return errors_->size() == before;
   }
 
+  void setting(const std::string& name, const json& v, const std::string& pointer,
+               SettingValues* sv) {
+    Vec4d value{0, 0, 0, 0};
+    int components = 0;
+    if (v.is_number()) {
+      value[0] = v.get<double>();
+      components = 1;
+    } else if (v.is_array() && v.size() == 4 &&
+               std::all_of(v.begin(), v.end(), [](const json& e) { return e.is_number(); })) {
+      for (int i = 0; i < 4; ++i) value[i] = v[i].get<double>();
+      components = 4;
+    } else {
+      fail(pointer, "expected a number or an array of 4 numbers, got " + show(v));
+      return;
+    }
+    if (Status st = sv->set(name, value, components); !st)
+      fail(pointer, st.error().message, st.error().choices);
+  }
+
   void tolerance(const json& v, const std::string& pointer, Tolerance* t) {
     if (!v.is_object()) {
       fail(pointer, "expected an object, got " + show(v));
@@ -199,11 +220,22 @@ class Parser {
 
 std::string short_cvar(const std::string& name) {
   static const std::map<std::string, std::string> abbrev = {
-      {"r.HDR.Display.OutputDevice", "dev"}, {"r.HDR.Display.ColorGamut", "gamut"},
-      {"r.HDR.Display.MaxLuminance", "max"}, {"r.LUT.Size", "lut"},
-      {"r.HDR.EnableHDROutput", "hdr"},      {"r.HDR.Display.MinLuminanceLog10", "minlog"},
-      {"r.HDR.Display.MidLuminance", "mid"}, {"r.HDR.Aces.SceneColorMultiplier", "scm"},
+      {"r.HDR.Display.OutputDevice", "dev"},
+      {"r.HDR.Display.ColorGamut", "gamut"},
+      {"r.HDR.Display.MaxLuminance", "max"},
+      {"r.LUT.Size", "lut"},
+      {"r.HDR.EnableHDROutput", "hdr"},
+      {"r.HDR.Display.MinLuminanceLog10", "minlog"},
+      {"r.HDR.Display.MidLuminance", "mid"},
+      {"r.HDR.Aces.SceneColorMultiplier", "scm"},
       {"r.HDR.Aces.GamutCompression", "gc"},
+      {"r.TonemapperGamma", "gamma"},
+      {"r.Color.Min", "cmin"},
+      {"r.Color.Mid", "cmid"},
+      {"r.Color.Max", "cmax"},
+      {"r.HDR.UI.CompositeMode", "uimode"},
+      {"r.HDR.UI.Level", "uilevel"},
+      {"r.HDR.UI.Luminance", "uinits"},
   };
   auto it = abbrev.find(name);
   if (it != abbrev.end()) return it->second;
@@ -236,8 +268,9 @@ std::vector<Case> parse_case_file(const std::string& file, const std::string& te
     p.fail("", "a case file is a JSON object, got " + json_type(doc));
     return out;
   }
-  p.check_keys(doc, "",
-               {"$schema", "description", "stage", "cvars", "input", "matrix", "tolerance"});
+  p.check_keys(
+      doc, "",
+      {"$schema", "description", "stage", "cvars", "settings", "input", "matrix", "tolerance"});
 
   Case base;
   base.file = file;
@@ -256,6 +289,16 @@ std::vector<Case> parse_case_file(const std::string& file, const std::string& te
     } else {
       for (auto it = cv.begin(); it != cv.end(); ++it)
         p.cvar(it.key(), it.value(), "/cvars/" + escape_pointer_token(it.key()), &base.cvars);
+    }
+  }
+  if (doc.contains("settings")) {
+    const json& sv = doc["settings"];
+    if (!sv.is_object()) {
+      p.fail("/settings", "expected an object of setting: value, got " + show(sv));
+    } else {
+      for (auto it = sv.begin(); it != sv.end(); ++it)
+        p.setting(it.key(), it.value(), "/settings/" + escape_pointer_token(it.key()),
+                  &base.settings);
     }
   }
   if (doc.contains("tolerance")) p.tolerance(doc["tolerance"], "/tolerance", &base.tolerance);
@@ -321,6 +364,8 @@ std::vector<Case> parse_case_file(const std::string& file, const std::string& te
     }
     InputSpec in;
     if (p.input(doc["input"], "/input", &in)) inputs.push_back(in);
+  } else if (base.stage && !base.stage->takes_input) {
+    inputs.push_back(InputSpec{});  // the output depends on the parameters only
   } else if (!(doc.contains("matrix") && doc["matrix"].is_object() &&
                doc["matrix"].contains("inputs"))) {
     p.fail("/input", "missing input",
@@ -386,7 +431,7 @@ LoadedCases load_cases(const std::string& cases_dir) {
   for (auto it = fs::recursive_directory_iterator(cases_dir, ec);
        it != fs::recursive_directory_iterator(); ++it) {
     if (it->is_regular_file() && it->path().extension() == ".json" &&
-        it->path().filename() != "schema.json")
+        it->path().filename() != "schema.json" && it->path().filename() != "known_limits.json")
       files.push_back(it->path());
   }
   std::sort(files.begin(), files.end());
@@ -412,10 +457,72 @@ LoadedCases load_cases(const std::string& cases_dir) {
   return result;
 }
 
+std::vector<KnownLimit> load_known_limits(const std::string& cases_dir,
+                                          std::vector<Error>* errors) {
+  std::vector<KnownLimit> out;
+  const fs::path file = fs::path(cases_dir) / "known_limits.json";
+  if (!fs::exists(file)) return out;
+  std::ifstream in(file, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  Parser p(file.generic_string(), cases_dir, errors);
+  json doc;
+  try {
+    doc = json::parse(text.str());
+  } catch (const json::parse_error& e) {
+    errors->push_back(
+        Error{file.generic_string(), "", std::string("malformed JSON: ") + e.what(), ""});
+    return out;
+  }
+  if (!doc.is_object() || !doc.contains("limits") || !doc["limits"].is_array()) {
+    p.fail("/limits", "expected {\"limits\": [{\"cases\", \"engine\", \"reason\"}, ...]}");
+    return out;
+  }
+  for (size_t i = 0; i < doc["limits"].size(); ++i) {
+    const json& l = doc["limits"][i];
+    const std::string ptr = "/limits/" + std::to_string(i);
+    if (!l.is_object()) {
+      p.fail(ptr, "expected an object");
+      continue;
+    }
+    p.check_keys(l, ptr, {"cases", "engine", "reason"});
+    KnownLimit k;
+    for (const char* key : {"cases", "engine", "reason"}) {
+      if (!l.contains(key) || !l[key].is_string() || l[key].get<std::string>().empty()) {
+        p.fail(ptr + "/" + key, std::string("missing ") + key, "a non-empty string");
+        continue;
+      }
+      const std::string v = l[key].get<std::string>();
+      if (std::string(key) == "cases") k.cases = v;
+      if (std::string(key) == "engine") k.engine = v;
+      if (std::string(key) == "reason") k.reason = v;
+    }
+    if (!k.engine.empty() && k.engine != "vulkan" && k.engine != "reference")
+      p.fail(ptr + "/engine", "unknown engine \"" + k.engine + "\"", "vulkan, reference");
+    out.push_back(k);
+  }
+  return out;
+}
+
 Result<ResolvedCase> resolve_case(const Case& c) {
   ResolvedCase r;
   r.spec = c;
-  if (!c.input.file.empty()) {
+  if (!c.stage->takes_input) {
+    // The "input" of a LUT texel is its lattice coordinate (reported with the worst pixel).
+    const int n = c.cvars.get_int("r.LUT.Size");
+    const int layout = static_cast<int>(c.settings.get("LUTLayout"));
+    r.input = Image(n * n, n);
+    for (int b = 0; b < n; ++b)
+      for (int g = 0; g < n; ++g)
+        for (int rr = 0; rr < n; ++rr) {
+          const auto v = ref::lattice_coordinate(layout, n, rr, g, b);
+          double* px = r.input.px(rr + n * b, g);
+          px[0] = v[0];
+          px[1] = v[1];
+          px[2] = v[2];
+          px[3] = 1.0;
+        }
+  } else if (!c.input.file.empty()) {
     auto img = read_image(c.input.file);
     if (!img) return img.error();
     r.input = std::move(*img);
@@ -432,9 +539,10 @@ Result<ResolvedCase> resolve_case(const Case& c) {
     if (std::fpclassify(f) == FP_SUBNORMAL) f = std::copysign(0.0f, f);
     v = f;
   }
-  auto params = ref::resolve_params(c, r.input.width, r.input.height);
-  if (!params) return params.error();
-  r.params = *params;
+  auto resolution = ref::resolve(c, r.input.width, r.input.height);
+  if (!resolution) return resolution.error();
+  r.params = resolution->params;
+  r.degenerate = resolution->degenerate;
   return r;
 }
 

@@ -27,6 +27,17 @@ std::vector<Case> parse_case_file(const std::string& file, const std::string& te
 // The defaults a case gets when its file sets no tolerance (documented in docs/tolerances.md).
 Tolerance default_tolerance();
 
+// A listed limitation of an engine: its cases are reported as KNOWN_LIMIT with the reason, never
+// as passed and never silently skipped (cases/known_limits.json).
+struct KnownLimit {
+  std::string cases;   // glob over case ids
+  std::string engine;  // candidate engine name ("vulkan")
+  std::string reason;  // why, with the issue that lifts it
+};
+
+// Reads `cases_dir`/known_limits.json (absent: none). Errors are located like case errors.
+std::vector<KnownLimit> load_known_limits(const std::string& cases_dir, std::vector<Error>* errors);
+
 // Glob match (`*`, `?`, `[...]`) of a case id.
 bool matches_filter(const std::string& id, const std::string& glob);
 

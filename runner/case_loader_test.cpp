@@ -30,12 +30,14 @@ const BadCase kBadCases[] = {
      "syntax error while parsing object key - unexpected end of input; expected string literal"},
     {"not_an_object", R"([1, 2])", "t.json: a case file is a JSON object, got array"},
     {"unknown_stage", R"({"stage": "tonemapp", "input": {"stimulus": "log_ramp"}})",
-     "t.json: /stage: unknown stage \"tonemapp\"; valid choices: shaper, linear_device"},
+     "t.json: /stage: unknown stage \"tonemapp\"; valid choices: shaper, linear_device, "
+     "combine_luts, tonemap, dither"},
     {"missing_stage", R"({"input": {"stimulus": "log_ramp"}})",
-     "t.json: /stage: missing stage; valid choices: shaper, linear_device"},
+     "t.json: /stage: missing stage; valid choices: shaper, linear_device, combine_luts, tonemap, "
+     "dither"},
     {"unknown_key", R"({"stage": "shaper", "inptu": 1, "input": {"stimulus": "log_ramp"}})",
      "t.json: /inptu: unknown key 'inptu'; valid choices: $schema, description, stage, cvars, "
-     "input, matrix, tolerance"},
+     "settings, input, matrix, tolerance"},
     {"unknown_cvar",
      R"({"stage": "shaper", "cvars": {"r.HDR.Display.OutputDevise": 3}, "input": {"stimulus": "log_ramp"}})",
      "t.json: /cvars/r.HDR.Display.OutputDevise: unknown cvar 'r.HDR.Display.OutputDevise'; valid "
@@ -124,7 +126,9 @@ TEST(CaseLoader, MatrixExpandsToReadableStableIds) {
 TEST(CaseLoader, TheDefaultSuiteLoads) {
   auto loaded = hdrc::load_cases(kCasesDir);
   for (const auto& e : loaded.errors) ADD_FAILURE() << e.to_string();
-  EXPECT_EQ(loaded.cases.size(), 40u);  // shaper: 10 devices x 2 inputs; linear: 2 x 5 x 2
+  // shaper 10 devices x 2 inputs, linear 2 x 5 x 2, LUT 10 x 5 + 2 x 3, tonemap 10 x 2,
+  // dither 2, degenerate 1.
+  EXPECT_EQ(loaded.cases.size(), 20u + 20u + 56u + 20u + 2u + 1u);
   for (const auto& c : loaded.cases) EXPECT_NE(c.tolerance.source, "default") << c.id;
 }
 

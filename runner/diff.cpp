@@ -3,20 +3,65 @@
 #include <cmath>
 #include <cstdio>
 
+#include "reference/color/srgb.h"
 #include "reference/color/st2084.h"
 #include "reference/color/ue_log_shaper.h"
 
 namespace hdrc {
 
-double output_nits_scale(StageId stage, int output_device) {
+double OutputEncoding::to_nits(double v) const {
+  namespace pq = ref::st2084;
+  const double scene = ref::kLinearToNitsScale;  // scene-linear 1.0 = 100 nits
+  const double sdr_white = 100.0;                // SDR signals: 1.0 = 100 nits
   switch (stage) {
     case StageId::kShaper:
-      return ref::kLinearToNitsScale;  // decoded scene-linear: 1.0 = 100 nits (both shapers)
+      return v * scene;
     case StageId::kLinearDevice:
-      // Device 8 is scene-linear (1.0 = 100 nits); device 7's output is ST2084ToLinear's, nits.
-      return output_device == 7 ? 1.0 : ref::kLinearToNitsScale;
+      return device == 7 ? v : v * scene;
+    case StageId::kCombineLuts:
+      v *= 1.05;  // stored texels are OutDeviceColor / 1.05
+      break;
+    case StageId::kTonemap:
+    case StageId::kDither:
+      if (device == 5 || device == 6) return v * 80.0;  // scRGB
+      if (device == 7) return v;                        // ST2084ToLinear output: nits
+      break;
   }
-  return 1.0;
+  switch (device) {
+    case 0:
+      return ref::srgb::srgb_to_linear(v) * sdr_white;
+    case 1:
+      return ref::srgb::rec709_to_linear(v) * sdr_white;
+    case 2:
+      return (v > 0 ? std::pow(v, 1.0 / inverse_gamma_z) : 0.0) * sdr_white;
+    case 8:
+    case 9:
+      return v * scene;
+    default:
+      return pq::nits_from_pq(v);  // 3–7: PQ signals
+  }
+}
+
+std::string OutputEncoding::describe() const {
+  if (stage == StageId::kShaper || (stage == StageId::kLinearDevice && device == 8))
+    return "scene-linear x 100 nits";
+  if (stage == StageId::kLinearDevice) return "nits";
+  const std::string lut = stage == StageId::kCombineLuts ? "texel x 1.05, " : "";
+  if (stage != StageId::kCombineLuts && (device == 5 || device == 6)) return "scRGB x 80 nits";
+  if (stage != StageId::kCombineLuts && device == 7) return "nits";
+  switch (device) {
+    case 0:
+      return lut + "sRGB EOTF x 100 nits";
+    case 1:
+      return lut + "Rec.709 inverse OETF x 100 nits";
+    case 2:
+      return lut + "gamma x 100 nits";
+    case 8:
+    case 9:
+      return lut + "scene-linear x 100 nits";
+    default:
+      return lut + "PQ EOTF";
+  }
 }
 
 namespace {
@@ -44,9 +89,8 @@ std::string describe_pixel(const PixelRef& p) {
 }
 
 DiffStats diff_images(const Image& input, const Image& reference, const Image& candidate,
-                      StageId stage, int output_device, const Tolerance& tol) {
+                      const OutputEncoding& encoding, const Tolerance& tol) {
   DiffStats s;
-  const double nits_scale = output_nits_scale(stage, output_device);
   double sum_abs = 0, sum_rel = 0, sum_pq = 0;
   size_t finite_values = 0;
   for (int y = 0; y < reference.height; ++y) {
@@ -65,7 +109,7 @@ DiffStats diff_images(const Image& input, const Image& reference, const Image& c
           // error.
           const double rel = abs == 0 ? 0.0 : abs / std::fmax(std::fabs(r[ch]), tol.rel_floor);
           const double pq =
-              std::fabs(pq_signal(c[ch] * nits_scale) - pq_signal(r[ch] * nits_scale));
+              std::fabs(pq_signal(encoding.to_nits(c[ch])) - pq_signal(encoding.to_nits(r[ch])));
           sum_abs += abs;
           sum_rel += rel;
           sum_pq += pq * 1023.0;

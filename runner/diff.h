@@ -17,8 +17,16 @@
 
 namespace hdrc {
 
-// Absolute nits per unit of a stage's output value (docs/diff-metrics.md).
-double output_nits_scale(StageId stage, int output_device);
+// How a stage's output values map to absolute luminance (docs/diff-metrics.md): scene-linear
+// values at 100 nits per unit, device signals decoded by their EOTF (SDR at a 100-nit white),
+// scRGB at 80 nits per unit, LUT texels × 1.05 first.
+struct OutputEncoding {
+  StageId stage = StageId::kShaper;
+  int device = 0;
+  double inverse_gamma_z = 1.0 / 2.2;  // device 2's 1/Gamma
+  double to_nits(double value) const;
+  std::string describe() const;
+};
 
 struct PixelRef {
   int x = -1, y = -1, channel = -1;
@@ -46,7 +54,7 @@ struct Verdict {
 };
 
 DiffStats diff_images(const Image& input, const Image& reference, const Image& candidate,
-                      StageId stage, int output_device, const Tolerance& tol);
+                      const OutputEncoding& encoding, const Tolerance& tol);
 
 // Applies the tolerance. Written so that NaN fails: a metric passes only if `!(m > tol)` can be
 // shown as `m <= tol`.

@@ -32,7 +32,8 @@ hdrc::Image grey(int w, double v) {
 TEST(Diff, HandComputedMetrics) {
   hdrc::Image in = grey(4, 0.5), ref = grey(4, 0.5), cand = grey(4, 0.5);
   cand.px(2, 0)[1] = 0.5005;  // abs 5e-4, rel 1e-3
-  const auto s = hdrc::diff_images(in, ref, cand, hdrc::StageId::kShaper, 3, tol(1e-2, 1e-6, 10));
+  const auto s = hdrc::diff_images(in, ref, cand, hdrc::OutputEncoding{hdrc::StageId::kShaper, 3},
+                                   tol(1e-2, 1e-6, 10));
   EXPECT_EQ(s.values, 12u);
   EXPECT_NEAR(s.max_abs, 5e-4, 1e-15);
   EXPECT_NEAR(s.max_rel, 1e-3, 1e-12);
@@ -52,10 +53,12 @@ TEST(Diff, HandComputedMetrics) {
 TEST(Diff, RelativeErrorUsesTheFloor) {
   hdrc::Image in = grey(1, 0), ref = grey(1, 0), cand = grey(1, 0);
   cand.px(0, 0)[0] = 1e-7;
-  auto s = hdrc::diff_images(in, ref, cand, hdrc::StageId::kShaper, 3, tol(1, 1e-6, 10));
+  auto s = hdrc::diff_images(in, ref, cand, hdrc::OutputEncoding{hdrc::StageId::kShaper, 3},
+                             tol(1, 1e-6, 10));
   EXPECT_NEAR(s.max_rel, 0.1, 1e-12);
   // With no floor a difference over a zero reference is infinitely wrong, never NaN.
-  s = hdrc::diff_images(in, ref, cand, hdrc::StageId::kShaper, 3, tol(1, 0, 10));
+  s = hdrc::diff_images(in, ref, cand, hdrc::OutputEncoding{hdrc::StageId::kShaper, 3},
+                        tol(1, 0, 10));
   EXPECT_TRUE(std::isinf(s.max_rel));
   EXPECT_FALSE(hdrc::judge(s, tol(1, 0, 10)).pass);
 }
@@ -74,7 +77,8 @@ TEST(Diff, NonFiniteConsistencyRules) {
     hdrc::Image in = grey(3, 0.1), ref = grey(3, 0.1), cand = grey(3, 0.1);
     ref.px(1, 0)[2] = c.ref;
     cand.px(1, 0)[2] = c.cand;
-    const auto s = hdrc::diff_images(in, ref, cand, hdrc::StageId::kShaper, 0, tol(1e-3, 1e-6, 1));
+    const auto s = hdrc::diff_images(in, ref, cand, hdrc::OutputEncoding{hdrc::StageId::kShaper, 0},
+                                     tol(1e-3, 1e-6, 1));
     EXPECT_EQ(s.nonfinite_mismatch, c.consistent ? 0u : 1u) << c.ref << " vs " << c.cand;
     const auto v = hdrc::judge(s, tol(1e-3, 1e-6, 1));
     EXPECT_EQ(v.pass, c.consistent) << v.reason;
@@ -91,16 +95,27 @@ TEST(Diff, NonFiniteMismatchIsReportedFirst) {
   hdrc::Image in = grey(2, 1), ref = grey(2, 1), cand = grey(2, 1);
   cand.px(0, 0)[0] = 2.0;   // numeric failure at x = 0
   cand.px(1, 0)[0] = kNaN;  // non-finite mismatch at x = 1
-  const auto s = hdrc::diff_images(in, ref, cand, hdrc::StageId::kShaper, 0, tol(1e-3, 1e-6, 1));
+  const auto s = hdrc::diff_images(in, ref, cand, hdrc::OutputEncoding{hdrc::StageId::kShaper, 0},
+                                   tol(1e-3, 1e-6, 1));
   const auto v = hdrc::judge(s, tol(1e-3, 1e-6, 1));
   EXPECT_FALSE(v.pass);
   EXPECT_EQ(v.reason.rfind("1 non-finite mismatch", 0), 0u) << v.reason;
 }
 
-TEST(Diff, NitsScalePerDevice) {
-  EXPECT_EQ(hdrc::output_nits_scale(hdrc::StageId::kShaper, 0), 100.0);
-  EXPECT_EQ(hdrc::output_nits_scale(hdrc::StageId::kLinearDevice, 8), 100.0);
-  EXPECT_EQ(hdrc::output_nits_scale(hdrc::StageId::kLinearDevice, 7), 1.0);
+// The mapping to nits per stage and device, against published values: sRGB 0.5 → 0.214041 (IEC
+// 61966-2-1), PQ 0.5080784 → 100 nits, scRGB 1.0 → 80 nits.
+TEST(Diff, OutputToNits) {
+  using hdrc::OutputEncoding;
+  using hdrc::StageId;
+  EXPECT_EQ((OutputEncoding{StageId::kShaper, 0}.to_nits(0.5)), 50.0);
+  EXPECT_EQ((OutputEncoding{StageId::kLinearDevice, 8}.to_nits(0.5)), 50.0);
+  EXPECT_EQ((OutputEncoding{StageId::kLinearDevice, 7}.to_nits(0.5)), 0.5);
+  EXPECT_NEAR((OutputEncoding{StageId::kTonemap, 0}.to_nits(0.5)), 21.4041, 1e-3);
+  EXPECT_NEAR((OutputEncoding{StageId::kTonemap, 3}.to_nits(0.5080784)), 100.0, 1e-4);
+  EXPECT_EQ((OutputEncoding{StageId::kTonemap, 5}.to_nits(1.0)), 80.0);
+  EXPECT_NEAR((OutputEncoding{StageId::kCombineLuts, 3}.to_nits(0.5080784 / 1.05)), 100.0, 1e-4);
+  EXPECT_NEAR((OutputEncoding{StageId::kTonemap, 2, 1 / 2.2}.to_nits(0.5)),
+              100 * std::pow(0.5, 2.2), 1e-12);
 }
 
 }  // namespace

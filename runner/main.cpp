@@ -24,7 +24,10 @@ constexpr const char* kExitCodes =
     "  1  fail: at least one case failed or errored\n"
     "  2  bad input: usage error or invalid case files (nothing was run or written)\n"
     "  3  engine unavailable: nothing failed, but the candidate engine could not start and its\n"
-    "     cases were skipped (never counted as passed)\n";
+    "     cases were skipped (never counted as passed)\n"
+    "Cases listed in cases/known_limits.json (KNOWN_LIMIT) and combinations for which UE computes\n"
+    "degenerate parameters (DEGENERATE) are reported with their reason and do not change the "
+    "code.\n";
 
 void print_case_line(const hdrc::CaseResult& r, size_t index, size_t total) {
   std::printf("[%zu/%zu] %-5s %s  %s\n", index + 1, total, hdrc::verdict_name(r.verdict),
@@ -34,9 +37,10 @@ void print_case_line(const hdrc::CaseResult& r, size_t index, size_t total) {
   std::fflush(stdout);
 }
 
-int load_or_report(const std::string& dir, const std::string& filter,
-                   std::vector<hdrc::Case>* out) {
+int load_or_report(const std::string& dir, const std::string& filter, std::vector<hdrc::Case>* out,
+                   std::vector<hdrc::KnownLimit>* limits) {
   hdrc::LoadedCases loaded = hdrc::load_cases(dir);
+  *limits = hdrc::load_known_limits(dir, &loaded.errors);
   if (!loaded.errors.empty()) {
     for (const auto& e : loaded.errors) std::fprintf(stderr, "error: %s\n", e.to_string().c_str());
     std::fprintf(stderr, "%zu error(s) in case files; nothing was run\n", loaded.errors.size());
@@ -105,7 +109,9 @@ int main(int argc, char** argv) {
   }
 
   std::vector<hdrc::Case> cases;
-  if (int code = load_or_report(cases_dir, filter, &cases); code != hdrc::kExitPass) return code;
+  std::vector<hdrc::KnownLimit> limits;
+  if (int code = load_or_report(cases_dir, filter, &cases, &limits); code != hdrc::kExitPass)
+    return code;
 
   if (*list) {
     for (const auto& c : cases)
@@ -121,7 +127,7 @@ int main(int argc, char** argv) {
   else
     candidate = std::make_unique<hdrc::ref::ReferenceEngine>();
 
-  hdrc::RunReport report = hdrc::run_cases(cases, reference, *candidate, print_case_line);
+  hdrc::RunReport report = hdrc::run_cases(cases, reference, *candidate, limits, print_case_line);
   if (!report.candidate_unavailable.empty())
     std::printf("candidate unavailable: %s\n", report.candidate_unavailable.c_str());
   if (hdrc::Status st = hdrc::write_run_outputs(report, out_dir); !st) {
@@ -132,10 +138,12 @@ int main(int argc, char** argv) {
   const std::string report_path =
       std::filesystem::absolute(out_dir + "/report/index.html", ec).lexically_normal().string();
   std::printf(
-      "hdrconform: %zu cases: %d passed, %d failed, %d errors, %d skipped in %.1f s on %s (%s)\n",
+      "hdrconform: %zu cases: %d passed, %d failed, %d errors, %d skipped, %d known limits, %d "
+      "degenerate in %.1f s on %s (%s)\n",
       report.cases.size(), report.count(hdrc::CaseVerdict::kPass),
       report.count(hdrc::CaseVerdict::kFail), report.count(hdrc::CaseVerdict::kError),
-      report.count(hdrc::CaseVerdict::kSkipped), report.wall_seconds,
+      report.count(hdrc::CaseVerdict::kSkipped), report.count(hdrc::CaseVerdict::kKnownLimit),
+      report.count(hdrc::CaseVerdict::kDegenerate), report.wall_seconds,
       report.candidate_device.device.c_str(), report.candidate_device.driver.c_str());
   std::printf("report: %s\n", report_path.c_str());
   return report.exit_code();

@@ -114,6 +114,8 @@ std::string results_json(const RunReport& r) {
         {"fail", r.count(CaseVerdict::kFail)},
         {"error", r.count(CaseVerdict::kError)},
         {"skipped", r.count(CaseVerdict::kSkipped)},
+        {"known_limit", r.count(CaseVerdict::kKnownLimit)},
+        {"degenerate", r.count(CaseVerdict::kDegenerate)},
         {"exit_code", r.exit_code()}}},
       {"cases", cases},
   };
@@ -124,7 +126,8 @@ std::string junit_xml(const RunReport& r) {
   std::string x = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
   const int failures = r.count(CaseVerdict::kFail);
   const int errors = r.count(CaseVerdict::kError);
-  const int skipped = r.count(CaseVerdict::kSkipped);
+  const int skipped = r.count(CaseVerdict::kSkipped) + r.count(CaseVerdict::kKnownLimit) +
+                      r.count(CaseVerdict::kDegenerate);
   x += "<testsuites>\n<testsuite name=\"hdrconform\" tests=\"" + std::to_string(r.cases.size()) +
        "\" failures=\"" + std::to_string(failures) + "\" errors=\"" + std::to_string(errors) +
        "\" skipped=\"" + std::to_string(skipped) + "\" time=\"" + std::to_string(r.wall_seconds) +
@@ -148,7 +151,10 @@ std::string junit_xml(const RunReport& r) {
         x += ">\n    <error message=\"" + xml_escape(c.reason) + "\"/>\n  </testcase>\n";
         break;
       case CaseVerdict::kSkipped:
-        x += ">\n    <skipped message=\"" + xml_escape(c.reason) + "\"/>\n  </testcase>\n";
+      case CaseVerdict::kKnownLimit:
+      case CaseVerdict::kDegenerate:
+        x += ">\n    <skipped message=\"" + std::string(verdict_name(c.verdict)) + ": " +
+             xml_escape(c.reason) + "\"/>\n  </testcase>\n";
         break;
     }
   }

@@ -16,6 +16,10 @@ const char* verdict_name(CaseVerdict v) {
       return "ERROR";
     case CaseVerdict::kSkipped:
       return "SKIP";
+    case CaseVerdict::kKnownLimit:
+      return "KNOWN_LIMIT";
+    case CaseVerdict::kDegenerate:
+      return "DEGENERATE";
   }
   return "?";
 }
@@ -45,6 +49,7 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }  // namespace
 
 RunReport run_cases(const std::vector<Case>& cases, Engine& reference, Engine& candidate,
+                    const std::vector<KnownLimit>& known_limits,
                     void (*on_case)(const CaseResult&, size_t, size_t)) {
   RunReport report;
   report.started_utc = utc_now();
@@ -62,12 +67,22 @@ RunReport run_cases(const std::vector<Case>& cases, Engine& reference, Engine& c
   for (size_t i = 0; i < cases.size(); ++i) {
     CaseResult r;
     r.spec = cases[i];
-    if (!report.candidate_unavailable.empty()) {
-      r.verdict = CaseVerdict::kSkipped;
-      r.reason = report.candidate_unavailable;
-    } else if (auto resolved = resolve_case(cases[i]); !resolved) {
+    const KnownLimit* limit = nullptr;
+    for (const KnownLimit& k : known_limits)
+      if (k.engine == candidate.name() && matches_filter(cases[i].id, k.cases)) limit = &k;
+    auto resolved = resolve_case(cases[i]);
+    if (!resolved) {
       r.verdict = CaseVerdict::kError;
       r.reason = resolved.error().to_string();
+    } else if (!resolved->degenerate.empty()) {
+      r.verdict = CaseVerdict::kDegenerate;
+      r.reason = resolved->degenerate;
+    } else if (limit) {
+      r.verdict = CaseVerdict::kKnownLimit;
+      r.reason = "known limit of " + limit->engine + ": " + limit->reason;
+    } else if (!report.candidate_unavailable.empty()) {
+      r.verdict = CaseVerdict::kSkipped;
+      r.reason = report.candidate_unavailable;
     } else {
       auto t0 = std::chrono::steady_clock::now();
       auto ref_img = reference.run(*resolved);
@@ -82,8 +97,9 @@ RunReport run_cases(const std::vector<Case>& cases, Engine& reference, Engine& c
         r.verdict = CaseVerdict::kError;
         r.reason = candidate.name() + ": " + cand_img.error().to_string();
       } else {
-        r.stats = diff_images(resolved->input, *ref_img, *cand_img, cases[i].stage->id,
-                              resolved->params.output_device, cases[i].tolerance);
+        const OutputEncoding enc{cases[i].stage->id, resolved->params.output_device,
+                                 resolved->params.inverse_gamma[2]};
+        r.stats = diff_images(resolved->input, *ref_img, *cand_img, enc, cases[i].tolerance);
         const Verdict v = judge(r.stats, cases[i].tolerance);
         r.verdict = v.pass ? CaseVerdict::kPass : CaseVerdict::kFail;
         r.reason = v.reason;

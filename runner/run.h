@@ -21,7 +21,10 @@ enum ExitCode : int {
       3,  // no failure, but the candidate engine was unavailable: cases skipped
 };
 
-enum class CaseVerdict { kPass, kFail, kError, kSkipped };
+// PASS/FAIL: judged. ERROR: could not be evaluated. SKIP: the candidate engine was unavailable.
+// KNOWN_LIMIT: listed in cases/known_limits.json for this engine. DEGENERATE: UE itself computes
+// degenerate parameters for this combination; not evaluated. Only FAIL and ERROR fail a run.
+enum class CaseVerdict { kPass, kFail, kError, kSkipped, kKnownLimit, kDegenerate };
 const char* verdict_name(CaseVerdict v);
 
 struct CaseResult {
@@ -43,7 +46,9 @@ struct RunReport {
 };
 
 // Runs `cases` with `candidate` against `reference`. `on_case` is called after each case.
+struct KnownLimit;
 RunReport run_cases(const std::vector<Case>& cases, Engine& reference, Engine& candidate,
+                    const std::vector<KnownLimit>& known_limits,
                     void (*on_case)(const CaseResult&, size_t index, size_t total) = nullptr);
 
 }  // namespace hdrc

@@ -31,4 +31,17 @@ inline double linear_to_rec709(double x) {
   return std::fmin(4.5 * x, 1.099 * d3d::pow(std::fmax(x, 0.018), 0.45) - 0.099);
 }
 
+// sRGBToLinear (UI textures; the diff's SDR decode): c > 0.04045 ? (c/1.055 + 0.0521327)^2.4 :
+// c/12.92, with the optional minimum-normal clamp.
+inline double srgb_to_linear(double c) {
+  if (kMinNormalClamp) c = std::fmax(kMinNormal, c);
+  return c > 0.04045 ? d3d::pow(c / 1.055 + 0.0521327, 2.4) : c / 12.92;
+}
+
+// Rec709ToLinear: c > 0.081 ? ((c + 0.099)/1.099)^(1/0.45) : c/4.5.
+inline double rec709_to_linear(double c) {
+  if (kMinNormalClamp) c = std::fmax(kMinNormal, c);
+  return c > 0.081 ? d3d::pow((c + 0.099) / 1.099, 1.0 / 0.45) : c / 4.5;
+}
+
 }  // namespace hdrc::ref::srgb

@@ -72,7 +72,10 @@ Result<Resolution> resolve(const Case& c, int width, int height) {
   p.aces_coefs_high_4 = a.coefs_high_4;
   p.aces_scene_color_multiplier = a.scene_color_multiplier;
   p.aces_gamut_compression = a.gamut_compression;
-  if (!aces.status.ok() && device >= 3 && device <= 6) {
+  // Only stages that run CombineLUTs' device encoding use these parameters.
+  const bool encodes =
+      c.stage && (c.stage->id == StageId::kCombineLuts || c.stage->id == StageId::kTonemap);
+  if (encodes && !aces.status.ok() && device >= 3 && device <= 6) {
     r.degenerate = "ACES device " + std::to_string(device) +
                    " with degenerate tone-scale parameters (MaxLuminance resolves to " +
                    std::to_string(static_cast<int>(max_lum)) +
