@@ -106,6 +106,43 @@ TEST(Cli, NoVulkanDriverSkipsAndExits3) {
   fs::remove_all(out);
 }
 
+// probe: the README example; lines out match lines in; errors name the line.
+TEST(Cli, ProbePrintsNineDigitsPerLine) {
+  const fs::path in = temp_dir("probe") / "in.txt";
+  std::ofstream(in) << "# scene grey and white\n0.18 0.18 0.18\n\n1 1 1\n";
+  const Ran p =
+      run("probe --set r.HDR.EnableHDROutput=1 --set r.HDR.Display.OutputDevice=3 "
+          "--set r.HDR.Display.ColorGamut=4 --stage device < " +
+          in.string());
+  EXPECT_EQ(p.code, 0) << p.out;
+  // Spec §13: PQ 0.378296436 for grey 0.18 and 0.552035909 for 1.0 (AP1 output: no gamut drift).
+  std::istringstream lines(p.out);
+  double a, b, c;
+  ASSERT_TRUE(lines >> a >> b >> c);
+  EXPECT_NEAR(b, 0.378296436, 2e-6);
+  ASSERT_TRUE(lines >> a >> b >> c);
+  EXPECT_NEAR(b, 0.552035909, 2e-6);
+  EXPECT_FALSE(lines >> a);
+  EXPECT_NE(p.out.find("0.378296"), std::string::npos);
+  const Ran j =
+      run("probe --json --stage aces_nits --set r.HDR.EnableHDROutput=1 --set "
+          "r.HDR.Display.OutputDevice=3 < " +
+          in.string());
+  EXPECT_EQ(j.code, 0);
+  EXPECT_NE(j.out.find("\"aces_nits\""), std::string::npos) << j.out;
+  std::ofstream(in) << "0.18 x 0.18\n";
+  const Ran bad = run("probe < " + in.string());
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.out.find("<stdin>: line 1: expected three numbers"), std::string::npos) << bad.out;
+  const Ran bad_stage = run("probe --stage foo < " + in.string());
+  EXPECT_EQ(bad_stage.code, 2);
+  EXPECT_NE(bad_stage.out.find("valid choices: lattice, decoded"), std::string::npos);
+  const Ran bad_cvar = run("probe --set r.HDR.Display.OutputDevice=12 < " + in.string());
+  EXPECT_EQ(bad_cvar.code, 2);
+  EXPECT_NE(bad_cvar.out.find("out of range; valid choices: 0 to 9"), std::string::npos);
+  fs::remove_all(in.parent_path());
+}
+
 // Planted defect: one output pixel of the shaper stage altered by 0.1 %. The suite must fail,
 // naming the case and locating the pixel and channel exactly. (A one-ULP change of PQ's m2 is
 // below lavapipe's own float32 error here, see docs/precision.md.)

@@ -9,6 +9,7 @@
 #include "gpu/vulkan_engine.h"
 #include "reference/reference_engine.h"
 #include "runner/case_loader.h"
+#include "runner/probe.h"
 #include "runner/results.h"
 #include "runner/run.h"
 
@@ -91,6 +92,29 @@ int main(int argc, char** argv) {
   CLI::App* devices = app.add_subcommand("devices", "list the Vulkan physical devices");
   devices->footer(kExitCodes);
 
+  hdrc::ProbeOptions probe_opts;
+  CLI::App* probe = app.add_subcommand(
+      "probe",
+      "print what UE 5.5 computes for colours read as \"R G B\" lines from standard input\n"
+      "(scene-linear, working colour space, at the centre of the screen: no vignette, bloom or\n"
+      "dither); one \"R G B\" line out per line in, 9 significant digits");
+  probe->footer(
+      std::string("Example:\n  printf '0.18 0.18 0.18\\n' | hdrconform probe --set "
+                  "r.HDR.EnableHDROutput=1 \\\n    --set r.HDR.Display.OutputDevice=3 --set "
+                  "r.HDR.Display.ColorGamut=2\n") +
+      kExitCodes);
+  probe->add_option("--set", probe_opts.set, "CVAR=VALUE (repeatable)");
+  probe->add_option("--setting", probe_opts.setting,
+                    "post-process setting NAME=VALUE or NAME=r,g,b,a (repeatable)");
+  probe
+      ->add_option("--lut", probe_opts.lut,
+                   "analytic: evaluate CombineLUTs directly; baked: "
+                   "bake the LUT (size and format from r.LUT.Size, LUTFormat) and sample it")
+      ->capture_default_str();
+  probe->add_option("--stage", probe_opts.stage, "value to print: " + hdrc::probe_stage_names())
+      ->capture_default_str();
+  probe->add_flag("--json", probe_opts.json, "print a JSON document instead of lines");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -105,6 +129,14 @@ int main(int argc, char** argv) {
       return hdrc::kExitEngineUnavailable;
     }
     std::fputs(text->c_str(), stdout);
+    return hdrc::kExitPass;
+  }
+
+  if (*probe) {
+    if (hdrc::Status st = hdrc::run_probe(probe_opts, std::cin, std::cout); !st) {
+      std::fprintf(stderr, "error: %s\n", st.error().to_string().c_str());
+      return hdrc::kExitBadInput;
+    }
     return hdrc::kExitPass;
   }
 

@@ -1,0 +1,151 @@
+#include "runner/probe.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <istream>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <ostream>
+#include <sstream>
+
+#include "reference/color/d3d_math.h"
+#include "reference/combine_luts.h"
+#include "reference/lut_shaper.h"
+#include "reference/tonemap.h"
+#include "reference/ue_cpp/resolve.h"
+
+namespace hdrc {
+
+namespace {
+
+const std::vector<std::string>& stages() {
+  static const std::vector<std::string> s = {
+      "lattice", "decoded",   "white_balanced", "ap1",    "expanded", "color_corrected", "film",
+      "graded",  "aces_nits", "device",         "stored", "lut",      "output"};
+  return s;
+}
+
+std::optional<double> parse_number(const std::string& s) {
+  try {
+    size_t used = 0;
+    const double v = std::stod(s, &used);
+    if (used != s.size()) return std::nullopt;
+    return v;
+  } catch (...) {
+    return std::nullopt;
+  }
+}
+
+std::string format9(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.9g", v);
+  return buf;
+}
+
+ref::Vec3 pick(const std::string& stage, const ref::CombineLutsTrace& c,
+               const ref::TonemapTrace& t) {
+  if (stage == "lattice") return c.lattice;
+  if (stage == "decoded") return c.decoded;
+  if (stage == "white_balanced") return c.white_balanced;
+  if (stage == "ap1") return c.ap1;
+  if (stage == "expanded") return c.expanded;
+  if (stage == "color_corrected") return c.color_corrected;
+  if (stage == "film") return c.film;
+  if (stage == "graded") return c.graded;
+  if (stage == "aces_nits") return c.aces_nits;
+  if (stage == "device") return c.device;
+  if (stage == "stored") return c.stored;
+  if (stage == "lut") return t.lut;
+  return t.output;
+}
+
+}  // namespace
+
+std::string probe_stage_names() {
+  std::string out;
+  for (const auto& s : stages()) out += (out.empty() ? "" : ", ") + s;
+  return out;
+}
+
+Status run_probe(const ProbeOptions& o, std::istream& in, std::ostream& out) {
+  Case c;
+  c.id = "probe";
+  c.stage = find_stage("tonemap");
+  for (const std::string& kv : o.set) {
+    const size_t eq = kv.find('=');
+    const auto value = eq == std::string::npos ? std::nullopt : parse_number(kv.substr(eq + 1));
+    if (!value) return Error{"--set", kv, "expected CVAR=NUMBER", ""};
+    if (Status st = c.cvars.set(kv.substr(0, eq), *value); !st)
+      return Error{"--set", kv, st.error().message, st.error().choices};
+  }
+  for (const std::string& kv : o.setting) {
+    const size_t eq = kv.find('=');
+    if (eq == std::string::npos) return Error{"--setting", kv, "expected NAME=VALUE", ""};
+    Vec4d v{0, 0, 0, 0};
+    int n = 0;
+    std::stringstream list(kv.substr(eq + 1));
+    for (std::string part; std::getline(list, part, ',');) {
+      const auto x = parse_number(part);
+      if (!x || n == 4) return Error{"--setting", kv, "expected a number or r,g,b,a", ""};
+      v[n++] = *x;
+    }
+    if (Status st = c.settings.set(kv.substr(0, eq), v, n); !st)
+      return Error{"--setting", kv, st.error().message, st.error().choices};
+  }
+  if (o.lut != "analytic" && o.lut != "baked")
+    return Error{"--lut", o.lut, "unknown LUT mode", "analytic, baked"};
+  if (std::find(stages().begin(), stages().end(), o.stage) == stages().end())
+    return Error{"--stage", o.stage, "unknown stage", probe_stage_names()};
+
+  auto resolution = ref::resolve(c, 1, 1);
+  if (!resolution) return resolution.error();
+  const ParamBlock& p = resolution->params;
+  std::optional<ref::BakedLut> lut;
+  if (o.lut == "baked") lut = ref::bake_lut(p);
+
+  nlohmann::json rows = nlohmann::json::array();
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number) {
+    const size_t first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos || line[first] == '#') continue;
+    std::istringstream fields(line);
+    std::string a, b, d, extra;
+    fields >> a >> b >> d;
+    const auto r = parse_number(a), g = parse_number(b), bl = parse_number(d);
+    if (!r || !g || !bl || (fields >> extra)) {
+      return Error{"<stdin>", "line " + std::to_string(number),
+                   "expected three numbers \"R G B\", got \"" + line + "\"", ""};
+    }
+    const ref::Vec3 rgb{*r, *g, *bl};
+    ref::TonemapTrace t;
+    ref::tonemap_centre_pixel(p, rgb, lut ? &*lut : nullptr, &t);
+    // The CombineLUTs intermediates at the coordinate the lookup reads (clamped as the sampler
+    // addresses it); with --lut baked they are evaluated analytically there.
+    ref::CombineLutsTrace ct;
+    ref::Vec3 e;
+    for (int k = 0; k < 3; ++k) e[k] = ref::d3d::clamp_address(t.encoded[k]);
+    ref::combine_luts_texel(p, e, &ct);
+    const ref::Vec3 v = pick(o.stage, ct, t);
+    if (o.json) {
+      rows.push_back(
+          {{"line", number}, {"input", {rgb[0], rgb[1], rgb[2]}}, {o.stage, {v[0], v[1], v[2]}}});
+    } else {
+      out << format9(v[0]) << ' ' << format9(v[1]) << ' ' << format9(v[2]) << '\n';
+    }
+  }
+  if (o.json) {
+    nlohmann::json doc = {{"stage", o.stage},
+                          {"lut", o.lut},
+                          {"output_device", p.output_device},
+                          {"output_gamut", p.output_gamut},
+                          {"output_max_luminance", p.output_max_luminance},
+                          {"degenerate", resolution->degenerate},
+                          {"rows", rows}};
+    out << doc.dump(2) << '\n';
+  } else if (!resolution->degenerate.empty()) {
+    out << "# degenerate: " << resolution->degenerate << '\n';
+  }
+  return {};
+}
+
+}  // namespace hdrc

@@ -1,0 +1,28 @@
+// `hdrconform probe`: what UE 5.5 computes for given colours, for people debugging a port.
+#pragma once
+
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+#include "core/case.h"
+#include "core/result.h"
+
+namespace hdrc {
+
+struct ProbeOptions {
+  std::vector<std::string> set;      // "CVAR=VALUE"
+  std::vector<std::string> setting;  // "NAME=VALUE" or "NAME=r,g,b,a"
+  std::string lut = "analytic";      // analytic | baked
+  std::string stage = "output";      // see probe_stage_names()
+  bool json = false;
+};
+
+std::string probe_stage_names();
+
+// Reads "R G B" lines from `in` (blank lines and lines starting with '#' are skipped) and writes
+// one line per input to `out`: "R G B" with 9 significant digits, or a JSON document with --json.
+// Errors (bad option, bad line) name the option or the line and the valid choices.
+Status run_probe(const ProbeOptions& options, std::istream& in, std::ostream& out);
+
+}  // namespace hdrc
