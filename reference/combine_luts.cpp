@@ -7,7 +7,7 @@
 
 #include "reference/aces/aces_output.h"
 #include "reference/color/d3d_math.h"
-#include "reference/color/srgb.h"
+#include "reference/color/gamma_correction.h"
 #include "reference/color/st2084.h"
 #include "reference/color/ue_matrices.h"
 #include "reference/grading/color_correct.h"
@@ -74,10 +74,6 @@ aces::AcesShaderParams aces_params(const ParamBlock& p) {
   return aces::compute_aces_tonemap_params(packed);
 }
 
-Vec3 per_channel(const Vec3& v, double (*f)(double)) {
-  return {f(v[0]), f(v[1]), f(v[2])};
-}
-
 Vec3 pq_encode(const Vec3& nits) {
   Vec3 out;
   for (int c = 0; c < 3; ++c) {
@@ -126,11 +122,11 @@ Vec3 combine_luts_texel(const ParamBlock& p, const Vec3& lattice, CombineLutsTra
   switch (device) {
     case 0: {
       const Vec3 x = p.wcs_is_srgb ? film_gamma : to_output * (p.wcs_to_ap1 * film_gamma);
-      t.device = per_channel(x, srgb::linear_to_srgb);
+      t.device = linear_to_srgb(x);
       break;
     }
     case 1:
-      t.device = per_channel(to_output * (p.wcs_to_ap1 * film_gamma), srgb::linear_to_rec709);
+      t.device = linear_to_rec709_branchless(to_output * (p.wcs_to_ap1 * film_gamma));
       break;
     case 3:
     case 4:

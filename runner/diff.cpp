@@ -3,7 +3,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "reference/color/srgb.h"
+#include "reference/color/gamma_correction.h"
 #include "reference/color/st2084.h"
 #include "reference/color/ue_log_shaper.h"
 
@@ -29,9 +29,9 @@ double OutputEncoding::to_nits(double v) const {
   }
   switch (device) {
     case 0:
-      return ref::srgb::srgb_to_linear(v) * sdr_white;
+      return ref::srgb_to_linear(v) * sdr_white;
     case 1:
-      return ref::srgb::rec709_to_linear(v) * sdr_white;
+      return ref::rec709_to_linear(v) * sdr_white;
     case 2:
       return (v > 0 ? std::pow(v, 1.0 / inverse_gamma_z) : 0.0) * sdr_white;
     case 8:
