@@ -46,6 +46,7 @@ struct ResolvedCase {
   Case spec;
   ParamBlock params;
   Image input;
+  Image ui;  // ui_composite: the UI layer (premultiplied, sRGB-encoded), same size as `input`
   // Non-empty when UE computes degenerate parameters for this combination (e.g. an ACES device
   // while MaxLuminance resolves to 0): the case is reported as DEGENERATE, never evaluated as a
   // pass.

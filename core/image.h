@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstddef>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -15,6 +16,9 @@ struct Image {
   int height = 0;
   static constexpr int kChannels = 4;  // RGBA
   std::vector<double> data;            // width * height * 4
+  // Named numbers a stage outputs besides pixels (e.g. the values VisualizeHDR prints as text),
+  // recorded in results.json so a port can be checked without pixel-exact text.
+  std::map<std::string, double> values;
 
   Image() = default;
   Image(int w, int h) : width(w), height(h), data(static_cast<size_t>(w) * h * kChannels, 0.0) {}

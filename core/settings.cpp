@@ -53,6 +53,13 @@ const std::vector<SettingInfo>& setting_table() {
         {"LUTFormat", 1, s(0), 0, 2,
          "LUT storage: 0 A2B10G10R10 UNORM (UE default), 1 RGBA16F (PF_FloatRGBA), 2 RGBA32F"},
         {"LUTLayout", 1, s(0), 0, 1, "LUT layout: 0 volume N^3 (desktop), 1 2-D unwrapped N^2 x N"},
+        // Slate's colour vision deficiency (FSlateApplication::SetColorVisionDeficiencyType).
+        {"ColorVisionDeficiencyType", 1, s(0), 0, 3,
+         "0 NormalVision, 1 Deuteranope, 2 Protanope, 3 Tritanope"},
+        {"ColorVisionDeficiencySeverity", 1, s(0), 0, 10, "severity 0-10 (truncated)"},
+        {"ColorVisionDeficiencyCorrect", 1, s(0), 0, 1, "1: daltonise instead of simulate"},
+        {"ColorVisionDeficiencyShowCorrection", 1, s(0), 0, 1,
+         "1: simulate the deficiency on the corrected colours"},
     };
     // ColorCorrectAll: global and per-zone Saturation/Contrast/Gamma/Gain/Offset (vec4).
     static const std::vector<std::string> cc_names = [] {

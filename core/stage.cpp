@@ -40,6 +40,22 @@ const std::vector<StageInfo>& stage_table() {
        "",
        "the tonemapper's triangular quantisation dither added to the input (spec 6.1 step 10)",
        {0, 1, 2, 3, 4, 5, 6, 7, 8, 9}},
+      {StageId::kUiComposite,
+       "ui_composite",
+       "",
+       "the HDR UI composite (CompositeUIPixelShader.usf): the input is the back buffer (PQ "
+       "signals for devices 3/4, scRGB for 5/6), the UI is the ui_overlay stimulus of the same "
+       "size; UI decode, Reinhard for translucent UI, colour deficiency, encode (spec 8)",
+       {3, 4, 5, 6},
+       true},
+      {StageId::kVisualizeHdr,
+       "visualize_hdr",
+       "",
+       "VisualizeHDR (PostProcessVisualizeHDR.usf: MainPS): the input is the HDR scene colour; "
+       "the tonemapped scene, the 64-bucket histogram and the average luminance come from the "
+       "reference pipeline; the printed numbers go to results.json (spec 9)",
+       {0, 1, 2, 3, 4, 5, 6, 7, 8, 9},
+       true},
   };
   return table;
 }

@@ -14,6 +14,8 @@ enum class StageId {
   kCombineLuts,   // the baked LUT itself (stored, quantised texels), laid out N² × N
   kTonemap,       // the Tonemap pass up to the per-device post conversion (no dither)
   kDither,        // the quantisation dither added to the input image
+  kUiComposite,   // the HDR UI composite over a back-buffer image (the `ui_overlay` stimulus)
+  kVisualizeHdr,  // VisualizeHDR over an HDR scene colour image
 };
 
 struct StageInfo {

@@ -1,8 +1,12 @@
 #include "reference/reference_engine.h"
 
 #include "reference/color/ue_matrices.h"
+#include "reference/grading/film_tonemap.h"
 #include "reference/lut_shaper.h"
 #include "reference/tonemap.h"
+#include "reference/ui/composite.h"
+#include "reference/visualize/histogram.h"
+#include "reference/visualize/visualize_hdr.h"
 
 namespace hdrc::ref {
 
@@ -46,6 +50,8 @@ Vec3 run_pixel(StageId stage, const ParamBlock& p, const Vec3& rgb) {
     case StageId::kCombineLuts:
     case StageId::kTonemap:
     case StageId::kDither:
+    case StageId::kUiComposite:
+    case StageId::kVisualizeHdr:
       break;  // whole-image stages: see ReferenceEngine::run
   }
   return rgb;
@@ -67,6 +73,52 @@ Image lut_image(const BakedLut& lut) {
   return out;
 }
 
+Result<Image> ui_composite_stage(const ParamBlock& p, const Image& back_buffer,
+                                 const Image& ui_layer) {
+  ui::UiCompositeParams u;
+  u.ui_level = p.ui_level;
+  u.ui_luminance = p.ui_luminance;
+  u.composite_mode = p.ui_composite_mode;
+  u.output_device = p.output_device;
+  u.cvd.type = static_cast<ui::CvdType>(p.cvd_type);
+  u.cvd.severity = p.cvd_severity;
+  u.cvd.correct = p.cvd_correct != 0;
+  u.cvd.show_correction_with_deficiency = p.cvd_show_correction != 0;
+  return ui::composite_ui(back_buffer, ui_layer, u);
+}
+
+Result<Image> visualize_hdr_stage(const ParamBlock& p, const Image& hdr_scene) {
+  auto settings = visualize::default_settings(true);
+  settings.visualize_debug_type = p.visualize_debug_type;
+  visualize::VisualizeHdrInputs in;
+  in.params = visualize::compute_eye_adaptation_parameters(settings);
+  const BakedLut lut = bake_lut(p);
+  const Image tonemapped = tonemap_image(p, hdr_scene, nullptr, &lut);
+  in.scene_color = &tonemapped;
+  in.hdr_scene_color = &hdr_scene;
+  in.histogram = visualize::build_histogram(hdr_scene, in.params, 1.0);
+  in.eye.exposure = p.exposure;
+  in.eye.exposure_bias_only = 1.0;
+  in.eye.average_scene_luminance =
+      visualize::average_luminance_without_outliers(in.histogram, in.params);
+  // The overlay's tone curve: FilmToneMap with the view's film settings, fed a grey in AP1
+  // (docs/ue55-decisions.md D9).
+  const grading::FilmParams film{p.film_slope, p.film_toe, p.film_shoulder, p.film_black_clip,
+                                 p.film_white_clip};
+  in.tone_curve = [film](const Vec3& c) { return grading::film_tone_map(c, film); };
+  visualize::VisualizeHdrResult r = visualize::visualize_hdr(in);
+  const auto& t = r.text;
+  r.image.values = {{"meter_luminance", t.meter_luminance},
+                    {"meter_ev100", t.meter_ev100},
+                    {"illuminance_lux", t.illuminance_lux},
+                    {"exposure_without_bias_ev", t.exposure_without_bias_ev},
+                    {"exposure_ev100", t.exposure_ev100},
+                    {"exposure_px", t.exposure_px},
+                    {"average_luminance_px", t.average_luminance_px},
+                    {"average_scene_luminance", in.eye.average_scene_luminance}};
+  return r.image;
+}
+
 DeviceInfo ReferenceEngine::device() const {
   return {"reference", "cpu (IEEE double)", "hdrconform reference", "-"};
 }
@@ -81,6 +133,10 @@ Result<Image> ReferenceEngine::run(const ResolvedCase& c) {
     }
     case StageId::kDither:
       return dither_image(c.params, c.input);
+    case StageId::kUiComposite:
+      return ui_composite_stage(c.params, c.input, c.ui);
+    case StageId::kVisualizeHdr:
+      return visualize_hdr_stage(c.params, c.input);
     default:
       break;
   }

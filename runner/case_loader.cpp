@@ -236,6 +236,7 @@ std::string short_cvar(const std::string& name) {
       {"r.HDR.UI.CompositeMode", "uimode"},
       {"r.HDR.UI.Level", "uilevel"},
       {"r.HDR.UI.Luminance", "uinits"},
+      {"r.EyeAdaptation.VisualizeDebugType", "debug"},
   };
   auto it = abbrev.find(name);
   if (it != abbrev.end()) return it->second;
@@ -538,6 +539,11 @@ Result<ResolvedCase> resolve_case(const Case& c) {
     float f = static_cast<float>(v);
     if (std::fpclassify(f) == FP_SUBNORMAL) f = std::copysign(0.0f, f);
     v = f;
+  }
+  if (c.stage->id == StageId::kUiComposite) {
+    auto ui = make_stimulus("ui_overlay", r.input.width, r.input.height);
+    if (!ui) return ui.error();
+    r.ui = std::move(*ui);
   }
   auto resolution = ref::resolve(c, r.input.width, r.input.height);
   if (!resolution) return resolution.error();

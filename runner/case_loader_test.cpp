@@ -31,10 +31,10 @@ const BadCase kBadCases[] = {
     {"not_an_object", R"([1, 2])", "t.json: a case file is a JSON object, got array"},
     {"unknown_stage", R"({"stage": "tonemapp", "input": {"stimulus": "log_ramp"}})",
      "t.json: /stage: unknown stage \"tonemapp\"; valid choices: shaper, linear_device, "
-     "combine_luts, tonemap, dither"},
+     "combine_luts, tonemap, dither, ui_composite, visualize_hdr"},
     {"missing_stage", R"({"input": {"stimulus": "log_ramp"}})",
      "t.json: /stage: missing stage; valid choices: shaper, linear_device, combine_luts, tonemap, "
-     "dither"},
+     "dither, ui_composite, visualize_hdr"},
     {"unknown_key", R"({"stage": "shaper", "inptu": 1, "input": {"stimulus": "log_ramp"}})",
      "t.json: /inptu: unknown key 'inptu'; valid choices: $schema, description, stage, cvars, "
      "settings, input, matrix, tolerance"},
@@ -66,7 +66,8 @@ const BadCase kBadCases[] = {
      R"({"stage": "shaper", "matrix": {"mode": "pairwize", "cvars": {"r.LUT.Size": [16]}}, "input": {"stimulus": "log_ramp"}})",
      "t.json: /matrix/mode: unknown matrix mode \"pairwize\"; valid choices: full"},
     {"unknown_stimulus", R"({"stage": "shaper", "input": {"stimulus": "rampp"}})",
-     "t.json: /input/stimulus: unknown stimulus \"rampp\"; valid choices: log_ramp, special_ramp"},
+     "t.json: /input/stimulus: unknown stimulus \"rampp\"; valid choices: log_ramp, special_ramp, "
+     "pq_codes, ui_overlay"},
     {"missing_input_file", R"({"stage": "shaper", "input": {"file": "inputs/missing.exr"}})",
      "t.json: /input/file: input file \"inputs/missing.exr\" does not exist (looked for "
      "CASES/inputs/missing.exr)"},
@@ -75,8 +76,8 @@ const BadCase kBadCases[] = {
      "a "
      "relative path under CASES"},
     {"missing_input", R"({"stage": "shaper"})",
-     "t.json: /input: missing input; valid choices: {\"stimulus\": log_ramp, special_ramp} or "
-     "{\"file\": PATH}"},
+     "t.json: /input: missing input; valid choices: {\"stimulus\": log_ramp, special_ramp, "
+     "pq_codes, ui_overlay} or {\"file\": PATH}"},
     {"bad_width", R"({"stage": "shaper", "input": {"stimulus": "log_ramp", "width": 0}})",
      "t.json: /input/width: width 0 is not valid; valid choices: integers 1 to 8192"},
     {"tolerance_without_reason",
@@ -127,8 +128,8 @@ TEST(CaseLoader, TheDefaultSuiteLoads) {
   auto loaded = hdrc::load_cases(kCasesDir);
   for (const auto& e : loaded.errors) ADD_FAILURE() << e.to_string();
   // shaper 10 devices x 2 inputs, linear 2 x 5 x 2, LUT 10 x 5 + 2 x 3, tonemap 10 x 2,
-  // dither 2, degenerate 1.
-  EXPECT_EQ(loaded.cases.size(), 20u + 20u + 56u + 20u + 2u + 1u);
+  // dither 2, degenerate 1, UI composite 2 x 2 x 2 + 2, VisualizeHDR 2 x 3.
+  EXPECT_EQ(loaded.cases.size(), 20u + 20u + 56u + 20u + 2u + 1u + 10u + 6u);
   for (const auto& c : loaded.cases) EXPECT_NE(c.tolerance.source, "default") << c.id;
 }
 

@@ -21,8 +21,12 @@ double OutputEncoding::to_nits(double v) const {
     case StageId::kCombineLuts:
       v *= 1.05;  // stored texels are OutDeviceColor / 1.05
       break;
+    case StageId::kUiComposite:
+      // The composite writes the back buffer: PQ (devices 3/4) or scRGB (5/6).
+      return (device == 5 || device == 6) ? v * 80.0 : ref::st2084::nits_from_pq(v);
     case StageId::kTonemap:
     case StageId::kDither:
+    case StageId::kVisualizeHdr:
       if (device == 5 || device == 6) return v * 80.0;  // scRGB
       if (device == 7) return v;                        // ST2084ToLinear output: nits
       break;

@@ -99,6 +99,7 @@ std::string results_json(const RunReport& r) {
         {"worst_pq", pixel(s.worst_pq)},
         {"seconds", {{"reference", c.reference_seconds}, {"candidate", c.candidate_seconds}}},
         {"device", device(r.candidate_device)},
+        {"reference_values", c.reference_values},
     });
   }
   json doc = {

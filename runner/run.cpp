@@ -78,8 +78,19 @@ RunReport run_cases(const std::vector<Case>& cases, Engine& reference, Engine& c
       r.verdict = CaseVerdict::kDegenerate;
       r.reason = resolved->degenerate;
     } else if (limit) {
-      r.verdict = CaseVerdict::kKnownLimit;
-      r.reason = "known limit of " + limit->engine + ": " + limit->reason;
+      // The candidate is not run; the reference still is, so its outputs (and any error of its
+      // own) are part of every run.
+      const auto t0 = std::chrono::steady_clock::now();
+      auto ref_img = reference.run(*resolved);
+      r.reference_seconds = seconds_since(t0);
+      if (!ref_img) {
+        r.verdict = CaseVerdict::kError;
+        r.reason = "reference: " + ref_img.error().to_string();
+      } else {
+        r.reference_values = ref_img->values;
+        r.verdict = CaseVerdict::kKnownLimit;
+        r.reason = "known limit of " + limit->engine + ": " + limit->reason;
+      }
     } else if (!report.candidate_unavailable.empty()) {
       r.verdict = CaseVerdict::kSkipped;
       r.reason = report.candidate_unavailable;
@@ -90,6 +101,7 @@ RunReport run_cases(const std::vector<Case>& cases, Engine& reference, Engine& c
       t0 = std::chrono::steady_clock::now();
       auto cand_img = candidate.run(*resolved);
       r.candidate_seconds = seconds_since(t0);
+      if (ref_img) r.reference_values = ref_img->values;
       if (!ref_img) {
         r.verdict = CaseVerdict::kError;
         r.reason = "reference: " + ref_img.error().to_string();

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <chrono>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,7 @@ struct CaseResult {
   CaseVerdict verdict = CaseVerdict::kSkipped;
   std::string reason;
   DiffStats stats;
+  std::map<std::string, double> reference_values;  // named numbers the reference stage output
   double reference_seconds = 0, candidate_seconds = 0;
 };
 

@@ -167,6 +167,12 @@ Result<Resolution> resolve(const Case& c, int width, int height) {
   p.fringe = {offset * 0.007 * (611.3 - 464.3) * mult, offset * 0.007 * (549.1 - 464.3) * mult,
               start, fringe_intensity > 0.01 ? 1.0 : 0.0};
 
+  p.ui_composite_mode = cv.get_int("r.HDR.UI.CompositeMode");
+  p.cvd_type = static_cast<int>(st.get("ColorVisionDeficiencyType"));
+  p.cvd_severity = static_cast<int>(st.get("ColorVisionDeficiencySeverity"));
+  p.cvd_correct = static_cast<int>(st.get("ColorVisionDeficiencyCorrect"));
+  p.cvd_show_correction = static_cast<int>(st.get("ColorVisionDeficiencyShowCorrection"));
+  p.visualize_debug_type = cv.get_int("r.EyeAdaptation.VisualizeDebugType");
   p.ui_level = cv.get("r.HDR.UI.Level");
   p.ui_luminance = cv.get("r.HDR.UI.Luminance");
   return r;

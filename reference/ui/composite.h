@@ -37,9 +37,9 @@
 
 #include "core/image.h"
 #include "core/result.h"
+#include "reference/color/gamma_correction.h"
 #include "reference/color/vec.h"
 #include "reference/ui/color_deficiency.h"
-#include "reference/color/gamma_correction.h"
 
 namespace hdrc::ref::ui {
 

@@ -10,10 +10,10 @@
 #include <string>
 #include <vector>
 
+#include "reference/color/gamma_correction.h"
 #include "reference/color/st2084.h"
 #include "reference/ui/color_deficiency.h"
 #include "reference/ui/composite.h"
-#include "reference/color/gamma_correction.h"
 
 namespace hdrc::ref::ui {
 namespace {
