@@ -44,16 +44,17 @@ std::vector<Vec3> probe_colours() {
   return v;
 }
 
-// Error in display code values: 10-bit PQ codes for device 3, 8-bit sRGB codes for device 0.
+// Error in displayed code values: both sides clamped to [0, 1] as the back buffer stores them,
+// then 10-bit PQ codes for device 3, 8-bit sRGB codes for device 0. NaN pairs are counted apart.
 double code_error(int device, double a, double b) {
-  if (std::isnan(a) || std::isnan(b)) return std::isnan(a) && std::isnan(b) ? 0.0 : INFINITY;
-  return std::fabs(a - b) * (device == 0 ? 255.0 : 1023.0);
+  auto shown = [](double v) { return v < 0.0 ? 0.0 : (v > 1.0 ? 1.0 : v); };
+  return std::fabs(shown(a) - shown(b)) * (device == 0 ? 255.0 : 1023.0);
 }
 
 void precision() {
   std::printf(
-      "| device | LUT size | format | layout | max error | p99.9 | mean "
-      "|\n|---|---|---|---|---|---|---|\n");
+      "| device | LUT size | format | layout | max error | p99.9 | mean | NaN pairs |\n"
+      "|---|---|---|---|---|---|---|---|\n");
   const auto colours = probe_colours();
   const char* formats[] = {"A2B10G10R10", "RGBA16F", "RGBA32F"};
   for (int device : {0, 3}) {
@@ -64,18 +65,25 @@ void precision() {
           const auto p = params(device, size, format, layout);
           const auto lut = hdrc::ref::bake_lut(p);
           std::vector<double> errs;
+          int nan_pairs = 0;
           for (const Vec3& c : colours) {
             const Vec3 a = hdrc::ref::tonemap_centre_pixel(p, c, nullptr);
             const Vec3 b = hdrc::ref::tonemap_centre_pixel(p, c, &lut);
-            for (int k = 0; k < 3; ++k) errs.push_back(code_error(device, a[k], b[k]));
+            for (int k = 0; k < 3; ++k) {
+              if (std::isnan(a[k]) || std::isnan(b[k])) {
+                ++nan_pairs;
+                continue;
+              }
+              errs.push_back(code_error(device, a[k], b[k]));
+            }
           }
           std::sort(errs.begin(), errs.end());
           double sum = 0;
           for (double e : errs) sum += e;
-          std::printf("| %d (%s) | %d | %s | %s | %.3f | %.3f | %.4f |\n", device,
+          std::printf("| %d (%s) | %d | %s | %s | %.3f | %.3f | %.4f | %d |\n", device,
                       device == 0 ? "sRGB, 8-bit codes" : "PQ, 10-bit codes", size, formats[format],
                       layout ? "2-D" : "volume", errs.back(),
-                      errs[static_cast<size_t>(errs.size() * 0.999)], sum / errs.size());
+                      errs[static_cast<size_t>(errs.size() * 0.999)], sum / errs.size(), nan_pairs);
         }
       }
     }
