@@ -38,6 +38,8 @@ struct Case {
   CvarValues cvars;
   SettingValues settings;  // post-process and view settings (UE defaults when unset)
   InputSpec input;
+  InputSpec bloom;       // tonemap: the bloom texture (stimulus "" and file "": no bloom)
+  InputSpec bloom_dirt;  // tonemap: the bloom dirt mask texture (empty: none)
   Tolerance tolerance;
 };
 
@@ -47,6 +49,7 @@ struct ResolvedCase {
   ParamBlock params;
   Image input;
   Image ui;  // ui_composite: the UI layer (premultiplied, sRGB-encoded), same size as `input`
+  Image bloom, bloom_dirt;  // tonemap: bloom and dirt mask textures (empty when not given)
   // Non-empty when UE computes degenerate parameters for this combination (e.g. an ACES device
   // while MaxLuminance resolves to 0): the case is reported as DEGENERATE, never evaluated as a
   // pass.

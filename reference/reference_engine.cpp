@@ -93,7 +93,7 @@ Result<Image> visualize_hdr_stage(const ParamBlock& p, const Image& hdr_scene) {
   visualize::VisualizeHdrInputs in;
   in.params = visualize::compute_eye_adaptation_parameters(settings);
   const BakedLut lut = bake_lut(p);
-  const Image tonemapped = tonemap_image(p, hdr_scene, nullptr, &lut);
+  const Image tonemapped = tonemap_image(p, hdr_scene, nullptr, nullptr, &lut);
   in.scene_color = &tonemapped;
   in.hdr_scene_color = &hdr_scene;
   in.histogram = visualize::build_histogram(hdr_scene, in.params, 1.0);
@@ -129,7 +129,8 @@ Result<Image> ReferenceEngine::run(const ResolvedCase& c) {
       return lut_image(bake_lut(c.params));
     case StageId::kTonemap: {
       const BakedLut lut = bake_lut(c.params);
-      return tonemap_image(c.params, c.input, nullptr, &lut);
+      return tonemap_image(c.params, c.input, c.bloom.data.empty() ? nullptr : &c.bloom,
+                           c.bloom_dirt.data.empty() ? nullptr : &c.bloom_dirt, &lut);
     }
     case StageId::kDither:
       return dither_image(c.params, c.input);

@@ -95,7 +95,7 @@ Vec3 tonemap_centre_pixel(const ParamBlock& p, const Vec3& scene, const BakedLut
   return t.output;
 }
 
-Image tonemap_image(const ParamBlock& p, const Image& scene, const Image* bloom,
+Image tonemap_image(const ParamBlock& p, const Image& scene, const Image* bloom, const Image* dirt,
                     const BakedLut* lut) {
   Image out(scene.width, scene.height);
   const double w = scene.width, h = scene.height;
@@ -149,7 +149,11 @@ Image tonemap_image(const ParamBlock& p, const Image& scene, const Image* bloom,
       for (int c = 0; c < 3; ++c)
         final_linear[c] = s[c] * p.scene_color_tint[c] * (p.exposure * vignette);
       if (bloom) {
-        const Vec3 b = sample_bilinear(*bloom, u, v);
+        Vec3 b = sample_bilinear(*bloom, u, v);
+        if (dirt) {
+          const Vec3 d = sample_bilinear(*dirt, u, v);
+          for (int c = 0; c < 3; ++c) b[c] *= 1.0 + d[c] * p.bloom_dirt_tint[c];
+        }
         for (int c = 0; c < 3; ++c) final_linear[c] += b[c] * (p.exposure * vignette);
       }
       // 7–9. LUT, luminance, per-device post conversion.

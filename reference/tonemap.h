@@ -25,9 +25,11 @@ struct TonemapTrace {
 Vec3 tonemap_centre_pixel(const ParamBlock& p, const Vec3& scene, const BakedLut* lut,
                           TonemapTrace* trace = nullptr);
 
-// The whole pass over `scene` (the viewport is the image). `bloom` may be null (no bloom);
-// output RGB is the device-encoded colour before dither, alpha is OutLuminance.
-Image tonemap_image(const ParamBlock& p, const Image& scene, const Image* bloom,
+// The whole pass over `scene` (the viewport is the image). `bloom` and `dirt` may be null (no
+// bloom, no dirt mask); Bloom = RawBloom · (1 + Dirt · BloomDirtMaskTint), both sampled bilinearly
+// at the pixel's buffer UV (LensUV·(1, −1)·0.5 + 0.5 with the default lens transform). Output RGB
+// is the device-encoded colour before dither, alpha is OutLuminance.
+Image tonemap_image(const ParamBlock& p, const Image& scene, const Image* bloom, const Image* dirt,
                     const BakedLut* lut);
 
 // Step 10: the triangular quantisation dither added to `in` (p.dither_amount, p.grain_random).

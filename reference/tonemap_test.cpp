@@ -48,7 +48,7 @@ TEST(Tonemap, VignetteAtCorner) {
   for (double& v : scene.data) v = 0.5;
   p.width = 4;
   p.height = 2;
-  const hdrc::Image out = hdrc::ref::tonemap_image(p, scene, nullptr, nullptr);
+  const hdrc::Image out = hdrc::ref::tonemap_image(p, scene, nullptr, nullptr, nullptr);
   const double k = std::sqrt(2.0) / std::sqrt(1.25);
   const double vx = 0.75 * k * 0.4, vy = 0.5 * 0.5 * k * 0.4;
   const double mask = std::pow(1.0 / (vx * vx + vy * vy + 1.0), 2.0);
@@ -76,6 +76,35 @@ TEST(Tonemap, DitherIsBoundedAndCentred) {
   EXPECT_EQ(params(8, 0).dither_amount, 0.0);  // devices 8/9: no dither
   EXPECT_NEAR(hdrc::ref::halton(1, 2), 0.5, 0);
   EXPECT_NEAR(hdrc::ref::halton(5, 3), 7.0 / 9.0, 1e-15);
+}
+
+}  // namespace
+
+namespace {
+
+// Bloom with a dirt mask: FinalLinear = S·exposure·vignette + Bloom·(1 + Dirt·Tint)·exposure·
+// vignette, Tint = BloomDirtMaskTint · BloomDirtMaskIntensity / BloomIntensity (spec §6.1 step 5).
+// Device 8 with the vignette off: 0.1 + 0.05·(1 + 0.5·0.5·1/0.675), by hand.
+TEST(Tonemap, BloomWithDirtMask) {
+  hdrc::Case c;
+  c.cvars.set("r.HDR.EnableHDROutput", 1);
+  c.cvars.set("r.HDR.Display.OutputDevice", 8);
+  c.settings.set("VignetteIntensity", {0, 0, 0, 0}, 1);
+  c.settings.set("BloomDirtMaskIntensity", {1, 0, 0, 0}, 1);
+  const auto p = *hdrc::ref::resolve_params(c, 2, 2);
+  hdrc::Image scene(2, 2), bloom(2, 2), dirt(2, 2);
+  for (int i = 0; i < 16; ++i) {
+    scene.data[i] = 0.1;
+    bloom.data[i] = 0.05;
+    dirt.data[i] = 0.5;
+  }
+  const double want = 0.1 + 0.05 * (1.0 + 0.5 * 0.5 / 0.675);
+  const auto with_dirt = hdrc::ref::tonemap_image(p, scene, &bloom, &dirt, nullptr);
+  const auto without = hdrc::ref::tonemap_image(p, scene, &bloom, nullptr, nullptr);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_NEAR(with_dirt.px(1, 1)[k], want, 1e-7 * want) << k;  // float WCS round trip
+    EXPECT_NEAR(without.px(0, 1)[k], 0.15, 1e-7 * 0.15) << k;
+  }
 }
 
 }  // namespace

@@ -269,9 +269,9 @@ std::vector<Case> parse_case_file(const std::string& file, const std::string& te
     p.fail("", "a case file is a JSON object, got " + json_type(doc));
     return out;
   }
-  p.check_keys(
-      doc, "",
-      {"$schema", "description", "stage", "cvars", "settings", "input", "matrix", "tolerance"});
+  p.check_keys(doc, "",
+               {"$schema", "description", "stage", "cvars", "settings", "input", "bloom",
+                "bloom_dirt", "matrix", "tolerance"});
 
   Case base;
   base.file = file;
@@ -301,6 +301,16 @@ std::vector<Case> parse_case_file(const std::string& file, const std::string& te
         p.setting(it.key(), it.value(), "/settings/" + escape_pointer_token(it.key()),
                   &base.settings);
     }
+  }
+  for (const char* key : {"bloom", "bloom_dirt"}) {
+    if (!doc.contains(key)) continue;
+    if (base.stage && base.stage->id != StageId::kTonemap) {
+      p.fail(std::string("/") + key, std::string(key) + " is an input of the tonemap stage only",
+             "tonemap");
+      continue;
+    }
+    p.input(doc[key], std::string("/") + key,
+            std::string(key) == "bloom" ? &base.bloom : &base.bloom_dirt);
   }
   if (doc.contains("tolerance")) p.tolerance(doc["tolerance"], "/tolerance", &base.tolerance);
 
@@ -539,6 +549,19 @@ Result<ResolvedCase> resolve_case(const Case& c) {
     float f = static_cast<float>(v);
     if (std::fpclassify(f) == FP_SUBNORMAL) f = std::copysign(0.0f, f);
     v = f;
+  }
+  // Bloom and dirt textures: stimuli at the scene's size, or image files.
+  for (auto [spec, out] :
+       {std::pair{&c.bloom, &r.bloom}, std::pair{&c.bloom_dirt, &r.bloom_dirt}}) {
+    if (!spec->file.empty()) {
+      auto img = read_image(spec->file);
+      if (!img) return img.error();
+      *out = std::move(*img);
+    } else if (!spec->stimulus.empty()) {
+      auto img = make_stimulus(spec->stimulus, r.input.width, r.input.height);
+      if (!img) return img.error();
+      *out = std::move(*img);
+    }
   }
   if (c.stage->id == StageId::kUiComposite) {
     auto ui = make_stimulus("ui_overlay", r.input.width, r.input.height);

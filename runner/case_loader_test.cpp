@@ -37,7 +37,7 @@ const BadCase kBadCases[] = {
      "dither, ui_composite, visualize_hdr"},
     {"unknown_key", R"({"stage": "shaper", "inptu": 1, "input": {"stimulus": "log_ramp"}})",
      "t.json: /inptu: unknown key 'inptu'; valid choices: $schema, description, stage, cvars, "
-     "settings, input, matrix, tolerance"},
+     "settings, input, bloom, bloom_dirt, matrix, tolerance"},
     {"unknown_cvar",
      R"({"stage": "shaper", "cvars": {"r.HDR.Display.OutputDevise": 3}, "input": {"stimulus": "log_ramp"}})",
      "t.json: /cvars/r.HDR.Display.OutputDevise: unknown cvar 'r.HDR.Display.OutputDevise'; valid "
@@ -128,8 +128,8 @@ TEST(CaseLoader, TheDefaultSuiteLoads) {
   auto loaded = hdrc::load_cases(kCasesDir);
   for (const auto& e : loaded.errors) ADD_FAILURE() << e.to_string();
   // shaper 10 devices x 2 inputs, linear 2 x 5 x 2, LUT 10 x 5 + 2 x 3, tonemap 10 x 2,
-  // dither 2, degenerate 1, UI composite 2 x 2 x 2 + 2, VisualizeHDR 2 x 3.
-  EXPECT_EQ(loaded.cases.size(), 20u + 20u + 56u + 20u + 2u + 1u + 10u + 6u);
+  // dither 2, degenerate 1, UI composite 2 x 2 x 2 + 2, VisualizeHDR 2 x 3, tonemap effects 2.
+  EXPECT_EQ(loaded.cases.size(), 20u + 20u + 56u + 20u + 2u + 1u + 10u + 6u + 2u);
   for (const auto& c : loaded.cases) EXPECT_NE(c.tolerance.source, "default") << c.id;
 }
 
