@@ -46,13 +46,23 @@ std::string read(const fs::path& p) {
 }
 
 TEST(Cli, HelpExplainsOptionsAndExitCodes) {
-  for (const char* sub : {"", "run ", "list ", "devices "}) {
+  for (const char* sub : {"", "run ", "list ", "devices ", "probe ", "cvars "}) {
     const Ran r = run(std::string(sub) + "--help");
     EXPECT_EQ(r.code, 0) << sub;
     EXPECT_NE(r.out.find("Exit codes:"), std::string::npos) << sub;
     EXPECT_NE(r.out.find("3  engine unavailable"), std::string::npos) << sub;
   }
   EXPECT_NE(run("run --help").out.find("--shader-dir"), std::string::npos);
+}
+
+// The cvar table lists every cvar with its default and range (spec §10 defaults).
+TEST(Cli, CvarTableListsDefaultsAndRanges) {
+  const Ran r = run("cvars");
+  EXPECT_EQ(r.code, 0);
+  for (const char* want :
+       {"r.HDR.Display.OutputDevice", "r.HDR.UI.Luminance", "300",
+        "r.HDR.Aces.SceneColorMultiplier", "1.5", "FilmSlope", "0.88", "ColorGammaHighlights"})
+    EXPECT_NE(r.out.find(want), std::string::npos) << want;
 }
 
 TEST(Cli, UsageErrorIsExitCode2) {

@@ -92,6 +92,10 @@ int main(int argc, char** argv) {
   CLI::App* devices = app.add_subcommand("devices", "list the Vulkan physical devices");
   devices->footer(kExitCodes);
 
+  CLI::App* cvars = app.add_subcommand(
+      "cvars", "list every supported cvar and post-process setting: type, default, range, use");
+  cvars->footer(kExitCodes);
+
   hdrc::ProbeOptions probe_opts;
   CLI::App* probe = app.add_subcommand(
       "probe",
@@ -129,6 +133,30 @@ int main(int argc, char** argv) {
       return hdrc::kExitEngineUnavailable;
     }
     std::fputs(text->c_str(), stdout);
+    return hdrc::kExitPass;
+  }
+
+  if (*cvars) {
+    std::printf("%-44s %-6s %10s  %-22s %s\n", "cvar", "type", "default", "range", "feeds");
+    for (const auto& c : hdrc::cvar_table()) {
+      char range[64];
+      std::snprintf(range, sizeof range, "%g .. %g", c.min_value, c.max_value);
+      std::printf("%-44s %-6s %10g  %-22s %s\n", std::string(c.name).c_str(),
+                  c.type == hdrc::CvarType::kInt ? "int" : "float", c.default_value, range,
+                  std::string(c.feeds).c_str());
+    }
+    std::printf("\n%-44s %-6s %10s  %-22s %s\n", "setting", "kind", "default", "range", "feeds");
+    for (const auto& s : hdrc::setting_table()) {
+      char range[64], def[64];
+      std::snprintf(range, sizeof range, "%g .. %g", s.min_value, s.max_value);
+      if (s.components == 1)
+        std::snprintf(def, sizeof def, "%g", s.default_value[0]);
+      else
+        std::snprintf(def, sizeof def, "%g,%g,%g,%g", s.default_value[0], s.default_value[1],
+                      s.default_value[2], s.default_value[3]);
+      std::printf("%-44s %-6s %10s  %-22s %s\n", std::string(s.name).c_str(),
+                  s.components == 1 ? "scalar" : "vec4", def, range, std::string(s.feeds).c_str());
+    }
     return hdrc::kExitPass;
   }
 
