@@ -5,6 +5,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "core/nearest.h"
+
 namespace hdrc {
 
 const std::vector<CvarInfo>& cvar_table() {
@@ -58,21 +60,6 @@ const CvarInfo* find_cvar(std::string_view name) {
 }
 
 namespace {
-size_t edit_distance(std::string_view a, std::string_view b) {
-  std::vector<size_t> prev(b.size() + 1), cur(b.size() + 1);
-  for (size_t j = 0; j <= b.size(); ++j) prev[j] = j;
-  for (size_t i = 1; i <= a.size(); ++i) {
-    cur[0] = i;
-    for (size_t j = 1; j <= b.size(); ++j) {
-      const bool same = std::tolower(static_cast<unsigned char>(a[i - 1])) ==
-                        std::tolower(static_cast<unsigned char>(b[j - 1]));
-      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (same ? 0 : 1)});
-    }
-    std::swap(prev, cur);
-  }
-  return prev[b.size()];
-}
-
 std::string format_number(double v) {
   std::ostringstream s;
   s.precision(9);
@@ -82,13 +69,9 @@ std::string format_number(double v) {
 }  // namespace
 
 std::vector<std::string> nearest_cvar_names(std::string_view name, size_t n) {
-  std::vector<std::pair<size_t, std::string>> scored;
-  for (const auto& c : cvar_table()) scored.emplace_back(edit_distance(name, c.name), c.name);
-  std::stable_sort(scored.begin(), scored.end(),
-                   [](const auto& a, const auto& b) { return a.first < b.first; });
-  std::vector<std::string> out;
-  for (size_t i = 0; i < scored.size() && i < n; ++i) out.push_back(scored[i].second);
-  return out;
+  std::vector<std::string> names;
+  for (const auto& c : cvar_table()) names.emplace_back(c.name);
+  return nearest_names(name, names, n);
 }
 
 Status CvarValues::set(std::string_view name, double value) {
