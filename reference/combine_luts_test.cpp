@@ -146,9 +146,10 @@ TEST(CombineLuts, GreyRampPropertiesOnEveryDeviceAndGamut) {
         worst_spread =
             std::fmax(worst_spread, std::fmax(std::fabs(v[0] - mid), std::fabs(v[2] - mid)));
       }
-      // Neutral in, neutral out, up to the literal matrices' drift (largest with the CATs of the
-      // D65 gamuts); the bound is the measured maximum rounded up.
-      EXPECT_LT(worst_spread, 2e-3) << "device " << device << " gamut " << gamut;
+      // Neutral in, neutral out, up to the literal matrices' drift. Measured worst |channel − G|
+      // over the grey lattice: device 9 / P3 1.41e-4, devices 1–2 / P3 6.8e-5, 3/4 1.45e-5,
+      // 7 1.34e-5, 0 4.5e-6, 8 3.2e-6, 5/6 5.5e-9 (the D60→D65 CAT literals and the float WCS).
+      EXPECT_LT(worst_spread, 2e-4) << "device " << device << " gamut " << gamut;
     }
   }
 }
