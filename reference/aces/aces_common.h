@@ -18,6 +18,14 @@
 
 namespace hdrc::ref::aces {
 
+// ACES.ush RRT constants, shared by the output transform's sweeteners and FilmToneMap.
+inline constexpr double kRrtGlowGain = 0.05;   // RRT_GLOW_GAIN
+inline constexpr double kRrtGlowMid = 0.08;    // RRT_GLOW_MID
+inline constexpr double kRrtRedScale = 0.82;   // RRT_RED_SCALE
+inline constexpr double kRrtRedPivot = 0.03;   // RRT_RED_PIVOT
+inline constexpr double kRrtRedHue = 0.0;      // RRT_RED_HUE, degrees
+inline constexpr double kRrtRedWidth = 135.0;  // RRT_RED_WIDTH, degrees
+
 // ACES.ush: rgb_2_saturation. (max(maxc, 1e-10) − max(minc, 1e-10)) / max(maxc, 0.01).
 // NaN channels are skipped by maxNum/minNum; all-NaN gives (1e-10 − 1e-10)/0.01 = 0.
 inline double rgb_2_saturation(const Vec3& rgb) {

@@ -14,12 +14,6 @@ namespace lit = ue_literal;
 // ACES.ush constants.
 constexpr double kHalfPosInf = 65535.0;  // HALF_POS_INF (sic, not 65504)
 constexpr double kHalfMax = 65504.0;     // HALF_MAX
-constexpr double kRrtGlowGain = 0.05;    // RRT_GLOW_GAIN
-constexpr double kRrtGlowMid = 0.08;     // RRT_GLOW_MID
-constexpr double kRrtRedScale = 0.82;    // RRT_RED_SCALE
-constexpr double kRrtRedPivot = 0.03;    // RRT_RED_PIVOT
-constexpr double kRrtRedHue = 0.0;       // RRT_RED_HUE, degrees
-constexpr double kRrtRedWidth = 135.0;   // RRT_RED_WIDTH, degrees
 constexpr double kRrtSatFactor = 0.96;   // RRT_SAT_FACTOR
 // compressColor: LIM_CYAN/MAGENTA/YELLOW, THR_CYAN/MAGENTA/YELLOW, PWR.
 constexpr Vec3 kCompressLimit{1.147, 1.264, 1.312};

@@ -9,13 +9,13 @@
 namespace hdrc::ref::grading {
 namespace {
 
-// TonemapCommon.ush: FilmToneMap constants (ACES RRT glow and red-modifier parameters).
-constexpr double kGlowGain = 0.05;   // RRT_GLOW_GAIN
-constexpr double kGlowMid = 0.08;    // RRT_GLOW_MID
-constexpr double kRedScale = 0.82;   // RRT_RED_SCALE
-constexpr double kRedPivot = 0.03;   // RRT_RED_PIVOT
-constexpr double kRedHue = 0.0;      // RRT_RED_HUE, degrees
-constexpr double kRedWidth = 135.0;  // RRT_RED_WIDTH, degrees
+// TonemapCommon.ush: FilmToneMap uses the ACES RRT glow and red-modifier constants.
+constexpr double kGlowGain = aces::kRrtGlowGain;
+constexpr double kGlowMid = aces::kRrtGlowMid;
+constexpr double kRedScale = aces::kRrtRedScale;
+constexpr double kRedPivot = aces::kRrtRedPivot;
+constexpr double kRedHue = aces::kRrtRedHue;
+constexpr double kRedWidth = aces::kRrtRedWidth;
 constexpr double kPreDesaturate = 0.96;
 constexpr double kPostDesaturate = 0.93;
 constexpr double kMatch = 0.18;  // InMatch = OutMatch
