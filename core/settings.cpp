@@ -41,7 +41,10 @@ const std::vector<SettingInfo>& setting_table() {
         {"DisplayGamma", 1, s(2.2), 1, 5, "GEngine->DisplayGamma (InverseGamma)"},
         {"SceneColorTint", 4, k1, 0, 16, "tonemapper SceneColorTint, rgb"},
         {"Exposure", 1, s(1.0), 0, 1e6,
-         "OneOverPreExposure * GlobalExposure applied by the tonemapper (eye adaptation result)"},
+         "GlobalExposure: the eye adaptation (or fixed) exposure the tonemapper applies"},
+        {"PreExposure", 1, s(1.0), 1e-6, 1e6,
+         "View.PreExposure: the scene colour input is pre-exposed by it; the tonemapper and "
+         "VisualizeHDR divide it out"},
         {"VignetteIntensity", 1, s(0.4), 0, 1, "tonemapper vignette"},
         {"BloomIntensity", 1, s(0.675), 0, 8, "bloom intensity (divides the dirt mask tint)"},
         {"BloomDirtMaskIntensity", 1, s(0.0), 0, 8, "dirt mask intensity"},

@@ -54,6 +54,7 @@ namespace hdrc {
   X(F, aces_scene_color_multiplier, "ACESSceneColorMultiplier")                                 \
   X(F, aces_gamut_compression, "ACESGamutCompression, clamped to [0, 1]")                       \
   X(F, exposure, "OneOverPreExposure * GlobalExposure")                                         \
+  X(F, pre_exposure, "View.PreExposure")                                                        \
   X(F, vignette_intensity, "TonemapperParams.x")                                                \
   X(F, sharpen_div6, "Sharpen / 6")                                                             \
   X(F, dither_amount, "BackbufferQuantizationDithering")                                        \

@@ -73,8 +73,7 @@ Image lut_image(const BakedLut& lut) {
   return out;
 }
 
-Result<Image> ui_composite_stage(const ParamBlock& p, const Image& back_buffer,
-                                 const Image& ui_layer) {
+ui::UiCompositeParams ui_composite_params(const ParamBlock& p) {
   ui::UiCompositeParams u;
   u.ui_level = p.ui_level;
   u.ui_luminance = p.ui_luminance;
@@ -84,19 +83,30 @@ Result<Image> ui_composite_stage(const ParamBlock& p, const Image& back_buffer,
   u.cvd.severity = p.cvd_severity;
   u.cvd.correct = p.cvd_correct != 0;
   u.cvd.show_correction_with_deficiency = p.cvd_show_correction != 0;
+  return u;
+}
+
+visualize::EyeAdaptationParameters eye_adaptation_parameters(const ParamBlock& p) {
+  auto settings = visualize::default_settings(true);
+  settings.visualize_debug_type = p.visualize_debug_type;
+  return visualize::compute_eye_adaptation_parameters(settings);
+}
+
+Result<Image> ui_composite_stage(const ParamBlock& p, const Image& back_buffer,
+                                 const Image& ui_layer) {
+  const ui::UiCompositeParams u = ui_composite_params(p);
   return ui::composite_ui(back_buffer, ui_layer, u);
 }
 
 Result<Image> visualize_hdr_stage(const ParamBlock& p, const Image& hdr_scene) {
-  auto settings = visualize::default_settings(true);
-  settings.visualize_debug_type = p.visualize_debug_type;
   visualize::VisualizeHdrInputs in;
-  in.params = visualize::compute_eye_adaptation_parameters(settings);
+  in.params = eye_adaptation_parameters(p);
   const BakedLut lut = bake_lut(p);
   const Image tonemapped = tonemap_image(p, hdr_scene, nullptr, nullptr, &lut);
   in.scene_color = &tonemapped;
   in.hdr_scene_color = &hdr_scene;
-  in.histogram = visualize::build_histogram(hdr_scene, in.params, 1.0);
+  in.one_over_pre_exposure = 1.0 / p.pre_exposure;
+  in.histogram = visualize::build_histogram(hdr_scene, in.params, in.one_over_pre_exposure);
   in.eye.exposure = p.exposure;
   in.eye.exposure_bias_only = 1.0;
   in.eye.average_scene_luminance =

@@ -3,6 +3,8 @@
 
 #include "core/engine.h"
 #include "reference/combine_luts.h"
+#include "reference/ui/composite.h"
+#include "reference/visualize/histogram.h"
 
 namespace hdrc::ref {
 
@@ -16,6 +18,10 @@ class ReferenceEngine final : public Engine {
 
 // One pixel of a per-pixel stage (shaper, linear_device), for tests: rgb in, rgb out.
 Vec3 run_pixel(StageId stage, const ParamBlock& p, const Vec3& rgb);
+
+// The UI composite's and VisualizeHDR's parameters from the block (shared with `probe`).
+ui::UiCompositeParams ui_composite_params(const ParamBlock& p);
+visualize::EyeAdaptationParameters eye_adaptation_parameters(const ParamBlock& p);
 
 // The LUT laid out as the combine_luts stage outputs it: texel (r, g, b) at (r + N·b, g).
 Image lut_image(const BakedLut& lut);

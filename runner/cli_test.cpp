@@ -153,6 +153,31 @@ TEST(Cli, ProbePrintsNineDigitsPerLine) {
   fs::remove_all(in.parent_path());
 }
 
+// probe's UI composite and VisualizeHDR false colour, against hand-derived values: an opaque white
+// UI at r.HDR.UI.Luminance 300 is PQ(300 nits) = 0.6218628 up to the sRGB→Rec.2020 literal
+// product's row sums (8.6e-6); Colorize(0) is pure blue for a luminance below the histogram.
+TEST(Cli, ProbeUiCompositeAndFalseColour) {
+  const fs::path dir = temp_dir("probe_ui");
+  std::ofstream(dir / "in.txt") << "0.5 0.5 0.5\n";
+  const Ran ui =
+      run("probe --set r.HDR.EnableHDROutput=1 --set r.HDR.Display.OutputDevice=3 "
+          "--stage ui_composite --ui 1,1,1,1 < " +
+          (dir / "in.txt").string());
+  EXPECT_EQ(ui.code, 0) << ui.out;
+  std::istringstream l(ui.out);
+  double r, g, b;
+  ASSERT_TRUE(l >> r >> g >> b);
+  for (double v : {r, g, b}) EXPECT_NEAR(v, 0.621862837, 1e-5);
+  const Ran sdr = run("probe --stage ui_composite < " + (dir / "in.txt").string());
+  EXPECT_EQ(sdr.code, 2);
+  EXPECT_NE(sdr.out.find("HDR back buffers only"), std::string::npos) << sdr.out;
+  std::ofstream(dir / "in.txt") << "1e-6 1e-6 1e-6\n";
+  const Ran fc = run("probe --stage visualize_false_colour < " + (dir / "in.txt").string());
+  EXPECT_EQ(fc.code, 0);
+  EXPECT_EQ(fc.out, "0 0 1\n");
+  fs::remove_all(dir);
+}
+
 // Planted defect: one output pixel of the shaper stage altered by 0.1 %. The suite must fail,
 // naming the case and locating the pixel and channel exactly. (A one-ULP change of PQ's m2 is
 // below lavapipe's own float32 error here, see docs/precision.md.)

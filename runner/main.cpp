@@ -117,6 +117,11 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   probe->add_option("--stage", probe_opts.stage, "value to print: " + hdrc::probe_stage_names())
       ->capture_default_str();
+  probe
+      ->add_option("--ui", probe_opts.ui,
+                   "--stage ui_composite: the UI pixel over each back-buffer line, premultiplied "
+                   "sRGB-encoded r,g,b,a")
+      ->capture_default_str();
   probe->add_flag("--json", probe_opts.json, "print a JSON document instead of lines");
 
   try {

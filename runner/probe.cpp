@@ -11,8 +11,10 @@
 #include "reference/color/d3d_math.h"
 #include "reference/combine_luts.h"
 #include "reference/lut_shaper.h"
+#include "reference/reference_engine.h"
 #include "reference/tonemap.h"
 #include "reference/ue_cpp/resolve.h"
+#include "reference/visualize/visualize_hdr.h"
 
 namespace hdrc {
 
@@ -20,8 +22,9 @@ namespace {
 
 const std::vector<std::string>& stages() {
   static const std::vector<std::string> s = {
-      "lattice", "decoded",   "white_balanced", "ap1",    "expanded", "color_corrected", "film",
-      "graded",  "aces_nits", "device",         "stored", "lut",      "output"};
+      "lattice",         "decoded", "white_balanced", "ap1",          "expanded",
+      "color_corrected", "film",    "graded",         "aces_nits",    "device",
+      "stored",          "lut",     "output",         "ui_composite", "visualize_false_colour"};
   return s;
 }
 
@@ -100,6 +103,28 @@ Status run_probe(const ProbeOptions& o, std::istream& in, std::ostream& out) {
   auto resolution = ref::resolve(c, 1, 1);
   if (!resolution) return resolution.error();
   const ParamBlock& p = resolution->params;
+  ref::ui::Vec4 ui_pixel{0, 0, 0, 0};
+  {
+    std::stringstream list(o.ui);
+    int n = 0;
+    for (std::string part; std::getline(list, part, ',');) {
+      const auto x = parse_number(part);
+      if (!x || n == 4) return Error{"--ui", o.ui, "expected r,g,b,a (premultiplied)", ""};
+      ui_pixel[n++] = *x;
+    }
+    if (n != 4) return Error{"--ui", o.ui, "expected r,g,b,a (premultiplied)", ""};
+  }
+  const ref::ui::UiCompositeParams ui_params = ref::ui_composite_params(p);
+  if (o.stage == "ui_composite") {
+    if (p.output_device < 3 || p.output_device > 6)
+      return Error{"--stage", o.stage,
+                   "the HDR UI composite runs on HDR back buffers only (output device " +
+                       std::to_string(p.output_device) + ")",
+                   "r.HDR.Display.OutputDevice 3, 4 (PQ), 5, 6 (scRGB)"};
+    if (Status st = ref::ui::validate(ui_params); !st)
+      return Error{"--stage", o.stage, st.error().message, st.error().choices};
+  }
+  const ref::visualize::EyeAdaptationParameters eye = ref::eye_adaptation_parameters(p);
   std::optional<ref::BakedLut> lut;
   if (o.lut == "baked") lut = ref::bake_lut(p);
 
@@ -117,6 +142,30 @@ Status run_probe(const ProbeOptions& o, std::istream& in, std::ostream& out) {
                    "expected three numbers \"R G B\", got \"" + line + "\"", ""};
     }
     const ref::Vec3 rgb{*r, *g, *bl};
+    if (o.stage == "ui_composite" || o.stage == "visualize_false_colour") {
+      ref::Vec3 v;
+      if (o.stage == "ui_composite") {
+        // The line is a back-buffer colour (PQ signals for devices 3/4, scRGB for 5/6).
+        const auto c4 =
+            ref::ui::composite_pixel({rgb[0], rgb[1], rgb[2], 1.0}, ui_pixel, ui_params);
+        v = {c4[0], c4[1], c4[2]};
+      } else {
+        // VisualizeHDR's false colour: Colorize(histogram position of the eye-adaptation
+        // luminance of the pre-exposed scene colour).
+        const ref::Vec3 scene{rgb[0] / p.pre_exposure, rgb[1] / p.pre_exposure,
+                              rgb[2] / p.pre_exposure};
+        const double pos = ref::visualize::histogram_position_from_luminance(
+            ref::visualize::eye_adaptation_luminance(scene, eye), eye);
+        v = ref::visualize::colorize(pos);
+      }
+      if (o.json) {
+        rows.push_back(
+            {{"line", number}, {"input", {rgb[0], rgb[1], rgb[2]}}, {o.stage, {v[0], v[1], v[2]}}});
+      } else {
+        out << format9(v[0]) << ' ' << format9(v[1]) << ' ' << format9(v[2]) << '\n';
+      }
+      continue;
+    }
     ref::TonemapTrace t;
     ref::tonemap_centre_pixel(p, rgb, lut ? &*lut : nullptr, &t);
     // The CombineLUTs intermediates at the coordinate the lookup reads (clamped as the sampler

@@ -15,6 +15,7 @@ struct ProbeOptions {
   std::vector<std::string> setting;  // "NAME=VALUE" or "NAME=r,g,b,a"
   std::string lut = "analytic";      // analytic | baked
   std::string stage = "output";      // see probe_stage_names()
+  std::string ui = "0,0,0,0";        // --stage ui_composite: the UI pixel, premultiplied r,g,b,a
   bool json = false;
 };
 

@@ -137,7 +137,8 @@ Result<Resolution> resolve(const Case& c, int width, int height) {
 
   // Tonemapper (PostProcessTonemap.cpp: AddTonemapPass, spec §6.1).
   p.scene_color_tint = v4(st.get4("SceneColorTint"));
-  p.exposure = st.get("Exposure");
+  p.pre_exposure = st.get("PreExposure");
+  p.exposure = st.get("Exposure") / p.pre_exposure;  // OneOverPreExposure · GlobalExposure
   p.vignette_intensity = st.get("VignetteIntensity");
   const double sharpen_cvar = cv.get("r.Tonemapper.Sharpen");
   const double sharpen =
