@@ -113,3 +113,39 @@ TEST(UeMatrices, InverseRoundTrip) {
 }
 
 }  // namespace
+
+#include <OpenColorIO/OpenColorIO.h>
+
+namespace {
+
+namespace OCIO = OCIO_NAMESPACE;
+
+// OpenColorIO's built-in AP1 → linear Rec.709 (Bradford) as an independent oracle for the
+// matrices derived here, and the size of the gap to UE's literal product (which a port must use).
+TEST(UeMatrices, Ap1ToRec709AgainstOcioBuiltin) {
+  auto bt = OCIO::BuiltinTransform::Create();
+  bt->setStyle("UTILITY - ACES-AP1_to_LINEAR-REC709_BFD");
+  auto cpu = OCIO::Config::CreateRaw()->getProcessor(bt)->getOptimizedCPUProcessor(
+      OCIO::BIT_DEPTH_F32, OCIO::BIT_DEPTH_F32, OCIO::OPTIMIZATION_NONE);
+  const Mat3 derived = std_::rgb_to_rgb(std_::kAp1, std_::kSrgb);
+  const Mat3 ue = hdrc::ref::ap1_to_output_gamut(0);
+  double gap_derived = 0, gap_ue = 0;
+  for (int col = 0; col < 3; ++col) {
+    float rgb[3] = {0, 0, 0};
+    rgb[col] = 1.0f;
+    cpu->applyRGB(rgb);
+    for (int row = 0; row < 3; ++row) {
+      gap_derived = std::fmax(gap_derived, std::fabs(rgb[row] - derived(row, col)));
+      gap_ue = std::fmax(gap_ue, std::fabs(rgb[row] - ue(row, col)));
+    }
+  }
+  RecordProperty("gap_derived", std::to_string(gap_derived));
+  RecordProperty("gap_ue", std::to_string(gap_ue));
+  EXPECT_LT(gap_derived, 2e-7);  // float32 evaluation in OCIO
+  // UE's product of truncated literals (6-digit CATs) is measured 1.88e-6 away: the truncation
+  // largely cancels in this product (unlike the WCS ToAP1, spec §2.3).
+  EXPECT_GT(gap_ue, 1e-6);
+  EXPECT_LT(gap_ue, 3e-6);
+}
+
+}  // namespace
