@@ -171,9 +171,11 @@ Status run_probe(const ProbeOptions& o, std::istream& in, std::ostream& out) {
     // The CombineLUTs intermediates at the coordinate the lookup reads (clamped as the sampler
     // addresses it); with --lut baked they are evaluated analytically there.
     ref::CombineLutsTrace ct;
-    ref::Vec3 e;
-    for (int k = 0; k < 3; ++k) e[k] = ref::d3d::clamp_address(t.encoded[k]);
-    ref::combine_luts_texel(p, e, &ct);
+    if (o.stage != "lut" && o.stage != "output") {  // those two come from the tonemap trace
+      ref::Vec3 e;
+      for (int k = 0; k < 3; ++k) e[k] = ref::d3d::clamp_address(t.encoded[k]);
+      ref::combine_luts_texel(p, e, &ct);
+    }
     const ref::Vec3 v = pick(o.stage, ct, t);
     if (o.json) {
       rows.push_back(

@@ -11,12 +11,7 @@ using hdrc::ref::Mat3;
 using hdrc::ref::Vec3;
 namespace lit = hdrc::ref::ue_literal;
 namespace std_ = hdrc::ref::standard;
-
-double max_abs_diff(const Mat3& a, const Mat3& b) {
-  double m = 0;
-  for (int i = 0; i < 9; ++i) m = std::fmax(m, std::fabs(a.m[i] - b.m[i]));
-  return m;
-}
+using hdrc::ref::max_abs_diff;
 
 void expect_matrix(const Mat3& got, const Mat3& want, double tol) {
   for (int i = 0; i < 9; ++i) EXPECT_NEAR(got.m[i], want.m[i], tol) << "entry " << i;

@@ -36,6 +36,13 @@ inline double dot(const Vec3& a, const Vec3& b) {
 
 Mat3 inverse(const Mat3& a);
 
+// The largest absolute difference between corresponding entries.
+inline double max_abs_diff(const Mat3& a, const Mat3& b) {
+  double m = 0;
+  for (int i = 0; i < 9; ++i) m = std::fmax(m, std::fabs(a.m[i] - b.m[i]));
+  return m;
+}
+
 // Rounds every entry to float32 and back, as UE does when a double matrix built on the CPU is
 // copied into a shader parameter (FMatrix44d -> FMatrix44f).
 Mat3 to_float(const Mat3& a);
