@@ -109,6 +109,25 @@ std::string glsl_param_block() {
        "{ vec4 in_px[]; };\n";
   s << "layout(std430, set = 0, binding = HDRC_BINDING_OUTPUT) writeonly buffer HdrcOutput "
        "{ vec4 out_px[]; };\n";
+  s << "#define HDRC_BINDING_LUT_STORE_3D " << kBindingLutStore3d << "\n";
+  s << "#define HDRC_BINDING_LUT_STORE_2D " << kBindingLutStore2d << "\n";
+  s << "#define HDRC_BINDING_LUT_3D " << kBindingLut3d << "\n";
+  s << "#define HDRC_BINDING_LUT_2D " << kBindingLut2d << "\n";
+  s << "#define HDRC_BINDING_AUX0 " << kBindingAux0 << "\n";
+  s << "#define HDRC_BINDING_AUX1 " << kBindingAux1 << "\n";
+  s << "#define HDRC_BINDING_SCRATCH " << kBindingScratch << "\n";
+  s << "layout(set = 0, binding = HDRC_BINDING_LUT_STORE_3D) writeonly uniform image3D "
+       "lut_store_3d;\n";
+  s << "layout(set = 0, binding = HDRC_BINDING_LUT_STORE_2D) writeonly uniform image2D "
+       "lut_store_2d;\n";
+  s << "layout(set = 0, binding = HDRC_BINDING_LUT_3D) uniform sampler3D lut_3d;\n";
+  s << "layout(set = 0, binding = HDRC_BINDING_LUT_2D) uniform sampler2D lut_2d;\n";
+  s << "layout(std430, set = 0, binding = HDRC_BINDING_AUX0) readonly buffer HdrcAux0 "
+       "{ vec4 aux0_px[]; };\n";
+  s << "layout(std430, set = 0, binding = HDRC_BINDING_AUX1) readonly buffer HdrcAux1 "
+       "{ vec4 aux1_px[]; };\n";
+  s << "layout(std430, set = 0, binding = HDRC_BINDING_SCRATCH) buffer HdrcScratch "
+       "{ vec4 scratch_px[]; };\n";
   return s.str();
 }
 
