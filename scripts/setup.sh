@@ -7,8 +7,8 @@ packages=(
   cmake ninja-build g++ pkg-config
   libopenimageio-dev libopenexr-dev libimath-dev
   libgtest-dev nlohmann-json3-dev libcli11-dev
-  libvulkan-dev mesa-vulkan-drivers glslang-dev spirv-tools
-  libopencolorio-dev
+  libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers glslang-dev spirv-tools
+  libopencolorio-dev ccache
 )
 if [ "${HDRC_WITH_BROWSER:-0}" = 1 ]; then packages+=(chromium nodejs npm); fi
 
