@@ -1,8 +1,29 @@
 #include "report/html_report.h"
 
+#include <algorithm>
+#include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <set>
+#include <sstream>
+
+#include "core/cvars.h"
+#include "core/settings.h"
+#include "core/stage.h"
+#include "reference/ue_cpp/resolve.h"
+#include "report/assets.h"
+#include "report/images.h"
+#include "runner/diff.h"
 
 namespace hdrc {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
 
 std::string html_escape(const std::string& s) {
   std::string out;
@@ -31,77 +52,1049 @@ std::string html_escape(const std::string& s) {
   return out;
 }
 
+namespace report {
+
+std::string url_path_escape(const std::string& path) {
+  static const char* kHex = "0123456789ABCDEF";
+  std::string out;
+  for (unsigned char c : path) {
+    if (std::isalnum(c) || c == '-' || c == '.' || c == '_' || c == '~' || c == '/') {
+      out += static_cast<char>(c);
+    } else {
+      out += '%';
+      out += kHex[c >> 4];
+      out += kHex[c & 15];
+    }
+  }
+  return out;
+}
+
+std::string case_slug(const std::string& id) {
+  std::string out;
+  for (unsigned char c : id) {
+    if (std::isalnum(c) || c == '-' || c == '.' || c == '_')
+      out += static_cast<char>(c);
+    else if (c == '/')
+      out += "__";
+    else
+      out += '_';
+  }
+  if (out.empty() || out[0] == '.') out = "_" + out;  // no hidden files, no "." or ".."
+  if (out.size() > 120) out.resize(120);
+  return out;
+}
+
+std::string script_safe_json(const std::string& text) {
+  std::string out;
+  out.reserve(text.size());
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '<')
+      out += "\\u003c";
+    else if (c == '>')
+      out += "\\u003e";
+    else if (c == '&')
+      out += "\\u0026";
+    else if (c == '\xE2' && i + 2 < text.size() && text[i + 1] == '\x80' &&
+             (text[i + 2] == '\xA8' || text[i + 2] == '\xA9')) {
+      out += text[i + 2] == '\xA8' ? "\\u2028" : "\\u2029";
+      i += 2;
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
 namespace {
-std::string num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g", v);
+
+// ---------------------------------------------------------------------------------------------
+// Reading results.json defensively: every accessor tolerates a missing or differently typed field.
+
+const json* get(const json& j, std::initializer_list<std::string_view> path) {
+  const json* cur = &j;
+  for (std::string_view key : path) {
+    if (!cur->is_object()) return nullptr;
+    auto it = cur->find(std::string(key));
+    if (it == cur->end()) return nullptr;
+    cur = &*it;
+  }
+  return cur;
+}
+
+// Numbers; results.json writes non-finite values as the strings "NaN", "Infinity", "-Infinity".
+std::optional<double> num(const json* v) {
+  if (!v) return std::nullopt;
+  if (v->is_number()) return v->get<double>();
+  if (v->is_string()) {
+    const auto& s = v->get_ref<const std::string&>();
+    if (s == "NaN") return std::nan("");
+    if (s == "Infinity") return INFINITY;
+    if (s == "-Infinity") return -INFINITY;
+  }
+  return std::nullopt;
+}
+
+std::string fmt(std::optional<double> v, const char* f = "%.4g") {
+  if (!v) return "—";
+  if (std::isnan(*v)) return "NaN";
+  if (std::isinf(*v)) return *v > 0 ? "+Inf" : "−Inf";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, f, *v);
   return buf;
 }
-const char* css_class(CaseVerdict v) {
-  switch (v) {
-    case CaseVerdict::kPass:
-      return "pass";
-    case CaseVerdict::kFail:
-      return "fail";
-    case CaseVerdict::kError:
-      return "error";
-    case CaseVerdict::kSkipped:
-    case CaseVerdict::kKnownLimit:
-    case CaseVerdict::kDegenerate:
-      return "skip";
-  }
-  return "";
+
+// Any JSON value as display text (not escaped).
+std::string text(const json* v) {
+  if (!v || v->is_null()) return "—";
+  if (v->is_string()) return v->get<std::string>();
+  if (v->is_boolean()) return v->get<bool>() ? "yes" : "no";
+  if (v->is_number_integer() || v->is_number_unsigned()) return v->dump();
+  if (v->is_number()) return fmt(v->get<double>(), "%.9g");
+  return v->dump();
 }
+
+std::string esc_text(const json* v) {
+  return html_escape(text(v));
+}
+
+// The tolerance as the report reads it: each metric's max (absent or null: not judged).
+struct TolView {
+  std::map<std::string, double> max;  // metric key → max
+  double rel_floor = 0;
+};
+const char* const kMetricKeys[] = {"linear_abs", "linear_rel", "pq_code10", "pq_code12",
+                                   "delta_e_itp"};
+
+TolView tolerance_of(const json& c) {
+  TolView t;
+  const json* tj = get(c, {"tolerance"});
+  if (!tj || !tj->is_object()) return t;
+  for (const char* k : kMetricKeys) {
+    const json* m = get(*tj, {k});
+    std::optional<double> v = num(m);
+    if (!v && m && m->is_object()) v = num(get(*m, {"max"}));
+    if (v && std::isfinite(*v)) t.max[k] = *v;
+  }
+  if (auto f = num(get(*tj, {"rel_floor"}))) t.rel_floor = *f;
+  return t;
+}
+
+// A metric's overall statistics object, wherever this version of results.json keeps it.
+const json* metric_stats(const json& c, const std::string& key) {
+  for (const json* base : {get(c, {"stats", "overall"}), get(c, {"metrics", "overall"}),
+                           get(c, {"stats"}), get(c, {"metrics"})}) {
+    if (base && base->is_object()) {
+      if (const json* m = get(*base, {key}); m && m->is_object()) return m;
+    }
+  }
+  return nullptr;
+}
+
+std::optional<double> metric_max(const json& c, const std::string& key) {
+  if (const json* m = metric_stats(c, key)) return num(get(*m, {"max"}));
+  // Older results.json: flat metrics.max_rel / max_pq10.
+  static const std::map<std::string, std::string> flat = {{"linear_rel", "max_rel"},
+                                                          {"pq_code10", "max_pq10"},
+                                                          {"pq_code12", "max_pq12"},
+                                                          {"linear_abs", "max_abs"}};
+  if (auto it = flat.find(key); it != flat.end()) return num(get(c, {"metrics", it->second}));
+  return std::nullopt;
+}
+
+// The share of the budget used: the largest max/limit over judged metrics, computed from the
+// statistics and the tolerance; results.json's own figure when it is larger.
+std::optional<double> budget_used(const json& c, const TolView& t) {
+  std::optional<double> worst;
+  for (const auto& [k, lim] : t.max) {
+    auto m = metric_max(c, k);
+    if (!m) continue;
+    const double r = lim > 0 ? *m / lim : (*m > 0 ? INFINITY : 0.0);
+    if (!worst || !(r <= *worst)) worst = r;
+  }
+  if (auto v = num(get(c, {"budget_used"})); v && (!worst || !(*v <= *worst))) worst = v;
+  return worst;
+}
+
+// The warnings list; a bare `warn` flag or string when there is none.
+std::vector<std::string> warnings_of(const json& c) {
+  std::vector<std::string> w;
+  if (const json* v = get(c, {"warnings"}); v && v->is_array())
+    for (const auto& e : *v) w.push_back(e.is_string() ? e.get<std::string>() : e.dump());
+  if (!w.empty()) return w;
+  if (const json* v = get(c, {"warn"})) {
+    if (v->is_string() && !v->get<std::string>().empty()) w.push_back(v->get<std::string>());
+    if (v->is_boolean() && v->get<bool>()) w.push_back("over a warn level");
+  }
+  return w;
+}
+
+bool truthy(const json* v) {
+  if (!v || v->is_null()) return false;
+  if (v->is_boolean()) return v->get<bool>();
+  if (v->is_string()) return !v->get<std::string>().empty();
+  if (v->is_object() || v->is_array()) return !v->empty();
+  return true;
+}
+
+// Near miss: passed with more than this share of the budget used.
+constexpr double kNearMiss = 0.5;
+
+// ---------------------------------------------------------------------------------------------
+// One case as the report sees it.
+
+struct CaseView {
+  const json* j = nullptr;
+  size_t index = 0;
+  std::string id, slug, stage, verdict, reason;
+  std::vector<std::string> warnings;
+  bool tighten = false, near_miss = false;
+  std::optional<double> budget;
+  TolView tol;
+  int width = 0, height = 0;
+  bool has[3] = {false, false, false};  // input, reference, candidate EXR read
+  bool heat = false;                    // heat/mask maps written
+  size_t over_pixels = 0, mismatch_pixels = 0;
+  bool px = false;    // float data written
+  std::string error;  // why images are missing, if they are
+  int lut_size = 0;
+  json meta;  // what the case page's script needs
+};
+
+const char* const kImageNames[3] = {"input", "reference", "candidate"};
+
+std::string verdict_class(const std::string& v) {
+  if (v == "PASS") return "pass";
+  if (v == "FAIL" || v == "MISSING") return "fail";
+  if (v == "ERROR") return "error";
+  return "skip";
+}
+
+// The case's output encoding: stage from the case, device and gamut resolved from its cvars and
+// settings exactly as the runner resolves them (reference/ue_cpp/resolve.h).
+Result<OutputEncoding> encoding_of(const json& c, int width, int height) {
+  Case spec;
+  const std::string stage = text(get(c, {"stage"}));
+  spec.stage = find_stage(stage);
+  if (!spec.stage) return Error{"results.json", "/stage", "unknown stage '" + stage + "'", ""};
+  if (const json* cv = get(c, {"cvars"}); cv && cv->is_object())
+    for (const auto& [k, v] : cv->items())
+      if (auto d = num(&v)) (void)spec.cvars.set(k, *d);
+  if (const json* st = get(c, {"settings"}); st && st->is_object())
+    for (const auto& [k, v] : st->items()) {
+      const SettingInfo* info = find_setting(k);
+      if (!info) continue;
+      Vec4d v4{0, 0, 0, 0};
+      if (auto d = num(&v)) v4[0] = *d;
+      if (v.is_array())
+        for (size_t i = 0; i < v.size() && i < 4; ++i) v4[i] = num(&v[i]).value_or(0);
+      (void)spec.settings.set(k, v4, info->components);
+    }
+  auto r = ref::resolve(spec, std::max(1, width), std::max(1, height));
+  if (!r) return r.error();
+  return OutputEncoding::of(spec.stage->id, r->params);
+}
+
+// When to_nits is v · k for every v (scene-linear, scRGB, nits), the script is sent k instead of
+// a second array of luminances. Checked numerically so it follows any change of the encoding.
+std::optional<double> linear_scale(const OutputEncoding& e) {
+  const double k = e.to_nits(1.0);
+  if (!std::isfinite(k)) return std::nullopt;
+  for (double v : {-2.0, -0.5, 1e-5, 1e-3, 0.0371, 0.37, 0.99, 3.5, 123.0}) {
+    const double n = e.to_nits(v);
+    if (!(std::fabs(n - v * k) <= 1e-12 * std::fabs(v * k))) return std::nullopt;
+  }
+  return k;
+}
+
+Image nits_image(const Image& img, const OutputEncoding& e) {
+  Image out = img;
+  for (size_t i = 0; i < img.pixel_count(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      double& v = out.data[i * Image::kChannels + c];
+      if (std::isfinite(v)) v = e.to_nits(v);
+    }
+  return out;
+}
+
+// Writes a file (the whole report is built in a fresh folder, swapped in at the end).
+Status write_text(const fs::path& p, const std::string& s) {
+  std::ofstream f(p, std::ios::binary);
+  f << s;
+  f.close();
+  if (!f) return Error{p.string(), "", "cannot write", ""};
+  return {};
+}
+
+// ---------------------------------------------------------------------------------------------
+// HTML pieces.
+
+std::string page_head(const std::string& title, const std::string& root, const std::string& page) {
+  std::string h = "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n";
+  h += "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n";
+  // Everything is local: no request leaves the report folder (and results dir for the EXRs).
+  h += "<meta http-equiv=\"Content-Security-Policy\" content=\"default-src 'self' file: data:; "
+       "img-src 'self' file: data: blob:; script-src 'self' file:; style-src 'self' file: "
+       "'unsafe-inline'\">\n";
+  h += "<title>" + html_escape(title) + "</title>\n";
+  h += "<link rel=\"stylesheet\" href=\"" + root + "assets/report.css\">\n";
+  h += "</head><body data-page=\"" + page + "\">\n";
+  h += "<nav class=\"top\"><a href=\"" + root + "index.html\"" +
+       (page == "summary" ? " class=\"here\"" : "") + ">Summary</a><a href=\"" + root +
+       "matrix.html\"" + (page == "matrix" ? " class=\"here\"" : "") +
+       ">Cvar matrix</a><a href=\"" + root + "cases.html\"" +
+       (page == "cases" ? " class=\"here\"" : "") +
+       ">Cases</a><span class=\"brand\">hdrconform report</span></nav>\n<main>\n";
+  return h;
+}
+
+std::string page_tail(const std::string& root, const std::vector<std::string>& scripts) {
+  // report.js first: the data scripts after it hand their data to HDRC.data / HDRC.pixels; the
+  // page is set up on DOMContentLoaded, when every one of them has run.
+  std::string h = "</main>\n<script src=\"" + root + "assets/report.js\"></script>\n";
+  for (const auto& s : scripts) h += "<script src=\"" + s + "\"></script>\n";
+  return h + "</body></html>\n";
+}
+
+std::string badge(const std::string& verdict) {
+  return "<span class=\"badge v-" + verdict_class(verdict) + "\">" + html_escape(verdict) +
+         "</span>";
+}
+
+std::string markers(const CaseView& c) {
+  std::string h;
+  if (!c.warnings.empty())
+    h += " <span class=\"marker warn\" title=\"passed with a warning\">WARN</span>";
+  if (c.near_miss)
+    h += " <span class=\"marker near\" title=\"passed with more than half the budget used\">near "
+         "miss</span>";
+  if (c.tighten)
+    h += " <span class=\"marker tighten\" title=\"every metric under 10 % of its budget\">could be "
+         "tightened</span>";
+  return h;
+}
+
+// A key → value table of a JSON object (values shown as text; nested values as JSON).
+std::string kv_table(const json* obj, const std::string& id, const std::string& empty) {
+  if (!obj || !obj->is_object() || obj->empty()) return "<p class=\"muted\">" + empty + "</p>\n";
+  std::string h = "<table class=\"kv\" id=\"" + id + "\"><tbody>\n";
+  for (const auto& [k, v] : obj->items())
+    h += "<tr><th>" + html_escape(k) + "</th><td class=\"mono\">" + esc_text(&v) + "</td></tr>\n";
+  return h + "</tbody></table>\n";
+}
+
+// A table of statistics: rows are the keys of `obj` (metrics or bands), columns the union of the
+// numeric fields of the row objects (nested one level: "rel.max").
+// Pixel objects ("worst") are left out: the worst-pixel table shows them.
+void flatten(const json& j, const std::string& prefix,
+             std::vector<std::pair<std::string, const json*>>* out) {
+  if (j.is_object()) {
+    for (const auto& [k, v] : j.items())
+      if (k != "worst" && k != "first_mismatch")
+        flatten(v, prefix.empty() ? k : prefix + "." + k, out);
+  } else {
+    out->push_back({prefix, &j});
+  }
+}
+
+std::string stats_table(const json* obj, const std::string& id, const std::string& row_head) {
+  if (!obj || (!obj->is_object() && !obj->is_array()) || obj->empty()) return "";
+  std::vector<std::pair<std::string, std::vector<std::pair<std::string, const json*>>>> rows;
+  std::vector<std::string> cols;
+  std::set<std::string> seen;
+  auto add_row = [&](const std::string& name, const json& v) {
+    std::vector<std::pair<std::string, const json*>> cells;
+    if (v.is_object())
+      flatten(v, "", &cells);
+    else
+      cells.push_back({"value", &v});
+    for (const auto& [k, _] : cells)
+      if (seen.insert(k).second) cols.push_back(k);
+    rows.push_back({name, std::move(cells)});
+  };
+  if (obj->is_object()) {
+    for (const auto& [k, v] : obj->items()) add_row(k, v);
+  } else {
+    for (const auto& v : *obj) {
+      std::string name = "—";
+      for (const char* key : {"band", "name", "metric", "range"})
+        if (const json* n = get(v, {key})) {
+          name = text(n);
+          break;
+        }
+      add_row(name, v);
+    }
+  }
+  std::string h = "<div class=\"scroll\"><table class=\"stats\" id=\"" + id + "\"><thead><tr><th>" +
+                  row_head + "</th>";
+  for (const auto& c : cols) h += "<th>" + html_escape(c) + "</th>";
+  h += "</tr></thead><tbody>\n";
+  for (const auto& [name, cells] : rows) {
+    h += "<tr><th>" + html_escape(name) + "</th>";
+    for (const auto& c : cols) {
+      const json* v = nullptr;
+      for (const auto& [k, p] : cells)
+        if (k == c) v = p;
+      const auto n = num(v);
+      h += n ? "<td class=\"num\">" + fmt(n) + "</td>" : "<td>" + esc_text(v) + "</td>";
+    }
+    h += "</tr>\n";
+  }
+  return h + "</tbody></table></div>\n";
+}
+
+std::string pixel_rows(const json& c) {
+  // Every worst/first pixel object the case has: worst, worst_rel, worst_pq, per-metric worst,
+  // nonfinite.first_mismatch.
+  std::vector<std::pair<std::string, const json*>> px;
+  for (const char* k : {"worst_pixel", "worst", "worst_rel", "worst_pq"})
+    if (const json* p = get(c, {k}); p && p->is_object()) {
+      const json* m = get(*p, {"metric"});
+      px.push_back({m ? "worst (" + text(m) + ")" : std::string(k), p});
+    }
+  for (const char* k : kMetricKeys)
+    if (const json* m = metric_stats(c, k))
+      if (const json* w = get(*m, {"worst"}); w && w->is_object())
+        px.push_back({std::string(k) + " max", w});
+  if (const json* p = get(c, {"nonfinite", "first_mismatch"}); p && p->is_object())
+    px.push_back({"first non-finite mismatch", p});
+  std::string h;
+  for (const auto& [label, p] : px) {
+    h += "<tr data-x=\"" + esc_text(get(*p, {"x"})) + "\" data-y=\"" + esc_text(get(*p, {"y"})) +
+         "\"><th>" + html_escape(label) + "</th>";
+    for (const char* f : {"x", "y", "channel", "band"})
+      h += "<td>" + esc_text(get(*p, {f})) + "</td>";
+    for (const char* f : {"input", "reference", "candidate"}) {
+      const auto v = num(get(*p, {f}));
+      h += "<td class=\"num mono\">" + (v ? fmt(v, "%.9g") : esc_text(get(*p, {f}))) + "</td>";
+    }
+    h += "<td><button type=\"button\" class=\"goto\">probe</button></td></tr>\n";
+  }
+  return h;
+}
+
+std::string metadata_table(const json& doc) {
+  std::string h = "<table class=\"kv\" id=\"run-meta\"><tbody>\n";
+  auto row = [&](const std::string& k, const std::string& v) {
+    h += "<tr><th>" + html_escape(k) + "</th><td>" + html_escape(v) + "</td></tr>\n";
+  };
+  row("commit", text(get(doc, {"commit"})));
+  row("candidate engine", text(get(doc, {"candidate", "engine"})));
+  row("candidate device", text(get(doc, {"candidate", "device"})));
+  row("driver", text(get(doc, {"candidate", "driver"})));
+  row("Vulkan", text(get(doc, {"candidate", "api_version"})));
+  row("reference", text(get(doc, {"reference", "device"})));
+  row("started (UTC)", text(get(doc, {"started_utc"})));
+  row("duration (s)", fmt(num(get(doc, {"wall_seconds"})), "%.2f"));
+  row("command", text(get(doc, {"command"})));
+  row("jobs", text(get(doc, {"jobs"})));
+  row("shard", text(get(doc, {"shard"})));
+  if (truthy(get(doc, {"interrupted"}))) row("interrupted", "yes: cases not started are NOT_RUN");
+  if (truthy(get(doc, {"candidate_unavailable"})))
+    row("candidate unavailable", text(get(doc, {"candidate_unavailable"})));
+  return h + "</tbody></table>\n";
+}
+
 }  // namespace
 
-std::string html_report(const RunReport& r) {
-  std::string h;
-  h += "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n";
-  h += "<title>hdrconform report</title>\n<style>\n";
-  h += "body{font:14px system-ui,sans-serif;margin:1.5em;color:#222}"
-       "table{border-collapse:collapse;width:100%}th,td{border:1px solid #ccc;padding:3px 6px;"
-       "text-align:left;vertical-align:top}th{background:#f0f0f0}td.num{text-align:right;"
-       "font-variant-numeric:tabular-nums}.pass{color:#11772d}.fail{color:#b00020;font-weight:bold}"
-       ".error{color:#b35c00;font-weight:bold}.skip{color:#666}code{font-size:12px}"
-       ".summary span{margin-right:1.5em}\n";
-  h += "</style></head><body>\n<h1>hdrconform report</h1>\n";
-  h += "<p class=\"summary\"><span>total " + std::to_string(r.cases.size()) + "</span>";
-  h += "<span class=\"pass\">pass " + std::to_string(r.count(CaseVerdict::kPass)) + "</span>";
-  h += "<span class=\"fail\">fail " + std::to_string(r.count(CaseVerdict::kFail)) + "</span>";
-  h += "<span class=\"error\">error " + std::to_string(r.count(CaseVerdict::kError)) + "</span>";
-  h += "<span class=\"skip\">skipped " + std::to_string(r.count(CaseVerdict::kSkipped)) + "</span>";
-  h += "<span class=\"skip\">known limits " + std::to_string(r.count(CaseVerdict::kKnownLimit)) +
-       "</span>";
-  h += "<span class=\"skip\">degenerate " + std::to_string(r.count(CaseVerdict::kDegenerate)) +
-       "</span></p>\n";
-  h += "<p>Started " + html_escape(r.started_utc) + ", " + num(r.wall_seconds) +
-       " s. Reference: " + html_escape(r.reference_device.device) +
-       ". Candidate: " + html_escape(r.candidate_device.engine) + " on " +
-       html_escape(r.candidate_device.device) + " (" + html_escape(r.candidate_device.driver) +
-       ", Vulkan " + html_escape(r.candidate_device.api_version) + ").</p>\n";
-  if (!r.candidate_unavailable.empty())
-    h += "<p class=\"skip\">" + html_escape(r.candidate_unavailable) + "</p>\n";
-  h += "<p><a href=\"../results.json\">results.json</a> · <a "
-       "href=\"../junit.xml\">junit.xml</a></p>\n";
-  h += "<table id=\"cases\"><thead><tr><th>verdict</th><th>case</th><th>stage</th><th>input</th>"
-       "<th>max rel</th><th>max PQ (10-bit codes)</th><th>tolerance</th><th>worst pixel / reason"
-       "</th></tr></thead><tbody>\n";
-  for (const auto& c : r.cases) {
-    const auto& s = c.stats;
-    const auto& t = c.spec.tolerance;
-    h += "<tr class=\"case\"><td class=\"" + std::string(css_class(c.verdict)) + "\">" +
-         verdict_name(c.verdict) + "</td><td><code>" + html_escape(c.spec.id) + "</code></td><td>" +
-         html_escape(std::string(c.spec.stage->name)) + "</td><td>" +
-         html_escape(c.spec.input.describe()) + "</td><td class=\"num\">" + num(s.max_rel) +
-         "</td><td class=\"num\">" + num(s.max_pq10) + "</td><td>rel " + num(t.linear_rel) +
-         " (floor " + num(t.rel_floor) + "), pq10 " + num(t.pq_code10) + "<br><small>" +
-         html_escape(t.source) + "</small></td><td>" + html_escape(c.reason);
-    if ((c.verdict == CaseVerdict::kPass || c.verdict == CaseVerdict::kFail) && s.worst_rel.valid())
-      h += "<br><small>worst rel at " + html_escape(describe_pixel(s.worst_rel)) + "</small>";
-    h += "</td></tr>\n";
+// ---------------------------------------------------------------------------------------------
+
+namespace {
+
+struct Builder {
+  fs::path results_dir, out;  // out: the new report folder
+  json doc;
+  std::vector<CaseView> cases;
+  size_t files = 0;
+
+  Status put(const fs::path& rel, const std::string& s) {
+    ++files;
+    return write_text(out / rel, s);
   }
-  h += "</tbody></table>\n</body></html>\n";
-  return h;
+  Status put_png(const fs::path& rel, const Rgb8& img) {
+    ++files;
+    return write_png((out / rel).string(), img);
+  }
+
+  // Images and float data of one case; a missing or unreadable EXR is noted, never fatal.
+  Status case_images(CaseView& c) {
+    Image img[3];
+    const fs::path case_dir = results_dir / "cases" / fs::path(c.id);
+    // Ids are data: refuse any that would leave the results directory.
+    const bool safe = c.id.find("..") == std::string::npos && !c.id.empty() && c.id[0] != '/';
+    for (int i = 0; i < 3 && safe; ++i) {
+      fs::path p = case_dir / (std::string(kImageNames[i]) + ".exr");
+      if (const json* given = get(*c.j, {"images", kImageNames[i]}); given && given->is_string()) {
+        const std::string g = given->get<std::string>();
+        if (g.find("..") == std::string::npos && !g.empty() && g[0] != '/') p = results_dir / g;
+      }
+      std::error_code ec;
+      if (!fs::exists(p, ec)) continue;
+      auto r = read_image(p.string());
+      if (!r) {
+        c.error += r.error().to_string() + "\n";
+        continue;
+      }
+      img[i] = std::move(*r);
+      c.has[i] = true;
+    }
+    const Image* shape = c.has[1] ? &img[1] : c.has[2] ? &img[2] : c.has[0] ? &img[0] : nullptr;
+    if (!shape) return {};
+    c.width = shape->width;
+    c.height = shape->height;
+    for (int i = 0; i < 3; ++i)
+      if (c.has[i] && (img[i].width != c.width || img[i].height != c.height) && i != 0) {
+        c.error += std::string(kImageNames[i]) + " has a different size; not shown\n";
+        c.has[i] = false;
+      }
+    auto enc = encoding_of(*c.j, c.width, c.height);
+    if (!enc) {
+      c.error += enc.error().to_string() + "\n";
+      return {};
+    }
+    const bool input_scene_linear = enc->stage != StageId::kUiComposite;
+    OutputEncoding scene;  // scene-linear × 100 nits: how inputs are read (shaper's encoding)
+    scene.stage = StageId::kShaper;
+    const fs::path dir = fs::path("c") / c.slug;
+    fs::create_directories(out / dir);
+    Rgb8 prev[3];
+    json images = json::object();
+    for (int i = 0; i < 3; ++i) {
+      if (!c.has[i]) continue;
+      const OutputEncoding& e = (i == 0 && input_scene_linear) ? scene : *enc;
+      prev[i] = preview(img[i], e, false);
+      if (Status s = put_png(dir / (std::string(kImageNames[i]) + ".png"), prev[i]); !s) return s;
+    }
+    const int main = c.has[2] ? 2 : c.has[1] ? 1 : 0;
+    if (Status s = put_png(dir / "thumb.png", thumbnail(prev[main], 160, 12, 40)); !s) return s;
+    if (c.has[1] && c.has[2]) {
+      Tolerance tol;  // only the limits the mask judges, from results.json
+      tol.rel_floor = c.tol.rel_floor;
+      for (int m = 0; m < kMetricCount; ++m)
+        if (auto it = c.tol.max.find(kMetricKeys[m]); it != c.tol.max.end())
+          tol.max(static_cast<Metric>(m)) = it->second;
+      ErrorMaps maps = error_maps(img[1], img[2], *enc, tol, prev[1]);
+      c.heat = true;
+      c.over_pixels = maps.over;
+      c.mismatch_pixels = maps.mismatch;
+      if (Status s = put_png(dir / "heat.png", maps.heat); !s) return s;
+      if (Status s = put_png(dir / "heat_itp.png", maps.heat_itp); !s) return s;
+      if (Status s = put_png(dir / "mask.png", maps.mask); !s) return s;
+      if (Status s = put_png(dir / "heat_thumb.png", thumbnail(maps.heat, 160, 12, 40)); !s)
+        return s;
+    }
+    // Float data for the exposure control, the probe and the LUT view. Images over 4 Mpixel are
+    // left out (the PNGs still show); no case of the suite comes near that.
+    const size_t kMaxPxData = size_t{1} << 22;
+    if (c.width * static_cast<size_t>(c.height) <= kMaxPxData) {
+      json px = {{"w", c.width}, {"h", c.height}, {"images", json::object()}};
+      for (int i = 0; i < 3; ++i) {
+        if (!c.has[i]) continue;
+        const OutputEncoding& e = (i == 0 && input_scene_linear) ? scene : *enc;
+        json im;
+        double a = 0;
+        const bool const_a = constant_alpha(img[i], &a);
+        im["ch"] = const_a ? 3 : 4;
+        if (const_a) im["alpha"] = a;
+        im["v"] = float32_base64(img[i], const_a ? 3 : 4);
+        if (auto k = linear_scale(e))
+          im["scale"] = *k;
+        else
+          im["nits"] = float32_base64(nits_image(img[i], e), 3);
+        px["images"][kImageNames[i]] = std::move(im);
+      }
+      c.px = true;
+      if (Status s = put(dir / "px.js", "HDRC.pixels(" + script_safe_json(px.dump()) + ");\n"); !s)
+        return s;
+    }
+    c.meta["encoding"] = enc->describe();
+    c.meta["gamut"] = enc->gamut;
+    json m = json::array();
+    for (int r = 0; r < 3; ++r)
+      for (int k = 0; k < 3; ++k) m.push_back(enc->to_rec2020(r, k));
+    c.meta["to_rec2020"] = m;
+    c.meta["input_encoding"] = input_scene_linear ? "scene-linear x 100 nits" : enc->describe();
+    if (enc->stage == StageId::kCombineLuts && c.height > 0 && c.width == c.height * c.height)
+      c.lut_size = c.height;
+    return {};
+  }
+
+  std::string case_page(const CaseView& c) {
+    const json& j = *c.j;
+    const std::string root = "../";
+    std::string h = page_head(c.id + " — hdrconform", root, "case");
+    h += "<h1 class=\"case-id\"><code id=\"case-id\">" + html_escape(c.id) + "</code></h1>\n";
+    h += "<p class=\"verdict-line\">" + badge(c.verdict) + markers(c) + " <span id=\"reason\">" +
+         html_escape(c.reason) + "</span></p>\n";
+    for (const auto& w : c.warnings)
+      h += "<p class=\"warning\">warning: " + html_escape(w) + "</p>\n";
+    if (c.budget)
+      h += "<p>Budget used: <b id=\"budget\">" + fmt(*c.budget * 100.0, "%.3g") +
+           " %</b> of the tightest judged metric.</p>\n";
+
+    h += "<section id=\"images\"><h2>Images</h2>\n";
+    if (!c.has[0] && !c.has[1] && !c.has[2]) {
+      h += "<p class=\"muted\">No images were written for this case.</p>\n";
+    } else {
+      h += "<div class=\"toolbar\">"
+           "<label>View <select id=\"view-mode\"><option value=\"side\">side by side</option>"
+           "<option value=\"flip\">A/B flip</option><option value=\"slider\">slider</option>"
+           "</select></label>"
+           "<label>A <select id=\"view-a\"></select></label><label>B <select id=\"view-b\">"
+           "</select></label>"
+           "<label>Exposure <input type=\"range\" id=\"exposure\" min=\"-12\" max=\"12\" "
+           "step=\"0.5\" value=\"0\"> <output id=\"exposure-value\">0 EV</output></label>"
+           "<button type=\"button\" id=\"exposure-reset\">0 EV</button>"
+           "<label>Heatmap <select id=\"heat-metric\"><option value=\"pq10\">PQ 10-bit codes"
+           "</option><option value=\"itp\">ΔE_ITP</option></select></label>"
+           "<label>Zoom <select id=\"zoom\"><option value=\"0\">fit</option><option value=\"1\">1×"
+           "</option><option value=\"2\">2×</option><option value=\"4\">4×</option><option "
+           "value=\"8\">8×</option></select></label></div>\n";
+      h += "<p class=\"mapping\">SDR preview: each value decoded to nits (output: " +
+           html_escape(c.meta.value("encoding", std::string("—"))) +
+           "; input: " + html_escape(c.meta.value("input_encoding", std::string("—"))) +
+           "), shown as sRGB(clamp(nits / 100 · 2<sup>EV</sup>, 0, 1)): 100 nits is SDR white at "
+           "0 EV. NaN pixels magenta, infinite pixels cyan.</p>\n";
+      h += "<div id=\"panels\" class=\"panels\">\n";
+      auto panel = [&](const std::string& key, const std::string& label, bool present) {
+        if (!present) return;
+        h += "<figure class=\"panel\" data-key=\"" + key + "\"><figcaption>" + label +
+             "</figcaption><div class=\"frame\"><img alt=\"" + label + "\" src=\"" +
+             url_path_escape(c.slug) + "/" + key + ".png\"></div></figure>\n";
+      };
+      panel("input", "input", c.has[0]);
+      panel("reference", "reference", c.has[1]);
+      panel("candidate", "candidate", c.has[2]);
+      panel("heat", "error heatmap", c.heat);
+      panel("mask", "over tolerance", c.heat);
+      h += "</div>\n<div id=\"compare\" class=\"compare\" hidden></div>\n";
+      if (c.heat) {
+        h += "<div class=\"legend\" id=\"heat-legend\"><canvas id=\"legend-bar\" width=\"400\" "
+             "height=\"14\"></canvas><div id=\"legend-ticks\" class=\"ticks\"></div><p>Heatmap: "
+             "per pixel the largest error of its colour channels (<span "
+             "id=\"legend-unit\">PQ 10-bit code values</span>), VisualizeHDR's Colorize ramp on a "
+             "log scale; black = exact, white = non-finite mismatch; ▲ = the tolerance. Mask: "
+             "<span class=\"sw over\"></span> a value over its metric's max (" +
+             std::to_string(c.over_pixels) +
+             " pixels), <span class=\"sw nan\"></span> non-finite "
+             "mismatch (" +
+             std::to_string(c.mismatch_pixels) +
+             " pixels), grey: within tolerance (dimmed reference).</p></div>\n";
+      }
+      h += "<div id=\"probe\" class=\"probe\"><p id=\"probe-hint\">" +
+           std::string(c.px ? "Hover over an image for the pixel probe; click to pin."
+                            : "The pixel probe needs the float data, not written for this case.") +
+           "</p><table id=\"probe-table\" hidden><thead><tr><th id=\"probe-xy\"></th><th>R</th><th>"
+           "G</th><th>B</th><th>A</th></tr></thead><tbody></tbody></table></div>\n";
+      h += "<p class=\"links\">Full-precision EXRs: ";
+      for (int i = 0; i < 3; ++i)
+        if (c.has[i])
+          h += "<a href=\"../../cases/" + url_path_escape(c.id) + "/" + kImageNames[i] + ".exr\">" +
+               kImageNames[i] + ".exr</a> ";
+      h += "</p>\n";
+    }
+    if (!c.error.empty()) h += "<pre class=\"warning\">" + html_escape(c.error) + "</pre>\n";
+    h += "</section>\n";
+
+    if (c.lut_size > 0)
+      h += "<section id=\"lut\"><h2>LUT slices</h2><p>The " + std::to_string(c.lut_size) +
+           "³ LUT, one blue slice at a time (r across, g down), and the error per lattice point "
+           "(heatmap scale above). Hover for the lattice point's values.</p><div class=\"toolbar\">"
+           "<label>blue slice <input type=\"range\" id=\"lut-slice\" min=\"0\" max=\"" +
+           std::to_string(c.lut_size - 1) +
+           "\" value=\"0\"> <output id=\"lut-slice-value\">0</output></label></div>"
+           "<div id=\"lut-panels\" class=\"panels\"></div><p id=\"lut-probe\" class=\"mono\"></p>"
+           "<div id=\"lut-worst\"></div></section>\n";
+
+    h += "<section id=\"worst\"><h2>Worst pixels</h2>";
+    const std::string rows = pixel_rows(j);
+    if (rows.empty())
+      h += "<p class=\"muted\">—</p>";
+    else
+      h += "<table class=\"stats\" id=\"worst-pixel\"><thead><tr><th></th><th>x</th><th>y</th><th>"
+           "channel</th><th>band</th><th>input</th><th>reference</th><th>candidate</th><th></th>"
+           "</tr></thead><tbody>\n" +
+           rows + "</tbody></table>\n";
+    h += "</section>\n";
+
+    h += "<section id=\"tolerance\"><h2>Tolerance</h2>";
+    const json* tj = get(j, {"tolerance"});
+    std::string tol_rows;
+    if (tj && tj->is_object()) {
+      for (const auto& [k, v] : tj->items()) {
+        if (k == "reason" || k == "source") continue;
+        tol_rows += "<tr><th>" + html_escape(k) + "</th><td class=\"mono\">" + esc_text(&v) +
+                    "</td></tr>\n";
+      }
+    }
+    h += tol_rows.empty()
+             ? "<p class=\"muted\">—</p>"
+             : "<table class=\"kv\" id=\"tolerance-table\"><tbody>" + tol_rows + "</tbody></table>";
+    h += "<p><b>Reason:</b> " + esc_text(tj ? get(*tj, {"reason"}) : nullptr) + "</p>";
+    h += "<p><b>Source:</b> <span id=\"tolerance-source\">" +
+         esc_text(tj ? get(*tj, {"source"}) : nullptr) + "</span></p></section>\n";
+
+    h += "<section id=\"stats\"><h2>Statistics</h2>";
+    const json* overall = get(j, {"stats", "overall"});
+    if (!overall) overall = get(j, {"metrics"});
+    if (!overall) overall = get(j, {"stats"});
+    std::string st = stats_table(overall, "stats-overall", "metric");
+    if (const json* px = get(j, {"stats", "pixels"}))
+      st = "<p>" + esc_text(px) + " pixels, " + esc_text(get(j, {"stats", "values"})) +
+           " colour values finite on both sides.</p>" + st;
+    h += st.empty() ? "<p class=\"muted\">—</p>" : st;
+    const json* bands = get(j, {"stats", "bands"});
+    if (!bands) bands = get(j, {"bands"});
+    if (bands && bands->is_array()) {
+      // [{band, min_nits, max_nits, pixels, metrics: {metric: stats}}]: one table per band.
+      h += "<h3>Per luminance band (the reference pixel's luminance, nits)</h3>\n";
+      int n = 0;
+      for (const auto& b : *bands) {
+        const std::string name = text(get(b, {"band"}));
+        const auto pixels = num(get(b, {"pixels"}));
+        h += "<h4>" + html_escape(name) + " nits: " + fmt(pixels, "%.0f") + " pixels</h4>";
+        if (pixels && *pixels == 0) continue;
+        const json* m = get(b, {"metrics"});
+        h += stats_table(m ? m : &b, "band-" + std::to_string(n++), "metric");
+      }
+    } else if (bands) {
+      h += "<h3>Per luminance band</h3>" + stats_table(bands, "stats-bands", "band");
+    }
+    h += "</section>\n";
+
+    h += "<section id=\"census\"><h2>Non-finite census</h2>";
+    const json* nf = get(j, {"nonfinite"});
+    if (!nf) nf = get(j, {"census"});
+    if (nf && nf->is_object()) {
+      json flat = json::object();
+      std::vector<std::pair<std::string, const json*>> cells;
+      flatten(*nf, "", &cells);
+      for (const auto& [k, v] : cells)
+        if (k.rfind("first_mismatch", 0) != 0) flat[k] = *v;
+      h += kv_table(&flat, "census-table", "—");
+    } else {
+      h += "<p class=\"muted\">—</p>";
+    }
+    h += "</section>\n";
+
+    h += "<section id=\"params\"><h2>Parameters</h2><table class=\"kv\" id=\"case-info\"><tbody>";
+    for (const char* k : {"stage", "input", "file", "verdict", "encoding"})
+      h += "<tr><th>" + std::string(k) + "</th><td>" + esc_text(get(j, {k})) + "</td></tr>";
+    h += "<tr><th>output encoding</th><td>" +
+         html_escape(c.meta.value("encoding", std::string("—"))) + ", " +
+         html_escape(c.meta.value("gamut", std::string("—"))) + "</td></tr>";
+    h += "<tr><th>size</th><td>" +
+         (c.width ? std::to_string(c.width) + " × " + std::to_string(c.height) : "—") +
+         "</td></tr></tbody></table>\n";
+    h += "<h3>Cvars</h3>" + kv_table(get(j, {"cvars"}), "cvars", "none set (UE defaults)");
+    h += "<h3>Settings</h3>" + kv_table(get(j, {"settings"}), "settings", "none set (UE defaults)");
+    const json* resolved = get(j, {"resolved"});
+    if (!resolved) resolved = get(j, {"params"});
+    h += "<details><summary>Resolved parameters (what both engines received)</summary>" +
+         kv_table(resolved, "resolved", "—") + "</details>";
+    if (const json* rv = get(j, {"reference_values"}); rv && !rv->empty())
+      h += "<h3>Named values (reference)</h3>" + kv_table(rv, "named-values", "—");
+    h += "<h3>Timings and device</h3>" + kv_table(get(j, {"seconds"}), "timings", "—") +
+         kv_table(get(j, {"device"}), "device", "—");
+    h += "</section>\n";
+
+    h += "<script type=\"application/json\" id=\"case-meta\">" + script_safe_json(c.meta.dump()) +
+         "</script>\n";
+    std::vector<std::string> scripts;
+    if (c.px) scripts.push_back(url_path_escape(c.slug) + "/px.js");
+    return h + page_tail(root, scripts);
+  }
+
+  std::string summary_page() {
+    std::string h = page_head("hdrconform report", "", "summary");
+    h += "<h1>hdrconform report</h1>\n";
+    std::map<std::string, int> counts;
+    int warned = 0, near = 0, tighten = 0;
+    for (const auto& c : cases) {
+      ++counts[c.verdict];
+      warned += !c.warnings.empty();
+      near += c.near_miss;
+      tighten += c.tighten;
+    }
+    h += "<div class=\"counts\" id=\"counts\">";
+    h += "<a class=\"count total\" href=\"cases.html\"><b id=\"count-total\">" +
+         std::to_string(cases.size()) + "</b> cases</a>";
+    std::vector<std::string> order = {"PASS", "FAIL", "ERROR", "SKIP", "KNOWN_LIMIT", "DEGENERATE"};
+    for (const auto& [v, n] : counts)
+      if (std::find(order.begin(), order.end(), v) == order.end()) order.push_back(v);
+    for (const auto& v : order) {
+      const int n = counts.count(v) ? counts[v] : 0;
+      h += "<a class=\"count v-" + verdict_class(v) +
+           "\" href=\"cases.html#verdict=" + url_path_escape(v) + "\"><b id=\"count-" +
+           html_escape(case_slug(v)) + "\">" + std::to_string(n) + "</b> " + html_escape(v) +
+           "</a>";
+    }
+    h += "<a class=\"count warn\" href=\"cases.html#verdict=WARN\"><b id=\"count-WARN\">" +
+         std::to_string(warned) + "</b> warned</a>";
+    h +=
+        "<a class=\"count near\" href=\"cases.html#verdict=NEAR_MISS\"><b id=\"count-NEAR_MISS\">" +
+        std::to_string(near) + "</b> near misses</a>";
+    h += "<a class=\"count tighten\" href=\"cases.html#verdict=TIGHTEN\"><b id=\"count-TIGHTEN\">" +
+         std::to_string(tighten) + "</b> could be tightened</a></div>\n";
+
+    // Worst cases: failures and errors first, then by budget used.
+    std::vector<const CaseView*> worst;
+    for (const auto& c : cases)
+      if (c.verdict == "FAIL" || c.verdict == "ERROR" || (c.budget && *c.budget > 0))
+        worst.push_back(&c);
+    auto rank = [](const CaseView* c) {
+      return c->verdict == "FAIL" ? 0 : c->verdict == "ERROR" ? 1 : 2;
+    };
+    std::stable_sort(worst.begin(), worst.end(), [&](const CaseView* a, const CaseView* b) {
+      if (rank(a) != rank(b)) return rank(a) < rank(b);
+      const double ba = a->budget.value_or(-1), bb = b->budget.value_or(-1);
+      return ba > bb || (std::isnan(bb) && !std::isnan(ba));
+    });
+    if (worst.size() > 15) worst.resize(15);
+    h += "<h2>Worst cases</h2>\n";
+    if (worst.empty()) {
+      h += "<p class=\"muted\">No case was evaluated with an error.</p>\n";
+    } else {
+      h += "<table class=\"cases\" id=\"worst-cases\"><thead><tr><th>verdict</th><th>case</th>"
+           "<th>budget used</th><th></th><th>reason</th></tr></thead><tbody>\n";
+      for (const CaseView* c : worst) {
+        h += "<tr><td>" + badge(c->verdict) + markers(*c) + "</td><td><a href=\"c/" +
+             url_path_escape(c->slug) + ".html\"><code>" + html_escape(c->id) +
+             "</code></a></td><td class=\"num\">" +
+             (c->budget ? fmt(*c->budget * 100, "%.3g") + " %" : "—") + "</td><td>" +
+             (c->heat ? "<img class=\"thumb\" alt=\"\" src=\"c/" + url_path_escape(c->slug) +
+                            "/heat_thumb.png\">"
+                      : "") +
+             "</td><td class=\"reason\">" + html_escape(c->reason) + "</td></tr>\n";
+      }
+      h += "</tbody></table>\n";
+    }
+    auto list = [&](const std::string& title, const std::string& id, auto pred) {
+      std::string rows;
+      for (const auto& c : cases)
+        if (pred(c))
+          rows += "<li><a href=\"c/" + url_path_escape(c.slug) + ".html\"><code>" +
+                  html_escape(c.id) + "</code></a> " +
+                  (c.budget ? fmt(*c.budget * 100, "%.3g") + " %" : "") + markers(c) + "</li>\n";
+      if (!rows.empty()) h += "<h2>" + title + "</h2><ul id=\"" + id + "\">" + rows + "</ul>\n";
+    };
+    list("Warnings", "warned", [](const CaseView& c) { return !c.warnings.empty(); });
+    list("Near misses (passed, over half the budget used)", "near-misses",
+         [](const CaseView& c) { return c.near_miss; });
+    list("Could be tightened", "could-be-tightened", [](const CaseView& c) { return c.tighten; });
+    h += "<h2>Run</h2>\n" + metadata_table(doc);
+    h += "<p class=\"links\"><a href=\"../results.json\">results.json</a> · <a "
+         "href=\"../junit.xml\">junit.xml</a> · <a href=\"matrix.html\">cvar matrix</a> · <a "
+         "href=\"cases.html\">all cases</a></p>\n";
+    return h + page_tail("", {});
+  }
+
+  std::string cases_page() {
+    std::string h = page_head("Cases — hdrconform", "", "cases");
+    h += "<h1>Cases</h1>\n<form id=\"filters\" class=\"toolbar\" autocomplete=\"off\">"
+         "<label>stage <select id=\"f-stage\"><option value=\"\">all</option></select></label>"
+         "<label>verdict <select id=\"f-verdict\"><option value=\"\">all</option></select></label>"
+         "<label>cvar <select id=\"f-cvar\"><option value=\"\">—</option></select></label>"
+         "<label>= <select id=\"f-cvar-value\"><option value=\"\">any</option></select></label>"
+         "<label>text <input type=\"search\" id=\"f-text\" placeholder=\"id, input, reason\">"
+         "</label><label>metric column <select id=\"f-metric\"></select></label>"
+         "<span id=\"shown\"></span></form>\n";
+    // The table is written here in full (readable without scripts); the script filters and sorts.
+    h +=
+        "<table class=\"cases\" id=\"case-table\"><thead><tr><th data-sort=\"verdict\">verdict</th>"
+        "<th data-sort=\"id\">case</th><th data-sort=\"stage\">stage</th><th data-sort=\"input\">"
+        "input</th><th data-sort=\"budget\" class=\"num\">budget used</th><th "
+        "data-sort=\"metric\" class=\"num\" id=\"metric-head\">metric</th><th>images</th><th>"
+        "reason</th></tr></thead><tbody>\n";
+    for (const auto& c : cases) {
+      h += "<tr data-i=\"" + std::to_string(c.index) + "\"><td>" + badge(c.verdict) + markers(c) +
+           "</td><td><a href=\"c/" + url_path_escape(c.slug) + ".html\"><code>" +
+           html_escape(c.id) + "</code></a></td><td>" + html_escape(c.stage) + "</td><td>" +
+           esc_text(get(*c.j, {"input"})) + "</td><td class=\"num\">" +
+           (c.budget ? fmt(*c.budget * 100, "%.3g") + " %" : "—") +
+           "</td><td class=\"num metric\">—</td><td>";
+      if (c.has[0] || c.has[1] || c.has[2])
+        h += "<img class=\"thumb\" loading=\"lazy\" alt=\"\" src=\"c/" + url_path_escape(c.slug) +
+             "/thumb.png\">";
+      if (c.heat)
+        h += "<img class=\"thumb\" loading=\"lazy\" alt=\"\" src=\"c/" + url_path_escape(c.slug) +
+             "/heat_thumb.png\">";
+      h += "</td><td class=\"reason\">" + html_escape(c.reason) + "</td></tr>\n";
+    }
+    h += "</tbody></table>\n";
+    return h + page_tail("", {"data.js"});
+  }
+
+  std::string matrix_page() {
+    std::string h = page_head("Cvar matrix — hdrconform", "", "matrix");
+    h += "<h1>Cvar matrix</h1>\n<form class=\"toolbar\" id=\"matrix-form\" autocomplete=\"off\">"
+         "<label>stage <select id=\"m-stage\"><option value=\"\">all</option></select></label>"
+         "<label>rows <select id=\"m-rows\"></select></label>"
+         "<label>columns <select id=\"m-cols\"></select></label>"
+         "<label>show <select id=\"m-show\"><option value=\"verdict\">verdict</option></select>"
+         "</label></form>\n<div id=\"matrix\" class=\"scroll\"></div>\n"
+         "<div class=\"legend\" id=\"matrix-legend\"></div>\n"
+         "<h2 id=\"cell-title\"></h2><div id=\"cell-cases\"></div>\n"
+         "<noscript><p>The matrix needs JavaScript; <a href=\"cases.html\">the case list</a> "
+         "does not.</p></noscript>\n";
+    return h + page_tail("", {"data.js"});
+  }
+
+  // The case table the matrix and list scripts read.
+  std::string data_js() {
+    json list = json::array();
+    for (const auto& c : cases) {
+      json metrics = json::object();
+      std::vector<std::pair<std::string, const json*>> cells;
+      // Overall statistics as "pq_code10.max", "linear_rel.p99", ... (older results: metrics.*).
+      const json* base = get(*c.j, {"stats", "overall"});
+      if (!base) base = get(*c.j, {"metrics"});
+      if (base && base->is_object()) flatten(*base, "", &cells);
+      for (const auto& [k, v] : cells)
+        if (auto n = num(v); n && k.find("worst") == std::string::npos)
+          metrics[k] = std::isfinite(*n) ? json(*n) : json(fmt(n));
+      json cv = get(*c.j, {"cvars"}) && get(*c.j, {"cvars"})->is_object() ? *get(*c.j, {"cvars"})
+                                                                          : json::object();
+      json st = get(*c.j, {"settings"}) && get(*c.j, {"settings"})->is_object()
+                    ? *get(*c.j, {"settings"})
+                    : json::object();
+      for (auto& [k, v] : st.items())
+        if (!v.is_number() && !v.is_string()) v = v.dump();
+      list.push_back({{"i", c.index},
+                      {"id", c.id},
+                      {"slug", c.slug},
+                      {"stage", c.stage},
+                      {"verdict", c.verdict},
+                      {"warn", !c.warnings.empty()},
+                      {"near", c.near_miss},
+                      {"tighten", c.tighten},
+                      {"budget", c.budget && std::isfinite(*c.budget) ? json(*c.budget)
+                                 : c.budget                           ? json("Infinity")
+                                                                      : json(nullptr)},
+                      {"input", text(get(*c.j, {"input"}))},
+                      {"reason", c.reason},
+                      {"cvars", cv},
+                      {"settings", st},
+                      {"metrics", metrics},
+                      {"heat", c.heat}});
+    }
+    return "HDRC.data(" + script_safe_json(json{{"cases", list}}.dump()) + ");\n";
+  }
+};
+
+Result<size_t> folder_size(const fs::path& p, size_t* files) {
+  size_t bytes = 0;
+  std::error_code ec;
+  for (auto it = fs::recursive_directory_iterator(p, ec); !ec && it != fs::end(it);
+       it.increment(ec))
+    if (it->is_regular_file(ec)) {
+      bytes += it->file_size(ec);
+      ++*files;
+    }
+  if (ec) return Error{p.string(), "", "cannot list: " + ec.message(), ""};
+  return bytes;
+}
+
+}  // namespace
+
+}  // namespace report
+
+Result<report::ReportInfo> write_report(const std::string& results_dir) {
+  using namespace report;
+  const auto t0 = std::chrono::steady_clock::now();
+  Builder b;
+  b.results_dir = results_dir;
+  const fs::path results = b.results_dir / "results.json";
+  {
+    std::ifstream f(results, std::ios::binary);
+    if (!f) return Error{results.string(), "", "cannot read (run `hdrconform run` first)", ""};
+    std::stringstream ss;
+    ss << f.rdbuf();
+    try {
+      b.doc = json::parse(ss.str());
+    } catch (const json::exception& e) {
+      return Error{results.string(), "", std::string("not valid JSON: ") + e.what(), ""};
+    }
+  }
+  const json* cases = get(b.doc, {"cases"});
+  if (!cases || !cases->is_array())
+    return Error{results.string(), "/cases", "missing or not an array", ""};
+
+  const fs::path final_dir = b.results_dir / "report";
+  b.out = b.results_dir / ".report.new";
+  std::error_code ec;
+  fs::remove_all(b.out, ec);
+  fs::create_directories(b.out / "assets", ec);
+  fs::create_directories(b.out / "c", ec);
+  if (ec) return Error{b.out.string(), "", "cannot create: " + ec.message(), ""};
+
+  std::set<std::string> slugs;
+  for (size_t i = 0; i < cases->size(); ++i) {
+    const json& j = (*cases)[i];
+    CaseView c;
+    c.j = &j;
+    c.index = i;
+    c.id = text(get(j, {"id"}));
+    c.stage = text(get(j, {"stage"}));
+    c.verdict = text(get(j, {"verdict"}));
+    c.reason = get(j, {"reason"}) ? text(get(j, {"reason"})) : "";
+    c.warnings = warnings_of(j);
+    c.tighten = truthy(get(j, {"could_be_tightened"}));
+    c.tol = tolerance_of(j);
+    c.budget = budget_used(j, c.tol);
+    const json* nm = get(j, {"near_miss"});
+    c.near_miss = nm ? truthy(nm)
+                     : c.verdict == "PASS" && c.budget && *c.budget > kNearMiss && *c.budget <= 1;
+    std::string slug = case_slug(c.id);
+    for (int n = 2; !slugs.insert(slug).second; ++n)
+      slug = case_slug(c.id) + "-" + std::to_string(n);
+    c.slug = slug;
+    b.cases.push_back(std::move(c));
+  }
+  for (auto& c : b.cases) {
+    if (Status s = b.case_images(c); !s) return s.error();
+    c.meta["id"] = c.id;
+    c.meta["verdict"] = c.verdict;
+    c.meta["w"] = c.width;
+    c.meta["h"] = c.height;
+    c.meta["has"] = {
+        {"input", c.has[0]}, {"reference", c.has[1]}, {"candidate", c.has[2]}, {"heat", c.heat}};
+    json tol = json::object();
+    for (const auto& [k, v] : c.tol.max) tol[k] = v;
+    tol["rel_floor"] = c.tol.rel_floor;
+    c.meta["tol"] = tol;
+    c.meta["lut_size"] = c.lut_size;
+    c.meta["px"] = c.px;
+    if (Status s = b.put(fs::path("c") / (c.slug + ".html"), b.case_page(c)); !s) return s.error();
+  }
+  for (const Asset& a : assets())
+    if (Status s = b.put(fs::path("assets") / std::string(a.name), std::string(a.contents)); !s)
+      return s.error();
+  for (const auto& [name, page] :
+       {std::pair<const char*, std::string>{"index.html", b.summary_page()},
+        {"cases.html", b.cases_page()},
+        {"matrix.html", b.matrix_page()},
+        {"data.js", b.data_js()}})
+    if (Status s = b.put(name, page); !s) return s.error();
+
+  // Swap the new folder in.
+  const fs::path old = b.results_dir / ".report.old";
+  fs::remove_all(old, ec);
+  if (fs::exists(final_dir)) fs::rename(final_dir, old, ec);
+  if (ec) return Error{final_dir.string(), "", "cannot replace: " + ec.message(), ""};
+  fs::rename(b.out, final_dir, ec);
+  if (ec)
+    return Error{final_dir.string(), "", "cannot move the new report in: " + ec.message(), ""};
+  fs::remove_all(old, ec);
+
+  ReportInfo info;
+  info.index_path = (final_dir / "index.html").string();
+  info.cases = b.cases.size();
+  auto bytes = folder_size(final_dir, &info.files);
+  if (!bytes) return bytes.error();
+  info.bytes = *bytes;
+  info.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return info;
 }
 
 }  // namespace hdrc

@@ -1,14 +1,69 @@
-// The browsable report of a run: one static HTML page (no scripts fetched from anywhere) with the
-// summary and a table of cases. Every string that comes from a case is HTML-escaped.
+// The browsable report of a run: a static folder that opens from disk (file://) or any static
+// server, with no network access. It is a pure function of a results directory:
+//
+//   DIR/results.json                           the run (runner/results.cpp, results.schema.json)
+//   DIR/cases/<case id>/{input,reference,candidate}.exr   the images of each case (when written)
+//     → DIR/report/index.html                  summary: counts, worst cases, near misses, metadata
+//       DIR/report/matrix.html                 verdict or a metric pivoted over two chosen cvars
+//       DIR/report/cases.html                  every case: filters (stage, verdict, cvar, text),
+//       sort DIR/report/c/<slug>.html               one page per case: parameters, tolerance,
+//       statistics,
+//                                              images (exposure, heatmap, mask, flip, slider,
+//                                              probe)
+//       DIR/report/c/<slug>/*.png, px.js       SDR previews, heatmap, mask, thumbnails; float data
+//       DIR/report/data.js, assets/            the case table for the script pages; script, style
+//
+// Fields missing from results.json are shown as "—"; nothing in it is trusted: every string is
+// escaped where it is written (HTML text, attributes, URLs, script data).
+//
+// SDR preview mapping (the same in C++ for the PNGs and in assets/report.js for the exposure
+// control): each value is decoded to absolute luminance with the case's output encoding (the one
+// the diff uses, docs/diff-metrics.md; inputs are scene-linear × 100 nits except for ui_composite,
+// whose input is a back buffer in the output's encoding), then
+//   display = sRGB_OETF(clamp(nits / 100 · 2^EV, 0, 1))          (100 nits at EV 0 = SDR white)
+// per channel, 8 bits. A pixel with a NaN channel is drawn magenta, with an infinite one cyan.
+//
+// Error heatmap: per pixel, the largest PQ error of its colour channels in 10-bit code values
+// (|PQ(nits(cand)) − PQ(nits(ref))| · 1023, as runner/diff.cpp), coloured with VisualizeHDR's
+// Colorize ramp (blue small, green, red large) over log10(error) from 1e-4 to 10 codes; an exact 0
+// is black, a non-finite mismatch white.
 #pragma once
 
+#include <cstddef>
 #include <string>
 
-#include "runner/run.h"
+#include "core/result.h"
 
 namespace hdrc {
 
 std::string html_escape(const std::string& s);
-std::string html_report(const RunReport& r);
+
+namespace report {
+
+// Percent-encodes a relative path for an href (every byte but A–Z a–z 0–9 - . _ ~ /).
+std::string url_path_escape(const std::string& path);
+
+// A file name for a case id: [A-Za-z0-9._-] kept, '/' → "__", anything else → '_'.
+// Not unique by itself; write_report appends "-<n>" to later duplicates.
+std::string case_slug(const std::string& id);
+
+// Serialises JSON-encoded text for a <script> element: '<', '>', '&', U+2028 and U+2029 are
+// written as \u escapes, so no string in the data can close the element or start markup.
+std::string script_safe_json(const std::string& json_text);
+
+struct ReportInfo {
+  std::string index_path;  // DIR/report/index.html
+  size_t cases = 0;
+  size_t files = 0;
+  size_t bytes = 0;  // total size of the report folder
+  double seconds = 0;
+};
+
+}  // namespace report
+
+// Rebuilds `results_dir`/report/ from `results_dir`/results.json and the case images beside it.
+// The new report is built in a sibling folder and swapped in, so a failed build leaves the old
+// one. Errors name the file and, for bad JSON, the JSON pointer.
+Result<report::ReportInfo> write_report(const std::string& results_dir);
 
 }  // namespace hdrc

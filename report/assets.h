@@ -1,0 +1,17 @@
+// The report's static files (report/assets/: the stylesheet and the script every page loads),
+// compiled into the binary by report/embed_assets.cmake so the report builder needs no data files.
+#pragma once
+
+#include <string_view>
+#include <vector>
+
+namespace hdrc::report {
+
+struct Asset {
+  std::string_view name;      // file name, written to report/assets/<name>
+  std::string_view contents;  // bytes
+};
+
+const std::vector<Asset>& assets();
+
+}  // namespace hdrc::report

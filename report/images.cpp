@@ -1,0 +1,204 @@
+#include "report/images.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "reference/color/st2084.h"
+
+namespace hdrc::report {
+
+double srgb_oetf(double x) {
+  // IEC 61966-2-1:1999 §5.2 (encoding): 12.92·L below 0.0031308, 1.055·L^(1/2.4) − 0.055 above.
+  if (!(x > 0)) return 0.0;
+  if (x >= 1) return 1.0;
+  return x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1.0 / 2.4) - 0.055;
+}
+
+uint8_t preview_code(double nits, double ev) {
+  const double linear = nits / 100.0 * std::exp2(ev);
+  return static_cast<uint8_t>(std::lround(srgb_oetf(linear) * 255.0));
+}
+
+std::array<uint8_t, 3> colorize8(double x) {
+  // PostProcessVisualizeHDR.usf: Colorize(x). saturate(NaN) = 0 on D3D, so NaN gives blue.
+  x = std::isnan(x) ? 0.0 : std::clamp(x, 0.0, 1.0);
+  const double t = std::fabs(0.5 - x) * 2.0;  // lerp(green, lerp(blue, red, x), t)
+  const double c[3] = {(1 - t) * 0 + t * x, (1 - t) * 1 + t * 0, (1 - t) * 0 + t * (1 - x)};
+  return {static_cast<uint8_t>(std::lround(c[0] * 255)),
+          static_cast<uint8_t>(std::lround(c[1] * 255)),
+          static_cast<uint8_t>(std::lround(c[2] * 255))};
+}
+
+std::array<uint8_t, 3> heat_colour(double error, const HeatScale& scale) {
+  if (std::isnan(error)) return kMismatchColour;
+  if (error <= 0) return {0, 0, 0};
+  return colorize8((std::log10(error) - scale.log10_min) / (scale.log10_max - scale.log10_min));
+}
+
+namespace {
+// runner/diff.cpp's pq_signal: negative and NaN luminance read as 0 nits, capped at 10 000.
+double pq_signal(double nits) {
+  if (!(nits > 0)) return ref::st2084::pq_from_nits(0.0);
+  return ref::st2084::pq_from_nits(std::fmin(nits, ref::st2084::kPeakNits));
+}
+bool consistent_nonfinite(double a, double b) {
+  if (std::isnan(a) || std::isnan(b)) return std::isnan(a) && std::isnan(b);
+  return a == b;
+}
+}  // namespace
+
+double pq10_error(const OutputEncoding& enc, double reference, double candidate) {
+  return std::fabs(pq_signal(enc.to_nits(candidate)) - pq_signal(enc.to_nits(reference))) * 1023.0;
+}
+
+Rgb8 preview(const Image& img, const OutputEncoding& enc, bool scene_linear_input, double ev) {
+  Rgb8 out(img.width, img.height);
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      const double* p = img.px(x, y);
+      uint8_t* o = out.px(x, y);
+      bool nan = false, inf = false;
+      for (int c = 0; c < 3; ++c) {
+        nan |= std::isnan(p[c]);
+        inf |= std::isinf(p[c]);
+      }
+      if (nan || inf) {
+        std::memcpy(o, nan ? kNanColour.data() : kInfColour.data(), 3);
+        continue;
+      }
+      for (int c = 0; c < 3; ++c)
+        o[c] = preview_code(scene_linear_input ? p[c] * 100.0 : enc.to_nits(p[c]), ev);
+    }
+  return out;
+}
+
+ErrorMaps error_maps(const Image& reference, const Image& candidate, const OutputEncoding& enc,
+                     const Tolerance& tol, const Rgb8& ref_preview) {
+  ErrorMaps m;
+  m.heat = Rgb8(reference.width, reference.height);
+  m.heat_itp = Rgb8(reference.width, reference.height);
+  m.mask = Rgb8(reference.width, reference.height);
+  if (candidate.width != reference.width || candidate.height != reference.height) return m;
+  auto over_max = [&](Metric metric, double v) { return !(v <= tol.max(metric)); };
+  for (int y = 0; y < reference.height; ++y)
+    for (int x = 0; x < reference.width; ++x) {
+      const double* r = reference.px(x, y);
+      const double* c = candidate.px(x, y);
+      double worst = 0, itp = 0;
+      bool mismatch = false, over = false, rgb_finite = true;
+      ref::Vec3 rn{0, 0, 0}, cn{0, 0, 0};
+      for (int ch = 0; ch < 4; ++ch) {
+        const bool rf = std::isfinite(r[ch]), cf = std::isfinite(c[ch]);
+        if (!rf || !cf) {
+          mismatch |= !(!rf && !cf && consistent_nonfinite(r[ch], c[ch]));
+          rgb_finite &= ch == 3;
+          continue;
+        }
+        if (ch == 3) continue;  // alpha: judged for non-finite consistency only (diff.cpp)
+        rn[ch] = enc.to_nits(r[ch]);
+        cn[ch] = enc.to_nits(c[ch]);
+        const double abs = std::fabs(c[ch] - r[ch]);
+        const double rel = abs == 0 ? 0.0 : abs / std::fmax(std::fabs(r[ch]), tol.rel_floor);
+        const double pq = std::fabs(pq_signal(cn[ch]) - pq_signal(rn[ch]));
+        worst = std::fmax(worst, pq * 1023.0);
+        over |= over_max(Metric::kLinearAbs, abs) || over_max(Metric::kLinearRel, rel) ||
+                over_max(Metric::kPqCode10, pq * 1023.0) ||
+                over_max(Metric::kPqCode12, pq * 4095.0);
+      }
+      if (rgb_finite) {
+        itp = delta_e_itp(ictcp_from_rec2020_nits(enc.to_rec2020 * cn),
+                          ictcp_from_rec2020_nits(enc.to_rec2020 * rn));
+        over |= over_max(Metric::kDeltaEItp, itp);
+      }
+      const double nan = std::nan("");
+      std::memcpy(m.heat.px(x, y), heat_colour(mismatch ? nan : worst, kHeatPq10).data(), 3);
+      std::memcpy(m.heat_itp.px(x, y), heat_colour(mismatch ? nan : itp, kHeatItp).data(), 3);
+      uint8_t* o = m.mask.px(x, y);
+      if (mismatch) {
+        std::memcpy(o, kNanColour.data(), 3);
+        ++m.mismatch;
+      } else if (over) {
+        std::memcpy(o, kOverColour.data(), 3);
+        ++m.over;
+      } else {
+        // Within tolerance: the reference's preview as dim grey, for orientation.
+        const uint8_t* p = &ref_preview.data[(static_cast<size_t>(y) * reference.width + x) * 3];
+        const uint8_t g = static_cast<uint8_t>((p[0] * 3 + p[1] * 6 + p[2]) / 40);
+        o[0] = o[1] = o[2] = g;
+      }
+    }
+  return m;
+}
+
+Rgb8 thumbnail(const Rgb8& src, int max_w, int min_h, int max_h) {
+  const int w = std::max(1, std::min(src.width, max_w));
+  const double scale = static_cast<double>(w) / std::max(1, src.width);
+  const int h = std::clamp(static_cast<int>(std::lround(src.height * scale)), min_h, max_h);
+  Rgb8 out(w, h);
+  // Nearest neighbour: thumbnails of ramps and LUTs keep their hard edges.
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const int sx = std::min(src.width - 1, static_cast<int>((x + 0.5) * src.width / w));
+      const int sy = std::min(src.height - 1, static_cast<int>((y + 0.5) * src.height / h));
+      std::memcpy(out.px(x, y), &src.data[(static_cast<size_t>(sy) * src.width + sx) * 3], 3);
+    }
+  return out;
+}
+
+Status write_png(const std::string& path, const Rgb8& img) {
+  auto out = OIIO::ImageOutput::create(path);
+  if (!out) return Error{path, "", "cannot create a PNG writer: " + OIIO::geterror(), ""};
+  const OIIO::ImageSpec spec(img.width, img.height, 3, OIIO::TypeDesc::UINT8);
+  if (!out->open(path, spec)) return Error{path, "", "cannot open: " + out->geterror(), ""};
+  const bool ok = out->write_image(OIIO::TypeDesc::UINT8, img.data.data());
+  const bool closed = out->close();
+  if (!ok || !closed) return Error{path, "", "cannot write: " + out->geterror(), ""};
+  return {};
+}
+
+std::string float32_base64(const Image& img, int channels) {
+  static const char* kAlphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::vector<uint8_t> bytes;
+  bytes.reserve(img.pixel_count() * channels * 4);
+  for (size_t i = 0; i < img.pixel_count(); ++i)
+    for (int c = 0; c < channels; ++c) {
+      const float f = static_cast<float>(img.data[i * Image::kChannels + c]);
+      uint32_t u;
+      std::memcpy(&u, &f, 4);
+      for (int b = 0; b < 4; ++b) bytes.push_back(static_cast<uint8_t>(u >> (8 * b)));  // LE
+    }
+  std::string out;
+  out.reserve((bytes.size() + 2) / 3 * 4);
+  size_t i = 0;
+  for (; i + 2 < bytes.size(); i += 3) {
+    const uint32_t v = (bytes[i] << 16) | (bytes[i + 1] << 8) | bytes[i + 2];
+    out += kAlphabet[v >> 18];
+    out += kAlphabet[(v >> 12) & 63];
+    out += kAlphabet[(v >> 6) & 63];
+    out += kAlphabet[v & 63];
+  }
+  if (i < bytes.size()) {
+    const uint32_t v = (bytes[i] << 16) | (i + 1 < bytes.size() ? bytes[i + 1] << 8 : 0);
+    out += kAlphabet[v >> 18];
+    out += kAlphabet[(v >> 12) & 63];
+    out += i + 1 < bytes.size() ? kAlphabet[(v >> 6) & 63] : '=';
+    out += '=';
+  }
+  return out;
+}
+
+bool constant_alpha(const Image& img, double* value) {
+  if (img.pixel_count() == 0) return false;
+  const double a = img.data[3];
+  for (size_t i = 0; i < img.pixel_count(); ++i) {
+    const double v = img.data[i * Image::kChannels + 3];
+    if (!(v == a)) return false;  // NaN alpha is never constant
+  }
+  *value = a;
+  return true;
+}
+
+}  // namespace hdrc::report

@@ -1,0 +1,82 @@
+// The report's pictures: SDR previews of HDR images, the error heatmap, the over-tolerance mask,
+// thumbnails, and the float data the case page's script reads. Mappings are documented in
+// report/html_report.h and mirrored in report/assets/report.js (exposure control, pixel probe).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/case.h"
+#include "core/image.h"
+#include "core/result.h"
+#include "runner/diff.h"
+
+namespace hdrc::report {
+
+// An 8-bit sRGB image, RGB, row-major.
+struct Rgb8 {
+  int width = 0, height = 0;
+  std::vector<uint8_t> data;  // width * height * 3
+  Rgb8() = default;
+  Rgb8(int w, int h) : width(w), height(h), data(static_cast<size_t>(w) * h * 3, 0) {}
+  uint8_t* px(int x, int y) { return &data[(static_cast<size_t>(y) * width + x) * 3]; }
+};
+
+inline constexpr std::array<uint8_t, 3> kNanColour{255, 0, 255};         // magenta
+inline constexpr std::array<uint8_t, 3> kInfColour{0, 255, 255};         // cyan
+inline constexpr std::array<uint8_t, 3> kMismatchColour{255, 255, 255};  // heatmap: white
+inline constexpr std::array<uint8_t, 3> kOverColour{255, 0, 0};          // mask: red
+
+// The heatmaps' scales: log10 of the error from min to max. PQ error in 10-bit code values
+// (tolerances are 0.01–1 code); ΔE_ITP (≈ 1 is a just-noticeable difference, BT.2124).
+struct HeatScale {
+  double log10_min, log10_max;
+};
+inline constexpr HeatScale kHeatPq10{-4.0, 1.0};
+inline constexpr HeatScale kHeatItp{-3.0, 2.0};
+
+// sRGB OETF (IEC 61966-2-1, the piecewise curve) of a display-linear value in [0, 1].
+double srgb_oetf(double linear);
+
+// One channel value → 8-bit display code: sRGB_OETF(clamp(nits / 100 · 2^ev, 0, 1)).
+uint8_t preview_code(double nits, double ev);
+
+// UE's Colorize(x) (PostProcessVisualizeHDR.usf): x = saturate(x);
+// lerp(green, lerp(blue, red, x), |0.5 − x|·2): 0 blue, 0.5 green, 1 red. As 8-bit RGB.
+std::array<uint8_t, 3> colorize8(double x);
+
+// The heatmap colour of one error (0 → black, NaN → kMismatchColour) on `scale`.
+std::array<uint8_t, 3> heat_colour(double error, const HeatScale& scale);
+
+// The PQ signal difference · 1023 of two values under `enc` (runner/diff.cpp's metric).
+double pq10_error(const OutputEncoding& enc, double reference, double candidate);
+
+// SDR preview of `img` whose values are decoded to nits by `to_nits`.
+Rgb8 preview(const Image& img, const OutputEncoding& enc, bool scene_linear_input, double ev = 0);
+
+struct ErrorMaps {
+  Rgb8 heat, heat_itp, mask;      // PQ 10-bit heatmap, ΔE_ITP heatmap, over-tolerance mask
+  size_t over = 0, mismatch = 0;  // pixels over the tolerance; pixels with a non-finite mismatch
+};
+// Heatmaps and over-tolerance mask, per pixel with runner/diff.cpp's metrics: a pixel is over
+// when any value of it exceeds the max of a judged metric (linear_abs, linear_rel, pq_code10/12
+// per colour channel; ΔE_ITP per pixel), a mismatch when any channel (alpha too) pairs a
+// non-finite value inconsistently. `ref_preview` is dimmed under the mask.
+ErrorMaps error_maps(const Image& reference, const Image& candidate, const OutputEncoding& enc,
+                     const Tolerance& tol, const Rgb8& ref_preview);
+
+// A small copy for list pages: at most `max_w` wide, height stretched into [min_h, max_h].
+Rgb8 thumbnail(const Rgb8& src, int max_w, int min_h, int max_h);
+
+// Writes an 8-bit RGB PNG through OpenImageIO.
+Status write_png(const std::string& path, const Rgb8& img);
+
+// Base64 of the float32 (little-endian) values of the given channels of `img`.
+std::string float32_base64(const Image& img, int channels);
+
+// Whether every alpha value of `img` equals `*value` (set from the first pixel).
+bool constant_alpha(const Image& img, double* value);
+
+}  // namespace hdrc::report

@@ -1,0 +1,205 @@
+// Unit tests of the report builder: escaping, file names, the documented SDR preview mapping,
+// the heatmap colours (UE's Colorize ramp), the float data encoding, the error maps, and
+// write_report on hand-written results directories. The browser test (report/browser_test)
+// checks the pages themselves.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "report/html_report.h"
+#include "report/images.h"
+
+namespace {
+
+using hdrc::Image;
+using namespace hdrc::report;
+
+std::string read_file(const std::filesystem::path& p) {
+  std::ifstream f(p);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+TEST(ReportEscaping, HtmlEscapesEveryMarkupCharacter) {
+  EXPECT_EQ(hdrc::html_escape("<script>alert('x')</script> & \"q\""),
+            "&lt;script&gt;alert(&#39;x&#39;)&lt;/script&gt; &amp; &quot;q&quot;");
+}
+
+TEST(ReportEscaping, UrlPathKeepsSlashesAndEncodesTheRest) {
+  EXPECT_EQ(url_path_escape("a/<b> c%#?"), "a/%3Cb%3E%20c%25%23%3F");
+  EXPECT_EQ(url_path_escape("tonemap/dev7_gamut2-x.y~z"), "tonemap/dev7_gamut2-x.y~z");
+}
+
+TEST(ReportEscaping, ScriptSafeJsonCannotCloseTheScriptElement) {
+  EXPECT_EQ(script_safe_json(R"({"id":"</script><b>&"})"),
+            R"({"id":"\u003c/script\u003e\u003cb\u003e\u0026"})");
+  EXPECT_EQ(script_safe_json("\"a\xE2\x80\xA8"
+                             "b\xE2\x80\xA9\""),
+            "\"a\\u2028b\\u2029\"");
+}
+
+TEST(ReportFiles, SlugsAreSafeFileNames) {
+  const std::string s = case_slug("<script>alert(1)</script>/log_ramp");
+  EXPECT_EQ(s, "_script_alert_1____script___log_ramp");
+  EXPECT_EQ(case_slug("tonemap/linear_dev7/dev7_gamut2"), "tonemap__linear_dev7__dev7_gamut2");
+  EXPECT_EQ(case_slug("../x"), "_..__x");  // never starts with '.', never a path
+  EXPECT_EQ(case_slug("").front(), '_');
+}
+
+TEST(ReportPreview, SrgbOetfPublishedValues) {
+  // IEC 61966-2-1: 12.92·L below 0.0031308, 1.055·L^(1/2.4) − 0.055 above.
+  EXPECT_NEAR(srgb_oetf(0.0031308), 0.040449936, 1e-9);
+  EXPECT_NEAR(srgb_oetf(0.5), 0.735356983, 1e-9);
+  EXPECT_EQ(srgb_oetf(-1), 0.0);
+  EXPECT_EQ(srgb_oetf(2), 1.0);
+  EXPECT_EQ(srgb_oetf(std::nan("")), 0.0);
+}
+
+TEST(ReportPreview, HundredNitsIsSdrWhiteAtZeroEv) {
+  EXPECT_EQ(preview_code(100, 0), 255);
+  EXPECT_EQ(preview_code(50, 1), 255);    // +1 EV doubles
+  EXPECT_EQ(preview_code(400, -2), 255);  // −2 EV quarters
+  EXPECT_EQ(preview_code(18, 0), 118);    // round(sRGB(0.18) · 255), by hand: 117.65
+  EXPECT_EQ(preview_code(-5, 0), 0);
+  EXPECT_EQ(preview_code(1e4, 0), 255);  // clipped
+}
+
+TEST(ReportPreview, NonFinitePixelsAreFlagged) {
+  Image img(3, 1);
+  const double v[3][4] = {{std::nan(""), 0, 0, 1}, {INFINITY, 0, 0, 1}, {1, 1, 1, 1}};
+  for (int x = 0; x < 3; ++x)
+    for (int c = 0; c < 4; ++c) img.px(x, 0)[c] = v[x][c];
+  hdrc::OutputEncoding scene;  // shaper: scene-linear × 100 nits
+  const Rgb8 p = preview(img, scene, false);
+  EXPECT_EQ(p.data[0], 255);  // magenta
+  EXPECT_EQ(p.data[1], 0);
+  EXPECT_EQ(p.data[2], 255);
+  EXPECT_EQ(p.data[3], 0);  // cyan
+  EXPECT_EQ(p.data[4], 255);
+  EXPECT_EQ(p.data[5], 255);
+  EXPECT_EQ(p.data[6], 255);  // 1.0 scene-linear = 100 nits = white
+}
+
+TEST(ReportHeatmap, ColorizeIsBlueGreenRed) {
+  // PostProcessVisualizeHDR.usf Colorize: 0 blue, 0.5 green, 1 red; NaN saturates to 0.
+  EXPECT_EQ(colorize8(0), (std::array<uint8_t, 3>{0, 0, 255}));
+  EXPECT_EQ(colorize8(0.5), (std::array<uint8_t, 3>{0, 255, 0}));
+  EXPECT_EQ(colorize8(1), (std::array<uint8_t, 3>{255, 0, 0}));
+  EXPECT_EQ(colorize8(std::nan("")), (std::array<uint8_t, 3>{0, 0, 255}));
+  // x = 0.75: t = 0.5, lerp(green, lerp(blue, red, 0.75), 0.5) = (0.375, 0.5, 0.125).
+  EXPECT_EQ(colorize8(0.75), (std::array<uint8_t, 3>{96, 128, 32}));
+}
+
+TEST(ReportHeatmap, ScaleEndsAndSpecialValues) {
+  EXPECT_EQ(heat_colour(0, kHeatPq10), (std::array<uint8_t, 3>{0, 0, 0}));
+  EXPECT_EQ(heat_colour(std::nan(""), kHeatPq10), kMismatchColour);
+  EXPECT_EQ(heat_colour(1e-4, kHeatPq10), (std::array<uint8_t, 3>{0, 0, 255}));
+  EXPECT_EQ(heat_colour(1e-6, kHeatPq10), (std::array<uint8_t, 3>{0, 0, 255}));  // clamped
+  EXPECT_EQ(heat_colour(std::pow(10.0, -1.5), kHeatPq10), (std::array<uint8_t, 3>{0, 255, 0}));
+  EXPECT_EQ(heat_colour(10, kHeatPq10), (std::array<uint8_t, 3>{255, 0, 0}));
+  EXPECT_EQ(heat_colour(100, kHeatItp), (std::array<uint8_t, 3>{255, 0, 0}));
+}
+
+TEST(ReportData, Float32Base64IsLittleEndian) {
+  Image img(1, 1);
+  img.px(0, 0)[0] = 1.0;
+  img.px(0, 0)[1] = -2.0;
+  img.px(0, 0)[2] = 0.5;
+  // 00 00 80 3F | 00 00 00 C0 | 00 00 00 3F
+  EXPECT_EQ(float32_base64(img, 3), "AACAPwAAAMAAAAA/");
+  double a = -1;
+  EXPECT_TRUE(constant_alpha(img, &a));
+  EXPECT_EQ(a, 0.0);
+}
+
+TEST(ReportErrorMaps, MaskMarksValuesOverTheirMetricAndMismatches) {
+  Image ref(3, 1), cand(3, 1);
+  for (int x = 0; x < 3; ++x)
+    for (int c = 0; c < 4; ++c) ref.px(x, 0)[c] = cand.px(x, 0)[c] = 0.5;
+  cand.px(1, 0)[0] = 0.5 * 1.01;    // rel 1e-2 > 1e-3
+  cand.px(2, 0)[1] = std::nan("");  // non-finite mismatch
+  hdrc::Tolerance tol;
+  tol.linear_rel = 1e-3;
+  tol.rel_floor = 1e-4;
+  hdrc::OutputEncoding scene;
+  const Rgb8 prev = preview(ref, scene, false);
+  const ErrorMaps m = error_maps(ref, cand, scene, tol, prev);
+  EXPECT_EQ(m.over, 1u);
+  EXPECT_EQ(m.mismatch, 1u);
+  EXPECT_EQ(m.heat.data[0], 0);    // exact: black
+  EXPECT_EQ(m.mask.data[3], 255);  // over: red
+  EXPECT_EQ(m.mask.data[4], 0);
+  EXPECT_EQ(m.mask.data[6], 255);  // mismatch: magenta
+  EXPECT_EQ(m.mask.data[7], 0);
+  EXPECT_EQ(m.heat.data[6], 255);  // mismatch: white
+  EXPECT_EQ(m.heat.data[7], 255);
+  // Pixel 1's heat: (PQ(50.5 nits) − PQ(50 nits)) · 1023 = 0.968089 codes (ST 2084 eq. 5.2 by
+  // hand), on the documented scale.
+  const double pq10 = pq10_error(scene, 0.5, 0.505);
+  EXPECT_NEAR(pq10, 0.968089, 1e-6);
+  const auto want = heat_colour(pq10, kHeatPq10);
+  EXPECT_EQ(m.heat.data[3], want[0]);
+  EXPECT_EQ(m.heat.data[4], want[1]);
+}
+
+class WriteReport : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ =
+        std::filesystem::temp_directory_path() /
+        ("hdrc_report_test_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
+         "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    std::filesystem::remove_all(dir_);
+    std::filesystem::create_directories(dir_);
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+  std::filesystem::path dir_;
+};
+
+TEST_F(WriteReport, MissingResultsNamesTheFile) {
+  auto r = hdrc::write_report(dir_.string());
+  ASSERT_FALSE(r);
+  EXPECT_NE(r.error().to_string().find("results.json"), std::string::npos);
+}
+
+TEST_F(WriteReport, InvalidJsonIsAnError) {
+  std::ofstream(dir_ / "results.json") << "{\"cases\": [";
+  auto r = hdrc::write_report(dir_.string());
+  ASSERT_FALSE(r);
+  EXPECT_NE(r.error().to_string().find("not valid JSON"), std::string::npos);
+}
+
+TEST_F(WriteReport, SparseResultsAndHostileTextAreShownEscaped) {
+  // A case with almost nothing: no stats, no images, no tolerance; a hostile id and reason.
+  std::ofstream(dir_ / "results.json")
+      << R"({"cases": [{"id": "<img src=x onerror=alert(1)>/x", "verdict": "FAIL",
+                        "stage": "shaper", "reason": "<b>bold</b>"},
+                       {"id": "ok/case", "verdict": "PASS", "stage": "shaper"}]})";
+  auto r = hdrc::write_report(dir_.string());
+  ASSERT_TRUE(r) << r.error().to_string();
+  EXPECT_EQ(r->cases, 2u);
+  const std::string index = read_file(dir_ / "report" / "index.html");
+  const std::string list = read_file(dir_ / "report" / "cases.html");
+  const std::string data = read_file(dir_ / "report" / "data.js");
+  for (const std::string* page : {&index, &list}) {
+    EXPECT_EQ(page->find("<img src=x"), std::string::npos);
+    EXPECT_EQ(page->find("<b>bold"), std::string::npos);
+  }
+  EXPECT_NE(list.find("&lt;img src=x onerror=alert(1)&gt;/x"), std::string::npos);
+  EXPECT_EQ(data.find('<'), std::string::npos);  // every '<' in script data is \u003c
+  EXPECT_NE(index.find("id=\"count-FAIL\">1<"), std::string::npos);
+  EXPECT_NE(index.find("id=\"count-PASS\">1<"), std::string::npos);
+  const std::string page = read_file(dir_ / "report" / "c" / "ok__case.html");
+  EXPECT_NE(page.find("No images were written"), std::string::npos);
+  EXPECT_NE(page.find("—"), std::string::npos);
+  // Rebuilding replaces the folder (no stale files survive).
+  std::ofstream(dir_ / "report" / "stale.html") << "x";
+  ASSERT_TRUE(hdrc::write_report(dir_.string()));
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "report" / "stale.html"));
+}
+
+}  // namespace
