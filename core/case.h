@@ -1,7 +1,11 @@
 // A conformance case after loading: what to run, with which cvars, on which input, judged how.
 #pragma once
 
+#include <array>
+#include <limits>
+#include <map>
 #include <string>
+#include <vector>
 
 #include "core/cvars.h"
 #include "core/image.h"
@@ -11,16 +15,67 @@
 
 namespace hdrc {
 
-// Diff thresholds of one case. A verdict fails when any metric exceeds its limit; every
-// comparison is written so that NaN fails.
-struct Tolerance {
-  double linear_abs = 0.0;  // max |cand − ref| where |ref| < rel_floor (scene-linear units)
-  double linear_rel = 0.0;  // max |cand − ref| / max(|ref|, rel_floor)
-  double rel_floor = 0.0;   // floor of the relative error's denominator
-  double pq_code10 = 0.0;   // max |PQ(cand nits) − PQ(ref nits)| in 10-bit code values
-  std::string reason;       // why these numbers (measured error and its cause)
-  std::string source;       // where they came from: "cases/x.json: /tolerance" or "default"
+// The metrics a tolerance can judge (runner/diff.h computes them; docs/diff-metrics.md).
+enum class Metric : int {
+  kLinearAbs,  // |cand − ref| per value, in the output's own units
+  kLinearRel,  // |cand − ref| / max(|ref|, rel_floor) per value
+  kPqCode10,   // |PQ(nits(cand)) − PQ(nits(ref))| in 10-bit code values, per value
+  kPqCode12,   // the same in 12-bit code values
+  kDeltaEItp,  // ΔE_ITP (ITU-R BT.2124) per pixel; ≈ 1 is a just-noticeable difference
 };
+inline constexpr int kMetricCount = 5;
+// A limit that is not set: the criterion is not judged.
+inline constexpr double kNotJudged = std::numeric_limits<double>::infinity();
+
+// Diff thresholds of one case: a policy read from data (runner/tolerance.h parses it;
+// docs/tolerances.md). Criteria combine: the case fails when any judged criterion fails.
+// Per metric m:
+//   * max(m): a value over it is "over"; the case fails when more than allowed_fraction[m] of the
+//     values (pixels for ΔE_ITP) are over (0: none may be);
+//   * hard[m]: a cap no value may exceed, whatever the fraction;
+//   * warn[m]: a passing case with any value over it passes with a warning.
+// Every comparison is written so that NaN fails.
+struct Tolerance {
+  double linear_abs = kNotJudged;                       // max(kLinearAbs)
+  double linear_rel = kNotJudged;                       // max(kLinearRel)
+  double pq_code10 = kNotJudged;                        // max(kPqCode10)
+  double pq_code12 = kNotJudged;                        // max(kPqCode12)
+  double delta_e_itp = kNotJudged;                      // max(kDeltaEItp)
+  double rel_floor = 0.0;                               // floor of the relative error's denominator
+  std::array<double, kMetricCount> allowed_fraction{};  // in [0, 1]
+  std::array<double, kMetricCount> hard{kNotJudged, kNotJudged, kNotJudged, kNotJudged, kNotJudged};
+  std::array<double, kMetricCount> warn{kNotJudged, kNotJudged, kNotJudged, kNotJudged, kNotJudged};
+  std::string reason;  // why these numbers (measured error and its cause)
+  std::string source;  // where they came from: "cases/x.json: /tolerance" or "default", and
+                       // every overlay applied after it
+  double max(Metric m) const;
+  double& max(Metric m);
+  // True when any criterion of `m` is set.
+  bool judged(Metric m) const;
+};
+
+inline double& Tolerance::max(Metric m) {
+  switch (m) {
+    case Metric::kLinearAbs:
+      return linear_abs;
+    case Metric::kLinearRel:
+      return linear_rel;
+    case Metric::kPqCode10:
+      return pq_code10;
+    case Metric::kPqCode12:
+      return pq_code12;
+    case Metric::kDeltaEItp:
+      break;
+  }
+  return delta_e_itp;
+}
+inline double Tolerance::max(Metric m) const {
+  return const_cast<Tolerance*>(this)->max(m);
+}
+inline bool Tolerance::judged(Metric m) const {
+  const int i = static_cast<int>(m);
+  return max(m) < kNotJudged || hard[i] < kNotJudged || warn[i] < kNotJudged;
+}
 
 // Where a case's input image comes from.
 struct InputSpec {
@@ -28,6 +83,10 @@ struct InputSpec {
   std::string file;      // an image under cases/ (resolved path), or ""
   int width = 0;
   int height = 0;
+  // The stimulus' parameters by name (runner/stimuli.h: a number is a one-element list, a choice
+  // its index); unset parameters take their defaults.
+  std::map<std::string, std::vector<double>> params;
+  std::string label;  // the name the case id uses for this input
   std::string describe() const;
 };
 

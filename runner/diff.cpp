@@ -1,74 +1,65 @@
 #include "runner/diff.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
 #include "reference/color/gamma_correction.h"
 #include "reference/color/st2084.h"
 #include "reference/color/ue_log_shaper.h"
+#include "reference/color/ue_matrices.h"
+#include "runner/tolerance.h"
 
 namespace hdrc {
 
-double OutputEncoding::to_nits(double v) const {
-  namespace pq = ref::st2084;
-  const double scene = ref::kLinearToNitsScale;  // scene-linear 1.0 = 100 nits
-  const double sdr_white = 100.0;                // SDR signals: 1.0 = 100 nits
+namespace {
+
+constexpr double kSdrWhiteNits = 100.0;  // SDR signals: 1.0 = 100 nits (docs/diff-metrics.md)
+constexpr double kScRgbNits = 80.0;      // scRGB 1.0 = 80 nits (TonemapCommon.ush: ST2084ToScRGB)
+
+enum class Gamut { kWorking, kOutput, kAp1, kRec709, kRec2020 };
+
+const ref::Chromaticities& gamut_chromaticities(int output_gamut) {
+  namespace s = ref::standard;
+  switch (output_gamut) {
+    case 1:
+      return s::kP3D65;
+    case 2:
+      return s::kRec2020;
+    case 3:
+      return s::kAp0;
+    case 4:
+      return s::kAp1;
+    default:
+      return s::kSrgb;
+  }
+}
+
+// Which gamut a stage's output is in (spec §4.12 device encoding, §3.5 ST2084ToScRGB, §6.1
+// step 9): the working colour space where UE skips the gamut matrix, AP1 for the scRGB devices'
+// LUT texels, scRGB's Rec.709 after the tonemapper's conversion, else the output gamut.
+Gamut output_gamut_kind(StageId stage, const ParamBlock& p) {
+  const int d = p.output_device;
   switch (stage) {
     case StageId::kShaper:
-      return v * scene;
+      return Gamut::kWorking;
     case StageId::kLinearDevice:
-      return device == 7 ? v : v * scene;
-    case StageId::kCombineLuts:
-      v *= 1.05;  // stored texels are OutDeviceColor / 1.05
-      break;
+      return d == 8 ? Gamut::kWorking : Gamut::kOutput;
     case StageId::kUiComposite:
-      // The composite writes the back buffer: PQ (devices 3/4) or scRGB (5/6).
-      return (device == 5 || device == 6) ? v * 80.0 : ref::st2084::nits_from_pq(v);
+      // The HDR back buffer: PQ Rec.2020 (3/4) or scRGB (5/6).
+      return (d == 5 || d == 6) ? Gamut::kRec709 : Gamut::kRec2020;
+    case StageId::kCombineLuts:
     case StageId::kTonemap:
     case StageId::kDither:
     case StageId::kVisualizeHdr:
-      if (device == 5 || device == 6) return v * 80.0;  // scRGB
-      if (device == 7) return v;                        // ST2084ToLinear output: nits
       break;
   }
-  switch (device) {
-    case 0:
-      return ref::srgb_to_linear(v) * sdr_white;
-    case 1:
-      return ref::rec709_to_linear(v) * sdr_white;
-    case 2:
-      return (v > 0 ? std::pow(v, 1.0 / inverse_gamma_z) : 0.0) * sdr_white;
-    case 8:
-    case 9:
-      return v * scene;
-    default:
-      return pq::nits_from_pq(v);  // 3–7: PQ signals
-  }
+  if (d == 8) return Gamut::kWorking;
+  if (d == 0 && p.wcs_is_srgb) return Gamut::kWorking;  // 5.5 skips AP1_2_Output for an sRGB WCS
+  if (d == 5 || d == 6) return stage == StageId::kCombineLuts ? Gamut::kAp1 : Gamut::kRec709;
+  return Gamut::kOutput;
 }
 
-std::string OutputEncoding::describe() const {
-  if (stage == StageId::kShaper || (stage == StageId::kLinearDevice && device == 8))
-    return "scene-linear x 100 nits";
-  if (stage == StageId::kLinearDevice) return "nits";
-  const std::string lut = stage == StageId::kCombineLuts ? "texel x 1.05, " : "";
-  if (stage != StageId::kCombineLuts && (device == 5 || device == 6)) return "scRGB x 80 nits";
-  if (stage != StageId::kCombineLuts && device == 7) return "nits";
-  switch (device) {
-    case 0:
-      return lut + "sRGB EOTF x 100 nits";
-    case 1:
-      return lut + "Rec.709 inverse OETF x 100 nits";
-    case 2:
-      return lut + "gamma x 100 nits";
-    case 8:
-    case 9:
-      return lut + "scene-linear x 100 nits";
-    default:
-      return lut + "PQ EOTF";
-  }
-}
-
-namespace {
 double pq_signal(double nits) {
   if (!(nits > 0)) return ref::st2084::pq_from_nits(0.0);
   return ref::st2084::pq_from_nits(std::fmin(nits, ref::st2084::kPeakNits));
@@ -83,94 +74,376 @@ const char* channel_name(int c) {
   static const char* names[] = {"R", "G", "B", "A"};
   return c >= 0 && c < 4 ? names[c] : "?";
 }
+
+void census(double v, NonFiniteCensus::Side* s) {
+  if (std::isnan(v))
+    ++s->nan;
+  else if (std::isinf(v))
+    ++(v > 0 ? s->pos_inf : s->neg_inf);
+  else if (v < 0)
+    ++s->negative;
+}
+
+// Nearest-rank percentile of sorted values: the smallest value with at least q of the values at
+// or below it.
+double nearest_rank(const std::vector<double>& sorted, double q) {
+  if (sorted.empty()) return 0;
+  const double rank = std::ceil(q * static_cast<double>(sorted.size()));
+  const size_t i = rank < 1 ? 0 : static_cast<size_t>(rank) - 1;
+  return sorted[std::min(i, sorted.size() - 1)];
+}
+
+struct Accumulator {
+  std::vector<double> values;
+  double sum = 0, sum_sq = 0;
+  PixelRef worst;
+  void add(double v, const PixelRef& at) {
+    if (values.empty() || v > values_max) {
+      values_max = v;
+      worst = at;
+    }
+    values.push_back(v);
+    sum += v;
+    sum_sq += v * v;
+  }
+  MetricStats finish(double max_limit, double allowed_fraction) {
+    MetricStats m;
+    m.count = values.size();
+    if (values.empty()) return m;
+    std::sort(values.begin(), values.end());
+    const double n = static_cast<double>(values.size());
+    m.max = values.back();
+    m.mean = sum / n;
+    m.rms = std::sqrt(sum_sq / n);
+    m.p99 = nearest_rank(values, 0.99);
+    m.p999 = nearest_rank(values, 0.999);
+    m.at_allowed_fraction = nearest_rank(values, 1.0 - allowed_fraction);
+    // Values over the max: everything after the last value <= max (sorted; NaN-free).
+    // (A NaN limit puts every value over it.)
+    m.over = std::isnan(max_limit)
+                 ? values.size()
+                 : static_cast<size_t>(values.end() -
+                                       std::upper_bound(values.begin(), values.end(), max_limit));
+    m.fraction_over = static_cast<double>(m.over) / n;
+    m.worst = worst;
+    return m;
+  }
+  double values_max = 0;
+};
+
+std::string fmt(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", v);
+  return buf;
+}
+
 }  // namespace
 
+const char* band_name(int band) {
+  static const char* names[kBandCount] = {"<0.1", "0.1-1", "1-10", "10-100", "100-1000", ">=1000"};
+  return band >= 0 && band < kBandCount ? names[band] : "?";
+}
+
+int band_of_nits(double nits) {
+  if (!(nits >= 0.1)) return 0;
+  if (nits < 1) return 1;
+  if (nits < 10) return 2;
+  if (nits < 100) return 3;
+  if (nits < 1000) return 4;
+  return 5;
+}
+
+OutputEncoding OutputEncoding::of(StageId stage, const ParamBlock& p) {
+  OutputEncoding e;
+  e.stage = stage;
+  e.device = p.output_device;
+  e.inverse_gamma_z = p.inverse_gamma[2];
+  namespace s = ref::standard;
+  switch (output_gamut_kind(stage, p)) {
+    case Gamut::kWorking:
+      // WorkingColorSpace.ToAP1, then AP1 → BT.2020 (Bradford ACES white → D65).
+      e.to_rec2020 = s::rgb_to_rgb(s::kAp1, s::kRec2020) * p.wcs_to_ap1;
+      e.gamut = p.wcs_is_srgb ? "working colour space (sRGB)" : "working colour space";
+      break;
+    case Gamut::kOutput:
+      e.to_rec2020 = s::rgb_to_rgb(gamut_chromaticities(p.output_gamut), s::kRec2020);
+      e.gamut = ref::output_gamut_name(p.output_gamut);
+      break;
+    case Gamut::kAp1:
+      e.to_rec2020 = s::rgb_to_rgb(s::kAp1, s::kRec2020);
+      e.gamut = "AP1";
+      break;
+    case Gamut::kRec709:
+      e.to_rec2020 = s::rgb_to_rgb(s::kSrgb, s::kRec2020);
+      e.gamut = "Rec.709";
+      break;
+    case Gamut::kRec2020:
+      e.gamut = "Rec.2020";
+      break;
+  }
+  return e;
+}
+
+double OutputEncoding::to_nits(double v) const {
+  namespace pq = ref::st2084;
+  const double scene = ref::kLinearToNitsScale;  // scene-linear 1.0 = 100 nits
+  switch (stage) {
+    case StageId::kShaper:
+      return v * scene;
+    case StageId::kLinearDevice:
+      return device == 7 ? v : v * scene;
+    case StageId::kCombineLuts:
+      v *= 1.05;  // stored texels are OutDeviceColor / 1.05 (PostProcessCombineLUTs.usf)
+      break;
+    case StageId::kUiComposite:
+      return (device == 5 || device == 6) ? v * kScRgbNits : pq::nits_from_pq(v);
+    case StageId::kTonemap:
+    case StageId::kDither:
+    case StageId::kVisualizeHdr:
+      if (device == 5 || device == 6) return v * kScRgbNits;  // scRGB
+      if (device == 7) return v;                              // ST2084ToLinear output: nits
+      break;
+  }
+  switch (device) {
+    case 0:
+      return ref::srgb_to_linear(v) * kSdrWhiteNits;
+    case 1:
+      return ref::rec709_to_linear(v) * kSdrWhiteNits;
+    case 2:
+      return (v > 0 ? std::pow(v, 1.0 / inverse_gamma_z) : 0.0) * kSdrWhiteNits;
+    case 8:
+    case 9:
+      return v * scene;
+    default:
+      return pq::nits_from_pq(v);  // 3–7: PQ signals
+  }
+}
+
+std::string OutputEncoding::describe() const {
+  std::string transfer;
+  if (stage == StageId::kShaper || (stage == StageId::kLinearDevice && device == 8)) {
+    transfer = "scene-linear x 100 nits";
+  } else if (stage == StageId::kLinearDevice) {
+    transfer = "nits";
+  } else if (stage == StageId::kUiComposite) {
+    transfer = (device == 5 || device == 6) ? "scRGB x 80 nits" : "PQ EOTF";
+  } else if (stage != StageId::kCombineLuts && (device == 5 || device == 6)) {
+    transfer = "scRGB x 80 nits";
+  } else if (stage != StageId::kCombineLuts && device == 7) {
+    transfer = "nits";
+  } else {
+    const std::string lut = stage == StageId::kCombineLuts ? "texel x 1.05, " : "";
+    switch (device) {
+      case 0:
+        transfer = lut + "sRGB EOTF x 100 nits";
+        break;
+      case 1:
+        transfer = lut + "Rec.709 inverse OETF x 100 nits";
+        break;
+      case 2:
+        transfer = lut + "gamma x 100 nits";
+        break;
+      case 8:
+      case 9:
+        transfer = lut + "scene-linear x 100 nits";
+        break;
+      default:
+        transfer = lut + "PQ EOTF";
+    }
+  }
+  return transfer + ", " + gamut;
+}
+
+ref::Vec3 ictcp_from_rec2020_nits(const ref::Vec3& rgb) {
+  // ITU-R BT.2100-2 Table 7: LMS from BT.2020 RGB, the PQ non-linearity (inverse EOTF on
+  // absolute luminance) per component, then I, Ct, Cp. The integer/4096 forms are the standard's.
+  const ref::Mat3 kRgbToLms{{1688.0 / 4096, 2146.0 / 4096, 262.0 / 4096,  //
+                             683.0 / 4096, 2951.0 / 4096, 462.0 / 4096,   //
+                             99.0 / 4096, 309.0 / 4096, 3688.0 / 4096}};
+  const ref::Vec3 lms = kRgbToLms * rgb;
+  const ref::Vec3 pq{pq_signal(lms[0]), pq_signal(lms[1]), pq_signal(lms[2])};
+  return {0.5 * pq[0] + 0.5 * pq[1], (6610.0 * pq[0] - 13613.0 * pq[1] + 7003.0 * pq[2]) / 4096.0,
+          (17933.0 * pq[0] - 17390.0 * pq[1] - 543.0 * pq[2]) / 4096.0};
+}
+
+double delta_e_itp(const ref::Vec3& a, const ref::Vec3& b) {
+  // ITU-R BT.2124-0 eq. 1–2: T = 0.5·Ct, P = Cp; ΔE_ITP = 720·sqrt(ΔI² + ΔT² + ΔP²).
+  const double di = a[0] - b[0];
+  const double dt = 0.5 * (a[1] - b[1]);
+  const double dp = a[2] - b[2];
+  return 720.0 * std::sqrt(di * di + dt * dt + dp * dp);
+}
+
 std::string describe_pixel(const PixelRef& p) {
-  char buf[256];
-  std::snprintf(buf, sizeof buf, "(%d, %d) %s: input %.9g reference %.9g candidate %.9g", p.x, p.y,
-                channel_name(p.channel), p.input, p.reference, p.candidate);
+  char buf[320];
+  const std::string band =
+      p.band >= 0 ? std::string(", ") + band_name(p.band) + " nits" : std::string();
+  std::snprintf(buf, sizeof buf, "(%d, %d) %s%s: input %.9g reference %.9g candidate %.9g", p.x,
+                p.y, channel_name(p.channel), band.c_str(), p.input, p.reference, p.candidate);
   return buf;
 }
 
 DiffStats diff_images(const Image& input, const Image& reference, const Image& candidate,
-                      const OutputEncoding& encoding, const Tolerance& tol) {
+                      const OutputEncoding& enc, const Tolerance& tol) {
   DiffStats s;
-  double sum_abs = 0, sum_rel = 0, sum_pq = 0;
-  size_t finite_values = 0;
+  // Luminance Y of BT.2020 RGB: row 2 of its RGB→XYZ matrix (BT.2020 Table 4 primaries).
+  const ref::Mat3 rec2020_to_xyz = ref::standard::rgb_to_xyz(ref::standard::kRec2020);
+  const ref::Vec3 y_row{rec2020_to_xyz(1, 0), rec2020_to_xyz(1, 1), rec2020_to_xyz(1, 2)};
+  std::array<std::array<Accumulator, kMetricCount>, kBandCount> acc;
+  const bool has_input = input.width == reference.width && input.height == reference.height;
   for (int y = 0; y < reference.height; ++y) {
     for (int x = 0; x < reference.width; ++x) {
       const double* r = reference.px(x, y);
       const double* c = candidate.px(x, y);
-      const double* in = input.px(x, y);
+      const double* in = has_input ? input.px(x, y) : nullptr;
+      ++s.pixels;
+      bool rgb_finite = true;
       for (int ch = 0; ch < 4; ++ch) {
+        census(r[ch], &s.nonfinite.reference);
+        census(c[ch], &s.nonfinite.candidate);
         const bool rf = std::isfinite(r[ch]), cf = std::isfinite(c[ch]);
-        if (rf && cf) {
-          if (ch == 3) continue;  // alpha: only its non-finite consistency is judged
-          ++s.values;
-          ++finite_values;
-          const double abs = std::fabs(c[ch] - r[ch]);
-          // abs > 0 over a zero denominator (rel_floor 0, reference 0) is an infinite relative
-          // error.
-          const double rel = abs == 0 ? 0.0 : abs / std::fmax(std::fabs(r[ch]), tol.rel_floor);
-          const double pq =
-              std::fabs(pq_signal(encoding.to_nits(c[ch])) - pq_signal(encoding.to_nits(r[ch])));
-          sum_abs += abs;
-          sum_rel += rel;
-          sum_pq += pq * 1023.0;
-          if (abs > s.max_abs) s.max_abs = abs;
-          if (rel > s.max_rel || !s.worst_rel.valid()) {
-            s.max_rel = std::fmax(rel, s.max_rel);
-            s.worst_rel = {x, y, ch, in[ch], r[ch], c[ch]};
-          }
-          if (pq * 1023.0 > s.max_pq10 || !s.worst_pq.valid()) {
-            s.max_pq10 = std::fmax(pq * 1023.0, s.max_pq10);
-            s.max_pq12 = std::fmax(pq * 4095.0, s.max_pq12);
-            s.worst_pq = {x, y, ch, in[ch], r[ch], c[ch]};
-          }
-          if (!(rel <= tol.linear_rel)) ++s.over_rel;
-          if (!(pq * 1023.0 <= tol.pq_code10)) ++s.over_pq10;
-          continue;
-        }
-        if (!rf) ++s.nonfinite_ref;
+        if (rf && cf) continue;
+        if (ch < 3) rgb_finite = false;
         if (!rf && !cf && consistent_nonfinite(r[ch], c[ch])) {
-          ++s.nonfinite_consistent;
+          ++s.nonfinite.consistent;
         } else {
-          if (s.nonfinite_mismatch == 0) s.first_mismatch = {x, y, ch, in[ch], r[ch], c[ch]};
-          ++s.nonfinite_mismatch;
+          if (s.nonfinite.mismatch == 0)
+            s.nonfinite.first_mismatch = {x, y, ch, in ? in[ch] : 0.0, r[ch], c[ch], -1};
+          ++s.nonfinite.mismatch;
         }
+      }
+      // The reference pixel's luminance decides the band (non-finite pixels: none).
+      ref::Vec3 ref_nits{0, 0, 0}, cand_nits{0, 0, 0};
+      for (int ch = 0; ch < 3; ++ch) {
+        ref_nits[ch] = std::isfinite(r[ch]) ? enc.to_nits(r[ch]) : 0.0;
+        cand_nits[ch] = std::isfinite(c[ch]) ? enc.to_nits(c[ch]) : 0.0;
+      }
+      const ref::Vec3 ref2020 = enc.to_rec2020 * ref_nits;
+      const int band = band_of_nits(ref::dot(y_row, ref2020));
+      if (rgb_finite) ++s.band_pixels[band];
+      for (int ch = 0; ch < 3; ++ch) {
+        if (!std::isfinite(r[ch]) || !std::isfinite(c[ch])) continue;
+        ++s.values;
+        const PixelRef at{x, y, ch, in ? in[ch] : 0.0, r[ch], c[ch], band};
+        const double abs = std::fabs(c[ch] - r[ch]);
+        // abs > 0 over a zero denominator (rel_floor 0, reference 0) is an infinite relative
+        // error.
+        const double rel = abs == 0 ? 0.0 : abs / std::fmax(std::fabs(r[ch]), tol.rel_floor);
+        const double pq = std::fabs(pq_signal(cand_nits[ch]) - pq_signal(ref_nits[ch]));
+        auto& a = acc[band];
+        a[static_cast<int>(Metric::kLinearAbs)].add(abs, at);
+        a[static_cast<int>(Metric::kLinearRel)].add(rel, at);
+        a[static_cast<int>(Metric::kPqCode10)].add(pq * 1023.0, at);
+        a[static_cast<int>(Metric::kPqCode12)].add(pq * 4095.0, at);
+      }
+      if (rgb_finite) {
+        const double de = delta_e_itp(ictcp_from_rec2020_nits(enc.to_rec2020 * cand_nits),
+                                      ictcp_from_rec2020_nits(ref2020));
+        int worst_ch = 0;
+        for (int ch = 1; ch < 3; ++ch)
+          if (std::fabs(c[ch] - r[ch]) > std::fabs(c[worst_ch] - r[worst_ch])) worst_ch = ch;
+        acc[band][static_cast<int>(Metric::kDeltaEItp)].add(
+            de, {x, y, worst_ch, in ? in[worst_ch] : 0.0, r[worst_ch], c[worst_ch], band});
       }
     }
   }
-  if (finite_values > 0) {
-    s.mean_abs = sum_abs / finite_values;
-    s.mean_rel = sum_rel / finite_values;
-    s.mean_pq10 = sum_pq / finite_values;
+  // Per band, then overall from the union of the bands.
+  for (int m = 0; m < kMetricCount; ++m) {
+    const Metric metric = static_cast<Metric>(m);
+    Accumulator all;
+    for (int b = 0; b < kBandCount; ++b) {
+      Accumulator& a = acc[b][m];
+      if (!a.values.empty() && (all.values.empty() || a.values_max > all.values_max)) {
+        all.values_max = a.values_max;
+        all.worst = a.worst;
+      }
+      all.values.insert(all.values.end(), a.values.begin(), a.values.end());
+      all.sum += a.sum;
+      all.sum_sq += a.sum_sq;
+      s.band[b][m] = a.finish(tol.max(metric), tol.allowed_fraction[m]);
+    }
+    s.metric[m] = all.finish(tol.max(metric), tol.allowed_fraction[m]);
+    s.over_limit[m] = tol.max(metric);
   }
+  // The worst value: of the metric using most of its max.
+  double most = -1;
+  for (int m = 0; m < kMetricCount; ++m) {
+    const double limit = tol.max(static_cast<Metric>(m));
+    if (!(limit < kNotJudged) || !s.metric[m].worst.valid()) continue;
+    const double used =
+        limit > 0 ? s.metric[m].max / limit : (s.metric[m].max > 0 ? kNotJudged : 0);
+    if (used > most) {
+      most = used;
+      s.worst = s.metric[m].worst;
+      s.worst_metric = static_cast<Metric>(m);
+    }
+  }
+  if (most < 0) s.worst = s[Metric::kLinearRel].worst;
+  s.max_rel = s[Metric::kLinearRel].max;
+  s.max_pq10 = s[Metric::kPqCode10].max;
+  s.worst_rel = s[Metric::kLinearRel].worst;
   return s;
 }
 
 Verdict judge(const DiffStats& s, const Tolerance& tol) {
-  char buf[512];
-  if (s.nonfinite_mismatch > 0) {
-    std::snprintf(buf, sizeof buf, "%zu non-finite mismatch(es); first at %s", s.nonfinite_mismatch,
-                  describe_pixel(s.first_mismatch).c_str());
-    return {false, buf};
+  Verdict v;
+  if (s.nonfinite.mismatch > 0) {
+    v.reason = std::to_string(s.nonfinite.mismatch) + " non-finite mismatch(es); first at " +
+               describe_pixel(s.nonfinite.first_mismatch);
+    return v;
   }
-  const bool rel_ok = s.max_rel <= tol.linear_rel;
-  const bool pq_ok = s.max_pq10 <= tol.pq_code10;
-  if (!rel_ok) {
-    std::snprintf(buf, sizeof buf, "linear rel error %.3g > %.3g (%zu values over) at %s",
-                  s.max_rel, tol.linear_rel, s.over_rel, describe_pixel(s.worst_rel).c_str());
-    return {false, buf};
+  std::string passing;
+  bool any_max = false, all_small = true;
+  for (int m = 0; m < kMetricCount; ++m) {
+    const Metric metric = static_cast<Metric>(m);
+    const MetricStats& st = s.metric[m];
+    const std::string key = metric_key(metric);
+    const double limit = tol.max(metric);
+    const std::string unit = metric == Metric::kDeltaEItp ? "pixels" : "values";
+    if (!(st.max <= tol.hard[m])) {
+      v.reason = key + " " + fmt(st.max) + " over its hard cap " + fmt(tol.hard[m]) + " at " +
+                 describe_pixel(st.worst);
+      return v;
+    }
+    // With no allowed fraction the max decides (exact for any tolerance); with one, the count
+    // over max, which diff_images made against the same tolerance.
+    const bool counted_here =
+        s.over_limit[m] == limit || (std::isnan(limit) && std::isnan(s.over_limit[m]));
+    if (tol.allowed_fraction[m] > 0 && !counted_here) {
+      v.reason = key + ": the statistics were counted against max " + fmt(s.over_limit[m]) +
+                 ", not " + fmt(limit);
+      return v;
+    }
+    const bool over = tol.allowed_fraction[m] > 0 ? !(st.fraction_over <= tol.allowed_fraction[m])
+                                                  : !(st.max <= limit);
+    if (over) {
+      char buf[128];
+      std::snprintf(buf, sizeof buf, ": %zu of %zu %s over (%.3g %%, allowed %.3g %%)", st.over,
+                    st.count, unit.c_str(), 100.0 * st.fraction_over,
+                    100.0 * tol.allowed_fraction[m]);
+      v.reason =
+          key + " " + fmt(st.max) + " > " + fmt(limit) + buf + " at " + describe_pixel(st.worst);
+      return v;
+    }
+    if (!(st.max <= tol.warn[m]))
+      v.warnings.push_back(key + " " + fmt(st.max) + " over its warn level " + fmt(tol.warn[m]) +
+                           " at " + describe_pixel(st.worst));
+    if (limit < kNotJudged) {
+      any_max = true;
+      const double used = limit > 0 ? st.at_allowed_fraction / limit
+                                    : (st.at_allowed_fraction > 0 ? kNotJudged : 0.0);
+      v.budget_used = std::fmax(v.budget_used, used);
+      if (!(used < 0.1)) all_small = false;
+      passing += (passing.empty() ? "" : ", ") + key + " " + fmt(st.max) + " <= " + fmt(limit);
+      if (tol.allowed_fraction[m] > 0)
+        passing += " (" + fmt(100.0 * st.fraction_over) + " % over, allowed " +
+                   fmt(100.0 * tol.allowed_fraction[m]) + " %)";
+    }
   }
-  if (!pq_ok) {
-    std::snprintf(buf, sizeof buf, "PQ error %.3g > %.3g 10-bit codes (%zu values over) at %s",
-                  s.max_pq10, tol.pq_code10, s.over_pq10, describe_pixel(s.worst_pq).c_str());
-    return {false, buf};
-  }
-  std::snprintf(buf, sizeof buf, "rel %.3g <= %.3g, pq10 %.3g <= %.3g", s.max_rel, tol.linear_rel,
-                s.max_pq10, tol.pq_code10);
-  return {true, buf};
+  v.pass = true;
+  v.could_be_tightened = any_max && all_small;
+  v.reason = passing.empty() ? "no metric judged" : passing;
+  return v;
 }
 
 }  // namespace hdrc

@@ -1,66 +1,126 @@
-// Compares a candidate image with the reference image of the same case.
+// Compares a candidate image with the reference image of the same case (docs/diff-metrics.md).
 //
-// Per pixel and channel (RGB; alpha is compared for non-finite consistency only):
-//   abs  = |cand − ref|                                    (scene-linear units of the output)
-//   rel  = abs / max(|ref|, rel_floor)                      (relative with a floor)
-//   pq10 = |PQ(nits(cand)) − PQ(nits(ref))| · 1023, pq12 the same · 4095, where nits() maps the
-//          stage's output to absolute luminance (docs/diff-metrics.md) and negative nits map to 0.
-// Non-finite values are judged first: NaN vs NaN and same-sign Inf vs Inf are consistent; any
-// other pairing with a non-finite value is a mismatch and fails the case before any metric.
+// Every output is first decoded to absolute luminance (nits) in a known gamut (OutputEncoding):
+// PQ signals by the ST 2084 EOTF, SDR signals by their EOTF at a 100-nit reference white, scRGB at
+// 80 nits per unit, scene-linear values at 100 nits per unit (UE's LinearToNitsScale).
+//
+// Per pixel and colour channel (RGB; alpha is judged for non-finite consistency only):
+//   linear_abs = |cand − ref|                               (the output's own units)
+//   linear_rel = linear_abs / max(|ref|, rel_floor)          (+Inf over a zero denominator)
+//   pq_code10  = |PQ(nits(cand)) − PQ(nits(ref))| · 1023, pq_code12 the same · 4095
+// Per pixel: delta_e_itp = ΔE_ITP of ITU-R BT.2124 between the two colours, each converted to
+// BT.2020 RGB in nits and to ICtCp (BT.2100). ≈ 1 is a just-noticeable difference.
+//
+// Non-finite values are judged first: NaN vs NaN and same-sign Inf vs Inf are consistent (OCIO's
+// GPU tests and idiff agree on this); any other pairing with a non-finite value is a mismatch and
+// fails the case before any metric. Numeric metrics cover the values finite on both sides.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <string>
+#include <vector>
 
 #include "core/case.h"
 #include "core/image.h"
+#include "core/shader_interface.h"
+#include "reference/color/vec.h"
 
 namespace hdrc {
 
-// How a stage's output values map to absolute luminance (docs/diff-metrics.md): scene-linear
-// values at 100 nits per unit, device signals decoded by their EOTF (SDR at a 100-nit white),
-// scRGB at 80 nits per unit, LUT texels × 1.05 first.
+// Luminance bands, by the reference pixel's luminance Y (nits): below 0.1, 0.1–1, 1–10, 10–100,
+// 100–1000, 1000 and above. A band shows where an error lives ("fails only above 1000 nits").
+inline constexpr int kBandCount = 6;
+const char* band_name(int band);  // "<0.1", "0.1-1", ..., ">=1000" (nits)
+int band_of_nits(double nits);    // NaN and negative: band 0
+
+// How a stage's output values map to absolute luminance and to BT.2020 (docs/diff-metrics.md).
 struct OutputEncoding {
   StageId stage = StageId::kShaper;
   int device = 0;
-  double inverse_gamma_z = 1.0 / 2.2;  // device 2's 1/Gamma
-  double to_nits(double value) const;
-  std::string describe() const;
+  double inverse_gamma_z = 1.0 / 2.2;            // device 2's 1/Gamma
+  ref::Mat3 to_rec2020 = ref::Mat3::identity();  // output gamut RGB → BT.2020 RGB (D65)
+  std::string gamut = "BT.2020";                 // the output gamut's name
+
+  // The encoding of `stage`'s output for the resolved parameters `p` (device, gamut, WCS).
+  static OutputEncoding of(StageId stage, const ParamBlock& p);
+  double to_nits(double value) const;  // per channel
+  std::string describe() const;        // "PQ EOTF, Rec.2020"
 };
 
+// One value of an image pair.
 struct PixelRef {
-  int x = -1, y = -1, channel = -1;
+  int x = -1, y = -1, channel = -1;  // channel 0–3 = R, G, B, A
   double input = 0, reference = 0, candidate = 0;
+  int band = -1;  // the reference pixel's luminance band
   bool valid() const { return x >= 0; }
 };
 
+// Statistics of one metric over a set of values (all, or one band).
+struct MetricStats {
+  size_t count = 0;  // values (pixels for delta_e_itp)
+  double max = 0, mean = 0, rms = 0;
+  double p99 = 0, p999 = 0;        // nearest-rank percentiles
+  size_t over = 0;                 // values over the tolerance's max
+  double fraction_over = 0;        // over / count
+  double at_allowed_fraction = 0;  // the value that the allowed fraction of values may exceed
+                                   // (nearest rank 1 − allowed_fraction; = max when it is 0)
+  PixelRef worst;                  // where max is (delta_e_itp: the channel differing most)
+};
+
+// Counts of special values on each side (RGBA), and how many non-finite pairs agree.
+struct NonFiniteCensus {
+  struct Side {
+    size_t nan = 0, pos_inf = 0, neg_inf = 0, negative = 0;  // negative: finite values < 0
+  };
+  Side reference, candidate;
+  size_t consistent = 0;  // NaN/NaN or same-sign Inf pairs
+  size_t mismatch = 0;    // any other pair involving a non-finite value
+  PixelRef first_mismatch;
+};
+
 struct DiffStats {
-  size_t values = 0;         // pixels × 3 colour channels compared
-  size_t nonfinite_ref = 0;  // NaN/Inf values in the reference (RGBA)
-  size_t nonfinite_consistent = 0;
-  size_t nonfinite_mismatch = 0;
-  PixelRef first_mismatch;  // first non-finite mismatch in scan order
-  double max_abs = 0, mean_abs = 0;
-  double max_rel = 0, mean_rel = 0;
-  double max_pq10 = 0, max_pq12 = 0, mean_pq10 = 0;
-  PixelRef worst_rel;                  // the value with the largest rel
-  PixelRef worst_pq;                   // the value with the largest pq10
-  size_t over_rel = 0, over_pq10 = 0;  // values over the tolerance
+  size_t pixels = 0;  // pixels compared
+  size_t values = 0;  // colour values finite on both sides
+  NonFiniteCensus nonfinite;
+  std::array<MetricStats, kMetricCount> metric;
+  std::array<std::array<MetricStats, kMetricCount>, kBandCount> band;
+  std::array<size_t, kBandCount> band_pixels{};
+  // The worst value overall: of the metric using most of its budget (or linear_rel when no
+  // metric has a max), with `worst_metric` naming it.
+  PixelRef worst;
+  Metric worst_metric = Metric::kLinearRel;
+
+  std::array<double, kMetricCount> over_limit{};  // the max each `over` was counted against
+  const MetricStats& operator[](Metric m) const { return metric[static_cast<int>(m)]; }
+  // Kept for report/html_report.cpp (reads these three names).
+  double max_rel = 0, max_pq10 = 0;
+  PixelRef worst_rel;
 };
 
-struct Verdict {
-  bool pass = false;
-  std::string reason;  // one line: what failed and where, or the passing metrics
-};
-
+// The images must have the same size (checked by the caller).
 DiffStats diff_images(const Image& input, const Image& reference, const Image& candidate,
                       const OutputEncoding& encoding, const Tolerance& tol);
 
-// Applies the tolerance. Written so that NaN fails: a metric passes only if `!(m > tol)` can be
-// shown as `m <= tol`.
+struct Verdict {
+  bool pass = false;
+  std::string reason;                 // one line: what failed and where, or the passing metrics
+  std::vector<std::string> warnings;  // one line per metric over its warn level
+  // Passed with every metric that has a max under 10 % of it (for an allowed fraction: the value
+  // at that fraction): the tolerance could be tightened.
+  bool could_be_tightened = false;
+  double budget_used = 0;  // the largest observed/max ratio over metrics with a max
+};
+
+// Applies the tolerance: non-finite mismatches first, then per metric the hard cap and the
+// allowed fraction over max. Written so that NaN fails (`!(m <= tol)`).
 Verdict judge(const DiffStats& s, const Tolerance& tol);
 
-// "(x, y) G: input 0.5 reference 0.49 candidate 0.48"
+// "(517, 0) G, 10-100 nits: input 0.5 reference 0.49 candidate 0.48"
 std::string describe_pixel(const PixelRef& p);
+
+// BT.2100 ICtCp of a BT.2020 RGB colour in nits (PQ variant), and BT.2124's ΔE_ITP.
+ref::Vec3 ictcp_from_rec2020_nits(const ref::Vec3& rgb_nits);
+double delta_e_itp(const ref::Vec3& ictcp_a, const ref::Vec3& ictcp_b);
 
 }  // namespace hdrc

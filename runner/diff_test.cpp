@@ -1,5 +1,6 @@
-// Diff metrics with hand-computed values and the non-finite rules (NaN vs NaN and same-sign Inf
-// consistent, anything else a mismatch reported first; every comparison fails on NaN).
+// Diff metrics with hand-computed values, ΔE_ITP against independently derived values, the
+// non-finite rules (NaN vs NaN and same-sign Inf consistent, anything else a mismatch reported
+// first; every comparison fails on NaN), the statistics, bands and the tolerance criteria.
 #include "runner/diff.h"
 
 #include <gtest/gtest.h>
@@ -8,8 +9,13 @@
 #include <limits>
 
 #include "reference/color/st2084.h"
+#include "reference/color/ue_matrices.h"
 
 namespace {
+
+using hdrc::Metric;
+using hdrc::OutputEncoding;
+using hdrc::StageId;
 
 const double kNaN = std::numeric_limits<double>::quiet_NaN();
 const double kInf = std::numeric_limits<double>::infinity();
@@ -29,37 +35,60 @@ hdrc::Image grey(int w, double v) {
   return img;
 }
 
+const OutputEncoding kShaper{StageId::kShaper, 3};
+
 TEST(Diff, HandComputedMetrics) {
   hdrc::Image in = grey(4, 0.5), ref = grey(4, 0.5), cand = grey(4, 0.5);
   cand.px(2, 0)[1] = 0.5005;  // abs 5e-4, rel 1e-3
-  const auto s = hdrc::diff_images(in, ref, cand, hdrc::OutputEncoding{hdrc::StageId::kShaper, 3},
-                                   tol(1e-2, 1e-6, 10));
+  const auto s = hdrc::diff_images(in, ref, cand, kShaper, tol(1e-2, 1e-6, 10));
   EXPECT_EQ(s.values, 12u);
-  EXPECT_NEAR(s.max_abs, 5e-4, 1e-15);
-  EXPECT_NEAR(s.max_rel, 1e-3, 1e-12);
-  EXPECT_NEAR(s.mean_abs, 5e-4 / 12, 1e-15);
-  EXPECT_EQ(s.worst_rel.x, 2);
-  EXPECT_EQ(s.worst_rel.channel, 1);
+  EXPECT_EQ(s.pixels, 4u);
+  EXPECT_NEAR(s[Metric::kLinearAbs].max, 5e-4, 1e-15);
+  EXPECT_NEAR(s[Metric::kLinearRel].max, 1e-3, 1e-12);
+  EXPECT_NEAR(s[Metric::kLinearAbs].mean, 5e-4 / 12, 1e-15);
+  EXPECT_NEAR(s[Metric::kLinearAbs].rms, 5e-4 / std::sqrt(12.0), 1e-15);
+  EXPECT_EQ(s[Metric::kLinearRel].worst.x, 2);
+  EXPECT_EQ(s[Metric::kLinearRel].worst.channel, 1);
   // Shaper outputs are scene-linear: 0.5 → 50 nits, 0.5005 → 50.05 nits.
   namespace pq = hdrc::ref::st2084;
   const double want = (pq::pq_from_nits(50.05) - pq::pq_from_nits(50.0)) * 1023.0;
-  EXPECT_NEAR(s.max_pq10, want, 1e-9);
-  EXPECT_NEAR(s.max_pq12, want / 1023.0 * 4095.0, 1e-9);
+  EXPECT_NEAR(s[Metric::kPqCode10].max, want, 1e-9);
+  EXPECT_NEAR(s[Metric::kPqCode12].max, want / 1023.0 * 4095.0, 1e-9);
   EXPECT_TRUE(hdrc::judge(s, tol(1e-2, 1e-6, 10)).pass);
   EXPECT_FALSE(hdrc::judge(s, tol(1e-4, 1e-6, 10)).pass);
   EXPECT_FALSE(hdrc::judge(s, tol(1e-2, 1e-6, want / 2)).pass);
 }
 
+// 1000 pixels, G of pixel k off by k·1e-6: 3000 values, 2000 of them exact. Nearest-rank p99 is
+// value 2970 of the sorted list (k = 969), p99.9 value 2997 (k = 996); the mean is
+// Σk·1e-6 / 3000 = 1.665e-4; RMS sqrt(Σk²·1e-12 / 3000) with Σk² = 999·1000·1999/6.
+TEST(Diff, PercentilesMeanRmsAndCountOver) {
+  hdrc::Image in = grey(1000, 0.5), ref = grey(1000, 0.5), cand = grey(1000, 0.5);
+  for (int k = 0; k < 1000; ++k) cand.px(k, 0)[1] = 0.5 + k * 1e-6;
+  hdrc::Tolerance t = tol(1, 1e-6, 10);
+  t.linear_abs = 5.005e-4;
+  const auto s = hdrc::diff_images(in, ref, cand, kShaper, t);
+  const auto& a = s[Metric::kLinearAbs];
+  EXPECT_EQ(a.count, 3000u);
+  EXPECT_NEAR(a.max, 999e-6, 1e-12);
+  EXPECT_NEAR(a.p99, 969e-6, 1e-12);
+  EXPECT_NEAR(a.p999, 996e-6, 1e-12);
+  EXPECT_NEAR(a.mean, 1.665e-4, 1e-12);
+  EXPECT_NEAR(a.rms, std::sqrt(999.0 * 1000 * 1999 / 6 * 1e-12 / 3000), 1e-12);
+  EXPECT_EQ(a.over, 499u);  // k = 501 … 999
+  EXPECT_NEAR(a.fraction_over, 499.0 / 3000, 1e-15);
+  EXPECT_EQ(a.worst.x, 999);
+  EXPECT_FALSE(hdrc::judge(s, t).pass);
+}
+
 TEST(Diff, RelativeErrorUsesTheFloor) {
   hdrc::Image in = grey(1, 0), ref = grey(1, 0), cand = grey(1, 0);
   cand.px(0, 0)[0] = 1e-7;
-  auto s = hdrc::diff_images(in, ref, cand, hdrc::OutputEncoding{hdrc::StageId::kShaper, 3},
-                             tol(1, 1e-6, 10));
-  EXPECT_NEAR(s.max_rel, 0.1, 1e-12);
+  auto s = hdrc::diff_images(in, ref, cand, kShaper, tol(1, 1e-6, 10));
+  EXPECT_NEAR(s[Metric::kLinearRel].max, 0.1, 1e-12);
   // With no floor a difference over a zero reference is infinitely wrong, never NaN.
-  s = hdrc::diff_images(in, ref, cand, hdrc::OutputEncoding{hdrc::StageId::kShaper, 3},
-                        tol(1, 0, 10));
-  EXPECT_TRUE(std::isinf(s.max_rel));
+  s = hdrc::diff_images(in, ref, cand, kShaper, tol(1, 0, 10));
+  EXPECT_TRUE(std::isinf(s[Metric::kLinearRel].max));
   EXPECT_FALSE(hdrc::judge(s, tol(1, 0, 10)).pass);
 }
 
@@ -68,6 +97,8 @@ struct NonFiniteCase {
   bool consistent;
 };
 
+// OCIO's GPU tests (GPUUnitTest.cpp) and idiff agree: NaN matches NaN, Inf matches Inf of the
+// same sign, and any other pairing with a non-finite value is a difference.
 TEST(Diff, NonFiniteConsistencyRules) {
   const NonFiniteCase cases[] = {
       {kNaN, kNaN, true},  {kInf, kInf, true}, {-kInf, -kInf, true}, {kInf, -kInf, false},
@@ -77,17 +108,44 @@ TEST(Diff, NonFiniteConsistencyRules) {
     hdrc::Image in = grey(3, 0.1), ref = grey(3, 0.1), cand = grey(3, 0.1);
     ref.px(1, 0)[2] = c.ref;
     cand.px(1, 0)[2] = c.cand;
-    const auto s = hdrc::diff_images(in, ref, cand, hdrc::OutputEncoding{hdrc::StageId::kShaper, 0},
-                                     tol(1e-3, 1e-6, 1));
-    EXPECT_EQ(s.nonfinite_mismatch, c.consistent ? 0u : 1u) << c.ref << " vs " << c.cand;
+    const auto s =
+        hdrc::diff_images(in, ref, cand, OutputEncoding{StageId::kShaper, 0}, tol(1e-3, 1e-6, 1));
+    EXPECT_EQ(s.nonfinite.mismatch, c.consistent ? 0u : 1u) << c.ref << " vs " << c.cand;
     const auto v = hdrc::judge(s, tol(1e-3, 1e-6, 1));
     EXPECT_EQ(v.pass, c.consistent) << v.reason;
     if (!c.consistent) {
-      EXPECT_EQ(s.first_mismatch.x, 1);
-      EXPECT_EQ(s.first_mismatch.channel, 2);
+      EXPECT_EQ(s.nonfinite.first_mismatch.x, 1);
+      EXPECT_EQ(s.nonfinite.first_mismatch.channel, 2);
       EXPECT_NE(v.reason.find("non-finite"), std::string::npos) << v.reason;
     }
   }
+}
+
+TEST(Diff, NonFiniteCensusCountsEachSide) {
+  hdrc::Image in = grey(6, 0.1), ref = grey(6, 0.1), cand = grey(6, 0.1);
+  ref.px(0, 0)[0] = kNaN;
+  cand.px(0, 0)[0] = kNaN;  // consistent
+  ref.px(1, 0)[1] = kInf;
+  cand.px(1, 0)[1] = kInf;  // consistent
+  ref.px(2, 0)[2] = -kInf;
+  cand.px(2, 0)[2] = kInf;  // mismatch
+  ref.px(3, 0)[0] = -0.5;
+  cand.px(3, 0)[0] = -0.5;  // negative on both sides, finite
+  cand.px(4, 0)[3] = kNaN;  // alpha: judged for consistency too
+  const auto s = hdrc::diff_images(in, ref, cand, kShaper, tol(1, 1e-6, 10));
+  EXPECT_EQ(s.nonfinite.reference.nan, 1u);
+  EXPECT_EQ(s.nonfinite.reference.pos_inf, 1u);
+  EXPECT_EQ(s.nonfinite.reference.neg_inf, 1u);
+  EXPECT_EQ(s.nonfinite.reference.negative, 1u);
+  EXPECT_EQ(s.nonfinite.candidate.nan, 2u);
+  EXPECT_EQ(s.nonfinite.candidate.pos_inf, 2u);
+  EXPECT_EQ(s.nonfinite.candidate.neg_inf, 0u);
+  EXPECT_EQ(s.nonfinite.candidate.negative, 1u);
+  EXPECT_EQ(s.nonfinite.consistent, 2u);
+  EXPECT_EQ(s.nonfinite.mismatch, 2u);
+  EXPECT_EQ(s.nonfinite.first_mismatch.x, 2);
+  // Numeric metrics cover values finite on both sides only: 18 − 3.
+  EXPECT_EQ(s.values, 15u);
 }
 
 // A non-finite mismatch is reported before (instead of) a numeric failure elsewhere.
@@ -95,8 +153,8 @@ TEST(Diff, NonFiniteMismatchIsReportedFirst) {
   hdrc::Image in = grey(2, 1), ref = grey(2, 1), cand = grey(2, 1);
   cand.px(0, 0)[0] = 2.0;   // numeric failure at x = 0
   cand.px(1, 0)[0] = kNaN;  // non-finite mismatch at x = 1
-  const auto s = hdrc::diff_images(in, ref, cand, hdrc::OutputEncoding{hdrc::StageId::kShaper, 0},
-                                   tol(1e-3, 1e-6, 1));
+  const auto s =
+      hdrc::diff_images(in, ref, cand, OutputEncoding{StageId::kShaper, 0}, tol(1e-3, 1e-6, 1));
   const auto v = hdrc::judge(s, tol(1e-3, 1e-6, 1));
   EXPECT_FALSE(v.pass);
   EXPECT_EQ(v.reason.rfind("1 non-finite mismatch", 0), 0u) << v.reason;
@@ -105,8 +163,6 @@ TEST(Diff, NonFiniteMismatchIsReportedFirst) {
 // The mapping to nits per stage and device, against published values: sRGB 0.5 → 0.214041 (IEC
 // 61966-2-1), PQ 0.5080784 → 100 nits, scRGB 1.0 → 80 nits.
 TEST(Diff, OutputToNits) {
-  using hdrc::OutputEncoding;
-  using hdrc::StageId;
   EXPECT_EQ((OutputEncoding{StageId::kShaper, 0}.to_nits(0.5)), 50.0);
   EXPECT_EQ((OutputEncoding{StageId::kLinearDevice, 8}.to_nits(0.5)), 50.0);
   EXPECT_EQ((OutputEncoding{StageId::kLinearDevice, 7}.to_nits(0.5)), 0.5);
@@ -116,6 +172,162 @@ TEST(Diff, OutputToNits) {
   EXPECT_NEAR((OutputEncoding{StageId::kCombineLuts, 3}.to_nits(0.5080784 / 1.05)), 100.0, 1e-4);
   EXPECT_NEAR((OutputEncoding{StageId::kTonemap, 2, 1 / 2.2}.to_nits(0.5)),
               100 * std::pow(0.5, 2.2), 1e-12);
+}
+
+// The gamut of each output, against ITU-R BT.2087-0 §2's BT.709 → BT.2020 matrix (first row
+// 0.6274 0.3293 0.0433): scRGB is Rec.709; a device-3 output in gamut 2 is already BT.2020.
+TEST(Diff, OutputGamutToRec2020) {
+  hdrc::ParamBlock p;
+  p.output_device = 5;
+  const auto scrgb = OutputEncoding::of(StageId::kTonemap, p);
+  EXPECT_NEAR(scrgb.to_rec2020(0, 0), 0.6274, 1e-4);
+  EXPECT_NEAR(scrgb.to_rec2020(0, 1), 0.3293, 1e-4);
+  EXPECT_NEAR(scrgb.to_rec2020(0, 2), 0.0433, 1e-4);
+  EXPECT_EQ(scrgb.describe(), "scRGB x 80 nits, Rec.709");
+  p.output_device = 3;
+  p.output_gamut = 2;
+  const auto pq = OutputEncoding::of(StageId::kTonemap, p);
+  for (int i = 0; i < 9; ++i) EXPECT_NEAR(pq.to_rec2020.m[i], i % 4 == 0 ? 1 : 0, 1e-12);
+  EXPECT_EQ(pq.describe(), "PQ EOTF, Rec2020_D65");
+}
+
+// ΔE_ITP (BT.2124). For a neutral colour L = M = S (BT.2100's LMS rows each sum to 4096/4096), so
+// Ct = Cp = 0, I = PQ(Y) and ΔE_ITP = 720·|PQ(Y1) − PQ(Y2)|: PQ(100 nits) = 0.5080784 (published
+// in ST 2084 tables), so 100 nits against the PQ signal 0.51 is 720·(0.51 − 0.5080784) = 1.38355.
+// The chromatic pairs were computed independently with colorjs.io 0.5.2 (deltaE "ITP" of
+// rec2100-pq colours, which goes through XYZ with Dolby's XYZ→LMS matrix rather than BT.2100's
+// RGB→LMS integers): agreement to 1e-3 relative, the two matrices' rounding.
+TEST(Diff, DeltaEItpAgainstIndependentValues) {
+  namespace pq = hdrc::ref::st2084;
+  auto de = [](hdrc::ref::Vec3 a, hdrc::ref::Vec3 b) {
+    for (double& v : a) v = pq::nits_from_pq(v);
+    for (double& v : b) v = pq::nits_from_pq(v);
+    return hdrc::delta_e_itp(hdrc::ictcp_from_rec2020_nits(a), hdrc::ictcp_from_rec2020_nits(b));
+  };
+  const hdrc::ref::Vec3 grey = hdrc::ictcp_from_rec2020_nits({100, 100, 100});
+  EXPECT_NEAR(grey[0], 0.5080784, 2e-7);
+  EXPECT_NEAR(grey[1], 0, 1e-15);
+  EXPECT_NEAR(grey[2], 0, 1e-15);
+  EXPECT_NEAR(de({0.50807842, 0.50807842, 0.50807842}, {0.51, 0.51, 0.51}), 1.3835376, 2e-6);
+  EXPECT_NEAR(de({0.58, 0.50, 0.40}, {0.581, 0.495, 0.41}), 7.572024233, 7.57e-3);
+  EXPECT_NEAR(de({0.3, 0.6, 0.2}, {0.3, 0.6, 0.2005}), 0.04520359044, 4.5e-5);
+  // Symmetric, zero for equal colours, and ≈ 1 JND is what a tolerance of 1 means.
+  EXPECT_EQ(de({0.4, 0.5, 0.6}, {0.4, 0.5, 0.6}), 0.0);
+  EXPECT_DOUBLE_EQ(de({0.58, 0.50, 0.40}, {0.581, 0.495, 0.41}),
+                   de({0.581, 0.495, 0.41}, {0.58, 0.50, 0.40}));
+}
+
+TEST(Diff, DeltaEItpIsJudgedPerPixel) {
+  // Shaper (scene-linear × 100 nits, working colour space sRGB): 1.0 → 100 nits grey.
+  hdrc::ParamBlock p;
+  p.wcs_is_srgb = 1;
+  p.wcs_to_ap1 =
+      hdrc::ref::standard::rgb_to_rgb(hdrc::ref::standard::kSrgb, hdrc::ref::standard::kAp1);
+  const OutputEncoding enc = OutputEncoding::of(StageId::kShaper, p);
+  hdrc::Image in = grey(2, 1.0), ref = grey(2, 1.0), cand = grey(2, 1.0);
+  for (int c = 0; c < 3; ++c) cand.px(1, 0)[c] = 1.01;  // grey 100 → 101 nits
+  hdrc::Tolerance t;
+  t.delta_e_itp = 1.0;
+  const auto s = hdrc::diff_images(in, ref, cand, enc, t);
+  // 100 → 101 nits grey: 720·(PQ(101) − PQ(100)).
+  namespace pq = hdrc::ref::st2084;
+  const double want = 720 * (pq::pq_from_nits(101) - pq::pq_from_nits(100));
+  EXPECT_EQ(s[Metric::kDeltaEItp].count, 2u);
+  EXPECT_NEAR(s[Metric::kDeltaEItp].max, want, 1e-6);
+  EXPECT_EQ(s[Metric::kDeltaEItp].worst.x, 1);
+  t.delta_e_itp = want * 1.01;
+  EXPECT_TRUE(hdrc::judge(s, t).pass);
+  t.delta_e_itp = want * 0.99;
+  const auto v = hdrc::judge(s, t);
+  EXPECT_FALSE(v.pass);
+  EXPECT_EQ(v.reason.rfind("delta_e_itp", 0), 0u) << v.reason;
+}
+
+TEST(Diff, LuminanceBands) {
+  EXPECT_EQ(hdrc::band_of_nits(0.0999), 0);
+  EXPECT_EQ(hdrc::band_of_nits(0.1), 1);
+  EXPECT_EQ(hdrc::band_of_nits(9.99), 2);
+  EXPECT_EQ(hdrc::band_of_nits(10), 3);
+  EXPECT_EQ(hdrc::band_of_nits(999), 4);
+  EXPECT_EQ(hdrc::band_of_nits(1000), 5);
+  EXPECT_EQ(hdrc::band_of_nits(kNaN), 0);
+  EXPECT_EQ(hdrc::band_of_nits(-5), 0);
+  EXPECT_STREQ(hdrc::band_name(5), ">=1000");
+}
+
+// A planted defect in a bright pixel is reported with its pixel, channel, values and band, and
+// the statistics of the other bands stay clean ("fails only above 1000 nits").
+TEST(Diff, PlantedDefectIsLocatedWithItsBand) {
+  hdrc::ParamBlock p;
+  p.wcs_is_srgb = 1;
+  p.wcs_to_ap1 =
+      hdrc::ref::standard::rgb_to_rgb(hdrc::ref::standard::kSrgb, hdrc::ref::standard::kAp1);
+  const OutputEncoding enc = OutputEncoding::of(StageId::kShaper, p);
+  hdrc::Image in(5, 2), ref(5, 2), cand(5, 2);
+  const double levels[5] = {0.0005, 0.005, 0.05, 0.5, 36.0};  // 0.05 … 3600 nits grey
+  for (int y = 0; y < 2; ++y)
+    for (int x = 0; x < 5; ++x)
+      for (int c = 0; c < 4; ++c) {
+        const double v = c == 3 ? 1.0 : levels[x];
+        in.px(x, y)[c] = ref.px(x, y)[c] = cand.px(x, y)[c] = v;
+      }
+  cand.px(4, 1)[2] = 36.0 * 1.001;
+  const hdrc::Tolerance t = tol(2.5e-4, 1e-4, 0.025);
+  const auto s = hdrc::diff_images(in, ref, cand, enc, t);
+  const auto v = hdrc::judge(s, t);
+  EXPECT_FALSE(v.pass);
+  EXPECT_NE(v.reason.find("at (4, 1) B, >=1000 nits: input 36 reference 36 candidate 36.036"),
+            std::string::npos)
+      << v.reason;
+  EXPECT_EQ(s.band_pixels[0], 2u);
+  EXPECT_EQ(s.band_pixels[5], 2u);
+  EXPECT_NEAR(s.band[5][static_cast<int>(Metric::kLinearRel)].max, 1e-3, 1e-12);
+  for (int b = 0; b < 5; ++b) EXPECT_EQ(s.band[b][static_cast<int>(Metric::kLinearRel)].max, 0);
+  EXPECT_EQ(s.worst.band, 5);
+}
+
+// The tolerance criteria combine: an allowed fraction over max with a hard cap, and a warn level.
+TEST(Diff, AllowedFractionHardCapAndWarn) {
+  hdrc::Image in = grey(1000, 0.5), ref = grey(1000, 0.5), cand = grey(1000, 0.5);
+  cand.px(10, 0)[0] = 0.5 * 1.002;  // rel 2e-3: one value of 3000 (0.033 %)
+  cand.px(20, 0)[1] = 0.5 * 1.0005;
+  hdrc::Tolerance t = tol(1e-3, 1e-6, 100);
+  const int rel = static_cast<int>(Metric::kLinearRel);
+  EXPECT_FALSE(hdrc::judge(hdrc::diff_images(in, ref, cand, kShaper, t), t).pass);
+  t.allowed_fraction[rel] = 0.0005;  // 0.05 % may be over
+  t.hard[rel] = 5e-3;
+  auto v = hdrc::judge(hdrc::diff_images(in, ref, cand, kShaper, t), t);
+  EXPECT_TRUE(v.pass) << v.reason;
+  t.hard[rel] = 1.5e-3;  // but nothing over the hard cap
+  v = hdrc::judge(hdrc::diff_images(in, ref, cand, kShaper, t), t);
+  EXPECT_FALSE(v.pass);
+  EXPECT_NE(v.reason.find("hard cap"), std::string::npos) << v.reason;
+  t.hard[rel] = 5e-3;
+  t.allowed_fraction[rel] = 0.0002;  // 0.02 % < 0.033 %
+  v = hdrc::judge(hdrc::diff_images(in, ref, cand, kShaper, t), t);
+  EXPECT_FALSE(v.pass);
+  EXPECT_NE(v.reason.find("1 of 3000 values over"), std::string::npos) << v.reason;
+  t.allowed_fraction[rel] = 0.0005;
+  t.warn[rel] = 1e-3;
+  v = hdrc::judge(hdrc::diff_images(in, ref, cand, kShaper, t), t);
+  EXPECT_TRUE(v.pass);
+  ASSERT_EQ(v.warnings.size(), 1u);
+  EXPECT_NE(v.warnings[0].find("linear_rel"), std::string::npos);
+}
+
+// Under 10 % of every max: could be tightened; NaN in a limit never passes.
+TEST(Diff, CouldBeTightenedAndNaNLimits) {
+  hdrc::Image in = grey(4, 0.5), ref = grey(4, 0.5), cand = grey(4, 0.5);
+  cand.px(0, 0)[0] = 0.5 * (1 + 1e-5);
+  const auto s = hdrc::diff_images(in, ref, cand, kShaper, tol(1e-3, 1e-6, 10));
+  auto v = hdrc::judge(s, tol(1e-3, 1e-6, 10));
+  EXPECT_TRUE(v.pass);
+  EXPECT_TRUE(v.could_be_tightened);
+  EXPECT_NEAR(v.budget_used, 1e-2, 1e-6);
+  v = hdrc::judge(s, tol(5e-5, 1e-6, 10));
+  EXPECT_TRUE(v.pass);
+  EXPECT_FALSE(v.could_be_tightened);  // 20 % of 5e-5
+  EXPECT_FALSE(hdrc::judge(s, tol(kNaN, 1e-6, 10)).pass);
 }
 
 }  // namespace

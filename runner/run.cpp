@@ -1,6 +1,9 @@
 #include "runner/run.h"
 
+#include <algorithm>
 #include <ctime>
+#include <mutex>
+#include <thread>
 
 #include "runner/case_loader.h"
 
@@ -20,6 +23,10 @@ const char* verdict_name(CaseVerdict v) {
       return "KNOWN_LIMIT";
     case CaseVerdict::kDegenerate:
       return "DEGENERATE";
+    case CaseVerdict::kMissing:
+      return "MISSING";
+    case CaseVerdict::kNotRun:
+      return "NOT_RUN";
   }
   return "?";
 }
@@ -30,96 +37,242 @@ int RunReport::count(CaseVerdict v) const {
   return n;
 }
 
+int RunReport::warned() const {
+  int n = 0;
+  for (const auto& c : cases) n += c.verdict == CaseVerdict::kPass && !c.warnings.empty();
+  return n;
+}
+
 int RunReport::exit_code() const {
-  if (count(CaseVerdict::kFail) + count(CaseVerdict::kError) > 0) return kExitFail;
+  if (interrupted) return kExitInterrupted;
+  if (count(CaseVerdict::kFail) + count(CaseVerdict::kError) + count(CaseVerdict::kMissing) > 0)
+    return kExitFail;
   if (count(CaseVerdict::kSkipped) > 0) return kExitEngineUnavailable;
+  if (warned() > 0) return kExitPassWithWarnings;
   return kExitPass;
 }
 
+std::string case_image_dir(const std::string& case_id) {
+  return "cases/" + case_id;
+}
+
+Result<Shard> parse_shard(const std::string& text) {
+  Shard s;
+  char tail = 0;
+  if (std::sscanf(text.c_str(), "%d/%d%c", &s.k, &s.n, &tail) != 2 || s.n < 1 || s.k < 1 ||
+      s.k > s.n)
+    return Error{"", "--shard", "invalid shard '" + text + "'", "K/N with 1 <= K <= N, e.g. 2/3"};
+  return s;
+}
+
+std::vector<Case> select_shard(const std::vector<Case>& cases, const Shard& shard) {
+  std::vector<Case> out;
+  for (size_t i = 0; i < cases.size(); ++i)
+    if (static_cast<int>(i % static_cast<size_t>(shard.n)) == shard.k - 1) out.push_back(cases[i]);
+  return out;
+}
+
 namespace {
+
 std::string utc_now() {
   char buf[32];
   const std::time_t t = std::time(nullptr);
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
   return buf;
 }
+
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
+
+struct Worker {
+  std::unique_ptr<Engine> reference, candidate;
+};
+
+class Executor {
+ public:
+  Executor(const RunOptions& o, const RunReport& report) : opt_(o), report_(report) {}
+
+  CaseResult run_one(const Case& c, Worker& w) {
+    CaseResult r;
+    r.spec = c;
+    r.tolerance = c.tolerance;
+    const KnownLimit* limit = nullptr;
+    for (const KnownLimit& k : opt_.known_limits)
+      if (k.engine == w.candidate->name() && matches_filter(c.id, k.cases)) limit = &k;
+    auto resolved = resolve_case(c);
+    if (!resolved) return error(std::move(r), resolved.error().to_string());
+    r.has_params = true;
+    r.params = resolved->params;
+    if (!resolved->degenerate.empty()) {
+      r.verdict = CaseVerdict::kDegenerate;
+      r.reason = resolved->degenerate;
+      return r;
+    }
+    auto tol =
+        apply_overlays(c, w.candidate->name(), report_.candidate_device.device, opt_.overlays);
+    if (!tol) return error(std::move(r), tol.error().to_string());
+    r.tolerance = *tol;
+    const OutputEncoding enc = OutputEncoding::of(c.stage->id, resolved->params);
+    r.encoding = enc.describe();
+    if (!save(r, "input", resolved->input)) return r;
+    if (!report_.candidate_unavailable.empty() && !limit) {
+      r.verdict = CaseVerdict::kSkipped;
+      r.reason = report_.candidate_unavailable;
+      return r;
+    }
+    // The reference runs for every evaluated case, known limits and missing candidates included,
+    // so its outputs (and any error of its own) are part of every run.
+    auto t0 = std::chrono::steady_clock::now();
+    auto ref_img = w.reference->run(*resolved);
+    r.reference_seconds = seconds_since(t0);
+    if (!ref_img) return error(std::move(r), "reference: " + ref_img.error().to_string());
+    r.reference_values = ref_img->values;
+    if (!save(r, "reference", *ref_img)) return r;
+    if (limit) {
+      r.verdict = CaseVerdict::kKnownLimit;
+      r.reason = "known limit of " + limit->engine + ": " + limit->reason;
+      return r;
+    }
+    if (opt_.missing_candidate) {
+      if (std::string why = opt_.missing_candidate(c); !why.empty()) {
+        r.verdict = CaseVerdict::kMissing;
+        r.reason = why;
+        return r;
+      }
+    }
+    t0 = std::chrono::steady_clock::now();
+    auto cand_img = w.candidate->run(*resolved);
+    r.candidate_seconds = seconds_since(t0);
+    if (!cand_img)
+      return error(std::move(r), w.candidate->name() + ": " + cand_img.error().to_string());
+    if (cand_img->width != ref_img->width || cand_img->height != ref_img->height)
+      return error(std::move(r), w.candidate->name() + ": the candidate image is " +
+                                     std::to_string(cand_img->width) + "x" +
+                                     std::to_string(cand_img->height) + ", the reference " +
+                                     std::to_string(ref_img->width) + "x" +
+                                     std::to_string(ref_img->height));
+    if (!save(r, "candidate", *cand_img)) return r;
+    t0 = std::chrono::steady_clock::now();
+    r.stats = diff_images(resolved->input, *ref_img, *cand_img, enc, r.tolerance);
+    const Verdict v = judge(r.stats, r.tolerance);
+    r.diff_seconds = seconds_since(t0);
+    r.has_stats = true;
+    r.verdict = v.pass ? CaseVerdict::kPass : CaseVerdict::kFail;
+    r.reason = v.reason;
+    r.warnings = v.warnings;
+    r.could_be_tightened = v.could_be_tightened;
+    r.budget_used = v.budget_used;
+    return r;
+  }
+
+ private:
+  static CaseResult error(CaseResult r, std::string reason) {
+    r.verdict = CaseVerdict::kError;
+    r.reason = std::move(reason);
+    return r;
+  }
+
+  // Writes one image of the case (atomically); false (and the case an ERROR) when it fails.
+  bool save(CaseResult& r, const std::string& name, const Image& img) {
+    if (opt_.image_dir.empty()) return true;
+    const std::string rel = case_image_dir(r.spec.id) + "/" + name + ".exr";
+    if (Status st = write_exr(opt_.image_dir + "/" + rel, img); !st) {
+      r = error(std::move(r), "cannot write " + name + " image: " + st.error().to_string());
+      return false;
+    }
+    r.images[name] = rel;
+    return true;
+  }
+
+  const RunOptions& opt_;
+  const RunReport& report_;
+};
+
 }  // namespace
 
-RunReport run_cases(const std::vector<Case>& cases, Engine& reference, Engine& candidate,
-                    const std::vector<KnownLimit>& known_limits,
-                    void (*on_case)(const CaseResult&, size_t, size_t)) {
+RunReport run_cases(const std::vector<Case>& cases, const EngineFactory& reference,
+                    const EngineFactory& candidate, const RunOptions& opt) {
   RunReport report;
   report.started_utc = utc_now();
   const auto t_run = std::chrono::steady_clock::now();
-  if (Status st = reference.init(); !st) {
-    report.candidate_unavailable = "reference engine failed to start: " + st.error().to_string();
-  }
-  report.reference_device = reference.device();
-  if (Status st = candidate.init(); !st) {
-    report.candidate_unavailable =
-        candidate.name() + " engine unavailable: " + st.error().to_string();
-  }
-  report.candidate_device = candidate.device();
+  size_t jobs = opt.jobs > 0 ? static_cast<size_t>(opt.jobs)
+                             : std::max(1u, std::thread::hardware_concurrency());
+  jobs = std::max<size_t>(1, std::min(jobs, cases.size()));
+  report.jobs = static_cast<int>(jobs);
 
-  for (size_t i = 0; i < cases.size(); ++i) {
-    CaseResult r;
-    r.spec = cases[i];
-    const KnownLimit* limit = nullptr;
-    for (const KnownLimit& k : known_limits)
-      if (k.engine == candidate.name() && matches_filter(cases[i].id, k.cases)) limit = &k;
-    auto resolved = resolve_case(cases[i]);
-    if (!resolved) {
-      r.verdict = CaseVerdict::kError;
-      r.reason = resolved.error().to_string();
-    } else if (!resolved->degenerate.empty()) {
-      r.verdict = CaseVerdict::kDegenerate;
-      r.reason = resolved->degenerate;
-    } else if (limit) {
-      // The candidate is not run; the reference still is, so its outputs (and any error of its
-      // own) are part of every run.
-      const auto t0 = std::chrono::steady_clock::now();
-      auto ref_img = reference.run(*resolved);
-      r.reference_seconds = seconds_since(t0);
-      if (!ref_img) {
-        r.verdict = CaseVerdict::kError;
-        r.reason = "reference: " + ref_img.error().to_string();
-      } else {
-        r.reference_values = ref_img->values;
-        r.verdict = CaseVerdict::kKnownLimit;
-        r.reason = "known limit of " + limit->engine + ": " + limit->reason;
+  // The first worker's engines start here, so availability and device names are known (and the
+  // same for every case) before any case runs.
+  std::vector<Worker> workers(jobs);
+  workers[0].reference = reference();
+  workers[0].candidate = candidate();
+  if (Status st = workers[0].reference->init(); !st)
+    report.candidate_unavailable = "reference engine failed to start: " + st.error().to_string();
+  report.reference_device = workers[0].reference->device();
+  if (report.candidate_unavailable.empty()) {
+    if (Status st = workers[0].candidate->init(); !st)
+      report.candidate_unavailable =
+          workers[0].candidate->name() + " engine unavailable: " + st.error().to_string();
+  }
+  report.candidate_device = workers[0].candidate->device();
+
+  const size_t n = cases.size();
+  report.cases.resize(n);
+  std::vector<char> done(n, 0);
+  std::atomic<size_t> next{0};
+  std::mutex mu;
+  size_t emitted = 0;
+  Executor exec(opt, report);
+  auto interrupted = [&] { return opt.interrupt && opt.interrupt->load(); };
+
+  auto work = [&](size_t w) {
+    Worker& me = workers[w];
+    if (w > 0) {
+      // Each worker owns its engines. One that cannot start leaves its share to the others.
+      me.reference = reference();
+      me.candidate = candidate();
+      if (!me.reference->init()) return;
+      if (report.candidate_unavailable.empty() && !me.candidate->init()) return;
+    }
+    for (;;) {
+      if (interrupted()) return;
+      const size_t i = next.fetch_add(1);
+      if (i >= n) return;
+      CaseResult r = exec.run_one(cases[i], me);
+      if (interrupted() && r.verdict == CaseVerdict::kError) {
+        r.verdict = CaseVerdict::kNotRun;
+        r.reason = "interrupted while running: " + r.reason;
       }
-    } else if (!report.candidate_unavailable.empty()) {
-      r.verdict = CaseVerdict::kSkipped;
-      r.reason = report.candidate_unavailable;
-    } else {
-      auto t0 = std::chrono::steady_clock::now();
-      auto ref_img = reference.run(*resolved);
-      r.reference_seconds = seconds_since(t0);
-      t0 = std::chrono::steady_clock::now();
-      auto cand_img = candidate.run(*resolved);
-      r.candidate_seconds = seconds_since(t0);
-      if (ref_img) r.reference_values = ref_img->values;
-      if (!ref_img) {
-        r.verdict = CaseVerdict::kError;
-        r.reason = "reference: " + ref_img.error().to_string();
-      } else if (!cand_img) {
-        r.verdict = CaseVerdict::kError;
-        r.reason = candidate.name() + ": " + cand_img.error().to_string();
-      } else {
-        const OutputEncoding enc{cases[i].stage->id, resolved->params.output_device,
-                                 resolved->params.inverse_gamma[2]};
-        r.stats = diff_images(resolved->input, *ref_img, *cand_img, enc, cases[i].tolerance);
-        const Verdict v = judge(r.stats, cases[i].tolerance);
-        r.verdict = v.pass ? CaseVerdict::kPass : CaseVerdict::kFail;
-        r.reason = v.reason;
+      std::lock_guard<std::mutex> lock(mu);
+      report.cases[i] = std::move(r);
+      done[i] = 1;
+      while (emitted < n && done[emitted]) {
+        if (opt.on_case) opt.on_case(report.cases[emitted], emitted, n);
+        ++emitted;
       }
     }
-    report.cases.push_back(std::move(r));
-    if (on_case) on_case(report.cases.back(), i, cases.size());
+  };
+  std::vector<std::thread> threads;
+  for (size_t w = 1; w < jobs; ++w) threads.emplace_back(work, w);
+  work(0);
+  for (auto& t : threads) t.join();
+
+  report.interrupted = false;
+  for (size_t i = 0; i < n; ++i) {
+    if (done[i] && report.cases[i].verdict != CaseVerdict::kNotRun) continue;
+    report.interrupted = interrupted();
+    if (done[i]) continue;
+    CaseResult& r = report.cases[i];
+    r.spec = cases[i];
+    r.tolerance = cases[i].tolerance;
+    r.verdict = CaseVerdict::kNotRun;
+    r.reason = report.interrupted ? "not run: the run was interrupted (SIGINT)"
+                                  : "not run: no worker could start its engines";
   }
+  for (; emitted < n; ++emitted)
+    if (opt.on_case) opt.on_case(report.cases[emitted], emitted, n);
   report.wall_seconds = seconds_since(t_run);
   return report;
 }

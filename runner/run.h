@@ -1,56 +1,121 @@
-// The executor: loads cases, runs the reference and the candidate engine on each, diffs, judges.
-// It knows engines only through core/engine.h.
+// The executor: runs the reference and a candidate engine on each case, diffs, judges. It knows
+// engines only through core/engine.h, and makes one engine of each kind per worker thread
+// (EngineFactory), so no engine is ever shared between threads.
 #pragma once
 
+#include <atomic>
 #include <chrono>
+#include <functional>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "core/case.h"
 #include "core/engine.h"
 #include "runner/diff.h"
+#include "runner/tolerance.h"
 
 namespace hdrc {
 
-// Process exit codes (documented in --help and README.md).
+// Process exit codes (documented in --help and README.md), in order of precedence when several
+// apply: interrupted, fail, engine unavailable, pass with warnings, pass.
 enum ExitCode : int {
   kExitPass = 0,      // every case passed
-  kExitFail = 1,      // at least one case failed or errored
+  kExitFail = 1,      // at least one case failed, errored or had no candidate image
   kExitBadInput = 2,  // usage error or invalid case files; nothing was run or written
   kExitEngineUnavailable =
-      3,  // no failure, but the candidate engine was unavailable: cases skipped
+      3,                      // no failure, but the candidate engine was unavailable: cases skipped
+  kExitPassWithWarnings = 4,  // every case passed; at least one is over a warn level
+  kExitInterrupted = 130,     // SIGINT (128 + 2): finished cases written, the rest NOT_RUN
 };
 
 // PASS/FAIL: judged. ERROR: could not be evaluated. SKIP: the candidate engine was unavailable.
 // KNOWN_LIMIT: listed in cases/known_limits.json for this engine. DEGENERATE: UE itself computes
-// degenerate parameters for this combination; not evaluated. Only FAIL and ERROR fail a run.
-enum class CaseVerdict { kPass, kFail, kError, kSkipped, kKnownLimit, kDegenerate };
+// degenerate parameters for this combination; not evaluated. MISSING: `verify` found no candidate
+// image. NOT_RUN: the run was interrupted first. FAIL, ERROR and MISSING fail a run.
+enum class CaseVerdict {
+  kPass,
+  kFail,
+  kError,
+  kSkipped,
+  kKnownLimit,
+  kDegenerate,
+  kMissing,
+  kNotRun
+};
 const char* verdict_name(CaseVerdict v);
 
 struct CaseResult {
   Case spec;
-  CaseVerdict verdict = CaseVerdict::kSkipped;
+  CaseVerdict verdict = CaseVerdict::kNotRun;
   std::string reason;
+  Tolerance tolerance;     // the tolerance applied: the case's, with any overlays
+  bool has_stats = false;  // the images were diffed (PASS and FAIL)
   DiffStats stats;
+  std::string encoding;  // how outputs were decoded to nits (OutputEncoding::describe)
+  std::vector<std::string> warnings;
+  bool could_be_tightened = false;
+  double budget_used = 0;  // largest observed/max ratio (Verdict::budget_used)
+  bool has_params = false;
+  ParamBlock params;                               // the resolved parameters
   std::map<std::string, double> reference_values;  // named numbers the reference stage output
-  double reference_seconds = 0, candidate_seconds = 0;
+  std::map<std::string, std::string> images;  // "input"/"reference"/"candidate" → path relative
+                                              // to the output directory, for those written
+  double reference_seconds = 0, candidate_seconds = 0, diff_seconds = 0;
+  double seconds() const { return reference_seconds + candidate_seconds + diff_seconds; }
 };
 
 struct RunReport {
+  std::string command = "run";  // "run" or "verify"
   std::vector<CaseResult> cases;
   DeviceInfo reference_device, candidate_device;
   std::string candidate_unavailable;  // reason, when the candidate engine could not start
   std::string started_utc;
   double wall_seconds = 0;
+  int jobs = 1;
+  std::string shard;  // "K/N", or "" when unsharded
+  bool interrupted = false;
   int exit_code() const;
   int count(CaseVerdict v) const;
+  int warned() const;  // passing cases with warnings
 };
 
-// Runs `cases` with `candidate` against `reference`. `on_case` is called after each case.
+using EngineFactory = std::function<std::unique_ptr<Engine>()>;
+
 struct KnownLimit;
-RunReport run_cases(const std::vector<Case>& cases, Engine& reference, Engine& candidate,
-                    const std::vector<KnownLimit>& known_limits,
-                    void (*on_case)(const CaseResult&, size_t index, size_t total) = nullptr);
+struct RunOptions {
+  int jobs = 0;  // worker threads; 0 = every core
+  std::vector<KnownLimit> known_limits;
+  std::vector<ToleranceOverlay> overlays;
+  // Where cases/<case id>/{input,reference,candidate}.exr are written ("": nowhere).
+  std::string image_dir;
+  // Set (e.g. by a SIGINT handler) to stop starting cases; cases not started are NOT_RUN.
+  const std::atomic<bool>* interrupt = nullptr;
+  // Called for each case in case order as soon as it and every case before it have finished,
+  // so the output is the same for any -j. `done` counts finished cases.
+  std::function<void(const CaseResult&, size_t index, size_t total)> on_case;
+  // verify --candidate-dir: a non-empty answer marks the case MISSING with that reason before
+  // the candidate engine is asked.
+  std::function<std::string(const Case&)> missing_candidate;
+};
+
+// Runs `cases` with a candidate engine against the reference engine. Each worker creates its own
+// engines from the factories.
+RunReport run_cases(const std::vector<Case>& cases, const EngineFactory& reference,
+                    const EngineFactory& candidate, const RunOptions& options);
+
+// "K/N" with 1 <= K <= N: which shard of a CI matrix to run.
+struct Shard {
+  int k = 1, n = 1;
+};
+Result<Shard> parse_shard(const std::string& text);
+// Case i of the sorted list belongs to shard (i mod N) + 1: deterministic, balanced, and the
+// shards of one N are disjoint and together the whole list.
+std::vector<Case> select_shard(const std::vector<Case>& cases, const Shard& shard);
+
+// Where a case's images go, relative to the output directory: "cases/<case id>" (case ids
+// contain '/', so these are nested folders).
+std::string case_image_dir(const std::string& case_id);  // "cases/<case id>"
 
 }  // namespace hdrc

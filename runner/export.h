@@ -1,0 +1,48 @@
+// `hdrconform export`: everything another engine needs to render the suite's cases, as files.
+//
+// Layout (the same under `export --out DIR` and under `verify --out DIR`, which exports each case
+// before running a candidate command on it):
+//   DIR/manifest.json                 {"tool", "cases": [{"id", "stage", "dir", "degenerate"}]}
+//   DIR/cases/<case id>/params.json   the case: stage and passes, cvars, settings, the input files,
+//                                     the output expected (size, encoding) and "params": every
+//                                     ParamBlock field by name, derived values included (ACES
+//                                     coefficients, matrices, InverseGamma, ...)
+//   DIR/cases/<case id>/input.exr     the input image (float32 RGBA)
+//   DIR/cases/<case id>/{ui,bloom,bloom_dirt}.exr   the stage's other images, when it has them
+// README.md ("Verifying a port") describes how a port uses these files.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "core/case.h"
+#include "core/result.h"
+#include "core/shader_interface.h"
+
+namespace hdrc {
+
+// Every ParamBlock field by name: I → integer, F → number, V4 → [4 numbers], M3 → [[3], [3], [3]]
+// (rows). Numbers are written so they read back to the same double.
+nlohmann::ordered_json params_json(const ParamBlock& p);
+// The inverse; every field must be present. Errors name `file` and the JSON pointer.
+Result<ParamBlock> params_from_json(const nlohmann::ordered_json& j, const std::string& file,
+                                    const std::string& pointer);
+
+// The params.json document of a resolved case (image file names relative to its folder).
+nlohmann::ordered_json case_export_json(const ResolvedCase& rc);
+
+// Writes params.json and the case's images into `dir` (each atomically).
+Status export_case(const ResolvedCase& rc, const std::string& dir);
+
+// A case read back from an export folder: what a port (e.g. examples/) starts from.
+Result<ResolvedCase> load_exported_case(const std::string& params_path);
+
+struct ExportSummary {
+  size_t cases = 0, degenerate = 0;
+  std::vector<Error> errors;  // cases that could not be resolved or written
+};
+// Exports `cases` into `out_dir` and writes its manifest.json.
+ExportSummary export_cases(const std::vector<Case>& cases, const std::string& out_dir);
+
+}  // namespace hdrc

@@ -1,0 +1,341 @@
+#include "runner/tolerance.h"
+
+#include <fnmatch.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace hdrc {
+
+using json = nlohmann::ordered_json;
+
+namespace {
+
+constexpr Metric kMetrics[kMetricCount] = {Metric::kLinearAbs, Metric::kLinearRel,
+                                           Metric::kPqCode10, Metric::kPqCode12,
+                                           Metric::kDeltaEItp};
+constexpr const char* kLimitKeys = "max, allowed_fraction, hard, warn";
+
+std::string show(const json& v) {
+  std::string s = v.dump();
+  return s.size() > 60 ? s.substr(0, 57) + "..." : s;
+}
+
+// A number as people write it: 1, 0.5, 1e-05.
+std::string num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.9g", v);
+  return buf;
+}
+
+std::string escape_pointer_token(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    if (c == '~')
+      out += "~0";
+    else if (c == '/')
+      out += "~1";
+    else
+      out += c;
+  }
+  return out;
+}
+
+// A number >= 0 (upper bound `hi`), or null when `null_ok` (returned as kNotJudged).
+Result<double> limit_value(const json& v, const std::string& file, const std::string& pointer,
+                           const std::string& key, bool null_ok, double hi = kNotJudged) {
+  if (v.is_null() && null_ok) return kNotJudged;
+  const std::string range =
+      hi < kNotJudged ? "a number from 0 to " + num(hi) : std::string("a number >= 0");
+  if (!v.is_number())
+    return Error{file, pointer,
+                 key + " must be a number, got " + std::string(v.type_name()) + " " + show(v),
+                 null_ok ? range + " or null (not judged)" : range};
+  const double x = v.get<double>();
+  if (!(x >= 0)) return Error{file, pointer, key + " " + show(v) + " is negative", range};
+  if (!(x <= hi)) return Error{file, pointer, key + " " + show(v) + " is over " + num(hi), range};
+  return x;
+}
+
+bool glob_match(const std::string& glob, const std::string& s) {
+  return glob.empty() || fnmatch(glob.c_str(), s.c_str(), 0) == 0;
+}
+
+}  // namespace
+
+const char* metric_key(Metric m) {
+  switch (m) {
+    case Metric::kLinearAbs:
+      return "linear_abs";
+    case Metric::kLinearRel:
+      return "linear_rel";
+    case Metric::kPqCode10:
+      return "pq_code10";
+    case Metric::kPqCode12:
+      return "pq_code12";
+    case Metric::kDeltaEItp:
+      return "delta_e_itp";
+  }
+  return "?";
+}
+
+std::string metric_keys() {
+  std::string s;
+  for (Metric m : kMetrics) s += (s.empty() ? "" : ", ") + std::string(metric_key(m));
+  return s;
+}
+
+std::string tolerance_keys() {
+  return metric_keys() + ", rel_floor, reason";
+}
+
+Tolerance default_tolerance_policy() {
+  Tolerance t;
+  t.linear_rel = 1e-5;
+  t.rel_floor = 1e-6;
+  t.pq_code10 = 0.05;
+  t.reason = "project default (docs/tolerances.md): float32 evaluation of double formulas";
+  t.source = "default";
+  return t;
+}
+
+Result<Tolerance> parse_tolerance(const json& j, const std::string& file,
+                                  const std::string& pointer, const Tolerance& base) {
+  if (!j.is_object())
+    return Error{file, pointer,
+                 "a tolerance is an object, got " + std::string(j.type_name()) + " " + show(j),
+                 "an object with keys " + tolerance_keys()};
+  Tolerance t = base;
+  const std::string keys = tolerance_keys();
+  for (auto it = j.begin(); it != j.end(); ++it) {
+    const std::string& key = it.key();
+    const std::string at = pointer + "/" + escape_pointer_token(key);
+    bool known = key == "rel_floor" || key == "reason";
+    for (Metric m : kMetrics) known = known || key == metric_key(m);
+    if (!known) return Error{file, at, "unknown key '" + key + "'", keys};
+  }
+  for (Metric m : kMetrics) {
+    const std::string key = metric_key(m);
+    if (!j.contains(key)) continue;
+    const json& v = j[key];
+    const std::string at = pointer + "/" + key;
+    const int i = static_cast<int>(m);
+    if (v.is_null()) {  // not judged
+      t.max(m) = kNotJudged;
+      t.allowed_fraction[i] = 0;
+      t.hard[i] = kNotJudged;
+      t.warn[i] = kNotJudged;
+    } else if (v.is_object()) {
+      for (auto it = v.begin(); it != v.end(); ++it) {
+        const std::string& k = it.key();
+        const std::string kat = at + "/" + escape_pointer_token(k);
+        Result<double> x = k == "allowed_fraction"
+                               ? limit_value(it.value(), file, kat, k, false, 1.0)
+                               : limit_value(it.value(), file, kat, k, true);
+        if (k != "max" && k != "allowed_fraction" && k != "hard" && k != "warn")
+          return Error{file, kat, "unknown key '" + k + "'", kLimitKeys};
+        if (!x) return x.error();
+        if (k == "max") t.max(m) = *x;
+        if (k == "allowed_fraction") t.allowed_fraction[i] = *x;
+        if (k == "hard") t.hard[i] = *x;
+        if (k == "warn") t.warn[i] = *x;
+      }
+    } else if (v.is_number()) {
+      Result<double> x = limit_value(v, file, at, key, true);
+      if (!x) return x.error();
+      t.max(m) = *x;
+    } else {
+      return Error{
+          file, at,
+          key + " must be a number, null or an object, got " + std::string(v.type_name()) + " " +
+              show(v),
+          "a number >= 0 (the max), null (not judged) or {" + std::string(kLimitKeys) + "}"};
+    }
+    // The criteria of one metric must make sense together.
+    if (t.allowed_fraction[i] > 0 && !(t.hard[i] < kNotJudged))
+      return Error{file, at,
+                   key + ": allowed_fraction " + num(t.allowed_fraction[i]) +
+                       " needs a hard cap, or the allowed values could be off by any amount",
+                   "add \"hard\": a number >= max"};
+    if (t.hard[i] < t.max(m))
+      return Error{file, at, key + ": hard " + num(t.hard[i]) + " is below max " + num(t.max(m)),
+                   "hard >= max"};
+    if (t.warn[i] < kNotJudged && t.max(m) < kNotJudged && t.warn[i] > t.max(m))
+      return Error{file, at,
+                   key + ": warn " + num(t.warn[i]) + " is above max " + num(t.max(m)) +
+                       "; a warn level sits below the fail limit",
+                   "warn <= max"};
+  }
+  if (j.contains("rel_floor")) {
+    Result<double> x =
+        limit_value(j["rel_floor"], file, pointer + "/rel_floor", "rel_floor", false);
+    if (!x) return x.error();
+    t.rel_floor = *x;
+  }
+  if (!j.contains("reason") || !j["reason"].is_string() || j["reason"].get<std::string>().empty())
+    return Error{file, pointer + "/reason",
+                 "a tolerance must say why (measured error and its cause)", "a non-empty string"};
+  t.reason = j["reason"].get<std::string>();
+  t.source = file + ": " + pointer;
+  return t;
+}
+
+Result<Tolerance> parse_tolerance(const json& j, const std::string& file,
+                                  const std::string& pointer) {
+  return parse_tolerance(j, file, pointer, default_tolerance_policy());
+}
+
+std::vector<ToleranceOverlay> parse_tolerance_overlays(const std::string& file,
+                                                       const std::string& text,
+                                                       std::vector<Error>* errors) {
+  std::vector<ToleranceOverlay> out;
+  json doc;
+  try {
+    doc = json::parse(text);
+  } catch (const json::parse_error& e) {
+    errors->push_back(Error{file, "", std::string("malformed JSON: ") + e.what(), ""});
+    return out;
+  }
+  if (!doc.is_object()) {
+    errors->push_back(Error{file, "", "an overlay file is a JSON object, got " + show(doc),
+                            "{\"overlays\": [...]}"});
+    return out;
+  }
+  for (auto it = doc.begin(); it != doc.end(); ++it)
+    if (it.key() != "overlays" && it.key() != "description" && it.key() != "$schema")
+      errors->push_back(Error{file, "/" + escape_pointer_token(it.key()),
+                              "unknown key '" + it.key() + "'", "$schema, description, overlays"});
+  if (!doc.contains("overlays")) return out;
+  if (!doc["overlays"].is_array()) {
+    errors->push_back(Error{file, "/overlays", "expected an array, got " + show(doc["overlays"]),
+                            "an array of overlay objects"});
+    return out;
+  }
+  const char* kKeys = "stage, cases, engine, device, tolerance";
+  for (size_t i = 0; i < doc["overlays"].size(); ++i) {
+    const json& o = doc["overlays"][i];
+    const std::string at = "/overlays/" + std::to_string(i);
+    if (!o.is_object()) {
+      errors->push_back(Error{file, at, "expected an object, got " + show(o), kKeys});
+      continue;
+    }
+    ToleranceOverlay ov;
+    ov.file = file;
+    ov.pointer = at;
+    bool ok = true, any_selector = false;
+    for (auto it = o.begin(); it != o.end(); ++it) {
+      const std::string& k = it.key();
+      const std::string kat = at + "/" + escape_pointer_token(k);
+      if (k == "tolerance") continue;
+      if (k != "stage" && k != "cases" && k != "engine" && k != "device") {
+        errors->push_back(Error{file, kat, "unknown key '" + k + "'", kKeys});
+        ok = false;
+        continue;
+      }
+      if (!it.value().is_string() || it.value().get<std::string>().empty()) {
+        errors->push_back(
+            Error{file, kat, k + " must be a non-empty string, got " + show(it.value()), ""});
+        ok = false;
+        continue;
+      }
+      const std::string v = it.value().get<std::string>();
+      any_selector = true;
+      if (k == "stage") {
+        if (!find_stage(v)) {
+          errors->push_back(Error{file, kat, "unknown stage " + show(it.value()), stage_names()});
+          ok = false;
+        }
+        ov.stage = v;
+      }
+      if (k == "cases") ov.cases = v;
+      if (k == "engine") ov.engine = v;
+      if (k == "device") ov.device = v;
+    }
+    if (!any_selector) {
+      errors->push_back(Error{file, at,
+                              "an overlay must select what it applies to (it would change every "
+                              "tolerance of the suite)",
+                              "one or more of stage, cases, engine, device"});
+      ok = false;
+    }
+    if (!o.contains("tolerance")) {
+      errors->push_back(Error{file, at + "/tolerance", "missing tolerance",
+                              "an object with keys " + tolerance_keys()});
+      continue;
+    }
+    // Validated here against an empty base, so every error is found on load, not mid-run.
+    Result<Tolerance> t = parse_tolerance(o["tolerance"], file, at + "/tolerance", Tolerance{});
+    if (!t) {
+      errors->push_back(t.error());
+      continue;
+    }
+    ov.tolerance = o["tolerance"];
+    if (ok) out.push_back(std::move(ov));
+  }
+  return out;
+}
+
+std::vector<ToleranceOverlay> load_tolerance_overlays(const std::string& cases_dir,
+                                                      std::vector<Error>* errors) {
+  const std::string path = cases_dir + "/tolerance_overlays.json";
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) return {};
+  std::ifstream f(path);
+  std::stringstream s;
+  s << f.rdbuf();
+  if (!f) {
+    errors->push_back(Error{path, "", "cannot read the file", ""});
+    return {};
+  }
+  return parse_tolerance_overlays(path, s.str(), errors);
+}
+
+bool overlay_matches(const ToleranceOverlay& o, const Case& c, const std::string& engine,
+                     const std::string& device) {
+  if (!o.stage.empty() && (!c.stage || o.stage != c.stage->name)) return false;
+  return glob_match(o.cases, c.id) && (o.engine.empty() || o.engine == engine) &&
+         glob_match(o.device, device);
+}
+
+Result<Tolerance> apply_overlays(const Case& c, const std::string& engine,
+                                 const std::string& device,
+                                 const std::vector<ToleranceOverlay>& overlays) {
+  Tolerance t = c.tolerance;
+  for (const ToleranceOverlay& o : overlays) {
+    if (!overlay_matches(o, c, engine, device)) continue;
+    Result<Tolerance> next = parse_tolerance(o.tolerance, o.file, o.pointer + "/tolerance", t);
+    if (!next) return next.error();
+    next->source = t.source + " + overlay " + next->source;
+    next->reason = t.reason + "; overlay: " + next->reason;
+    t = std::move(*next);
+  }
+  return t;
+}
+
+json tolerance_json(const Tolerance& t) {
+  auto num = [](double v) -> json {
+    if (!(v < kNotJudged)) return nullptr;
+    return v;
+  };
+  json j = json::object();
+  for (Metric m : kMetrics) {
+    const int i = static_cast<int>(m);
+    if (!t.judged(m)) {
+      j[metric_key(m)] = nullptr;
+      continue;
+    }
+    j[metric_key(m)] = {{"max", num(t.max(m))},
+                        {"allowed_fraction", t.allowed_fraction[i]},
+                        {"hard", num(t.hard[i])},
+                        {"warn", num(t.warn[i])}};
+  }
+  j["rel_floor"] = t.rel_floor;
+  j["reason"] = t.reason;
+  j["source"] = t.source;
+  return j;
+}
+
+}  // namespace hdrc

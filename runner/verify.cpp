@@ -1,0 +1,377 @@
+#include "runner/verify.h"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include "reference/reference_engine.h"
+#include "runner/export.h"
+#include "runner/results.h"
+
+namespace hdrc {
+
+namespace fs = std::filesystem;
+
+// ---- verify --candidate-dir ------------------------------------------------------------------
+
+std::string CandidateDirEngine::image_path(const std::string& case_id) const {
+  return dir_ + "/" + case_id + ".exr";
+}
+
+Status CandidateDirEngine::init() {
+  std::error_code ec;
+  if (!fs::is_directory(dir_, ec))
+    return Error{dir_, "", "the candidate directory does not exist", "a directory of ID.exr files"};
+  return {};
+}
+
+DeviceInfo CandidateDirEngine::device() const {
+  std::error_code ec;
+  return {"candidate-dir", fs::absolute(dir_, ec).lexically_normal().string(), "images", ""};
+}
+
+std::string CandidateDirEngine::missing(const std::string& case_id) const {
+  std::error_code ec;
+  const std::string path = image_path(case_id);
+  if (fs::exists(path, ec)) return "";
+  return "missing candidate image " + path;
+}
+
+Result<Image> CandidateDirEngine::run(const ResolvedCase& c) {
+  auto img = read_image(image_path(c.spec.id));
+  if (!img) {
+    Error e = img.error();
+    e.message = "bad candidate image: " + e.message;
+    return e;
+  }
+  return img;
+}
+
+// ---- verify --candidate-cmd ------------------------------------------------------------------
+
+Result<std::vector<std::string>> split_command_template(const std::string& text) {
+  std::vector<std::string> words;
+  std::string word;
+  bool in_word = false;
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '\'') {
+      const size_t end = text.find('\'', i + 1);
+      if (end == std::string::npos)
+        return Error{"", "--candidate-cmd", "unterminated ' at offset " + std::to_string(i),
+                     "a closing '"};
+      word += text.substr(i + 1, end - i - 1);
+      in_word = true;
+      i = end;
+    } else if (c == '"') {
+      size_t j = i + 1;
+      for (; j < text.size() && text[j] != '"'; ++j) {
+        if (text[j] == '\\' && j + 1 < text.size() && (text[j + 1] == '"' || text[j + 1] == '\\'))
+          ++j;
+        word += text[j];
+      }
+      if (j >= text.size())
+        return Error{"", "--candidate-cmd", "unterminated \" at offset " + std::to_string(i),
+                     "a closing \""};
+      in_word = true;
+      i = j;
+    } else if (c == '\\' && i + 1 < text.size()) {
+      word += text[++i];
+      in_word = true;
+    } else if (c == ' ' || c == '\t' || c == '\n') {
+      if (in_word) words.push_back(std::move(word));
+      word.clear();
+      in_word = false;
+    } else {
+      word += c;
+      in_word = true;
+    }
+  }
+  if (in_word) words.push_back(std::move(word));
+  if (words.empty())
+    return Error{"", "--candidate-cmd", "the command template is empty",
+                 "a program and its arguments with {input} {params} {output}"};
+  return words;
+}
+
+std::vector<std::string> expand_placeholders(const std::vector<std::string>& argv,
+                                             const std::string& input, const std::string& params,
+                                             const std::string& output, const std::string& id) {
+  const std::pair<const char*, const std::string*> subs[] = {
+      {"{input}", &input}, {"{params}", &params}, {"{output}", &output}, {"{id}", &id}};
+  std::vector<std::string> out;
+  for (std::string w : argv) {
+    for (const auto& [key, value] : subs) {
+      const std::string k = key;
+      for (size_t at = w.find(k); at != std::string::npos; at = w.find(k, at + value->size()))
+        w.replace(at, k.size(), *value);
+    }
+    out.push_back(std::move(w));
+  }
+  return out;
+}
+
+CommandResult run_command(const std::vector<std::string>& argv, const std::string& log_path,
+                          double timeout_s) {
+  CommandResult r;
+  // Everything the child needs is prepared before fork: after it, in a multi-threaded process,
+  // the child may only call async-signal-safe functions until exec.
+  std::vector<char*> args;
+  for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+  const pid_t pid = fork();
+  if (pid < 0) {
+    r.error = std::string("fork failed: ") + std::strerror(errno);
+    return r;
+  }
+  if (pid == 0) {
+    setpgid(0, 0);  // its own group: a timeout kills it and its children; Ctrl-C reaches us only
+    const int fd = open(log_path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+    const int null_in = open("/dev/null", O_RDONLY);
+    if (null_in >= 0) dup2(null_in, 0);
+    if (fd >= 0) {
+      dup2(fd, 1);
+      dup2(fd, 2);
+    }
+    execvp(args[0], args.data());
+    const char msg[] = "hdrconform: exec failed\n";
+    (void)!write(2, msg, sizeof msg - 1);
+    _exit(127);
+  }
+  setpgid(pid, pid);  // also from the parent, so the group exists before any kill below
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+  int status = 0;
+  for (;;) {
+    const pid_t w = waitpid(pid, &status, WNOHANG);
+    if (w == pid) break;
+    if (w < 0 && errno != EINTR) {
+      r.error = std::string("waitpid failed: ") + std::strerror(errno);
+      return r;
+    }
+    if (std::chrono::steady_clock::now() >= deadline) {
+      kill(-pid, SIGKILL);
+      waitpid(pid, &status, 0);
+      r.timed_out = true;
+      return r;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  if (WIFEXITED(status)) r.exit_status = WEXITSTATUS(status);
+  if (WIFSIGNALED(status)) r.signal = WTERMSIG(status);
+  return r;
+}
+
+Status CandidateCommandEngine::init() {
+  if (argv_.empty()) return Error{"", "--candidate-cmd", "the command template is empty", ""};
+  return {};
+}
+
+DeviceInfo CandidateCommandEngine::device() const {
+  std::string cmd;
+  for (const auto& a : argv_) cmd += (cmd.empty() ? "" : " ") + a;
+  return {"candidate-cmd", cmd, "command", ""};
+}
+
+namespace {
+std::string tail_of(const std::string& path, size_t max_chars) {
+  std::ifstream f(path);
+  std::string s((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
+  if (s.size() > max_chars) s = "..." + s.substr(s.size() - max_chars);
+  for (char& c : s)
+    if (c == '\n') c = '|';
+  return s;
+}
+}  // namespace
+
+Result<Image> CandidateCommandEngine::run(const ResolvedCase& c) {
+  const std::string dir = out_dir_ + "/" + case_image_dir(c.spec.id);
+  if (Status st = export_case(c, dir); !st) return st.error();
+  const std::string output = dir + "/candidate_output.exr";
+  const std::string log = dir + "/candidate.log";
+  std::error_code ec;
+  fs::remove(output, ec);
+  fs::remove(log, ec);
+  const auto argv =
+      expand_placeholders(argv_, dir + "/input.exr", dir + "/params.json", output, c.spec.id);
+  const CommandResult r = run_command(argv, log, timeout_s_);
+  std::string why;
+  if (!r.error.empty())
+    why = r.error;
+  else if (r.timed_out)
+    why = "timed out after " + std::to_string(timeout_s_) + " s (killed)";
+  else if (r.signal != 0)
+    why = "killed by signal " + std::to_string(r.signal);
+  else if (r.exit_status != 0)
+    why = "exited with status " + std::to_string(r.exit_status);
+  if (!why.empty()) {
+    const std::string out = tail_of(log, 300);
+    return Error{argv[0], "", "candidate command " + why + (out.empty() ? "" : "; output: " + out),
+                 ""};
+  }
+  if (!fs::exists(output, ec))
+    return Error{argv[0], "", "candidate command exited 0 but wrote no image at " + output, ""};
+  auto img = read_image(output);
+  fs::remove(output, ec);
+  if (!img) {
+    Error e = img.error();
+    e.message = "bad candidate image: " + e.message;
+    return e;
+  }
+  return img;
+}
+
+// ---- the run/verify driver -------------------------------------------------------------------
+
+namespace {
+
+std::atomic<bool> g_interrupt{false};
+
+void on_sigint(int) {
+  g_interrupt.store(true);
+  const char msg[] =
+      "\nhdrconform: interrupted; finishing the running cases (Ctrl-C again to abort)\n";
+  (void)!write(2, msg, sizeof msg - 1);
+  signal(SIGINT, SIG_DFL);  // a second Ctrl-C ends the process at once
+}
+
+class Progress {
+ public:
+  explicit Progress(bool tty) : tty_(tty) {}
+  void operator()(const CaseResult& r, size_t index, size_t total) {
+    if (r.verdict == CaseVerdict::kFail || r.verdict == CaseVerdict::kError ||
+        r.verdict == CaseVerdict::kMissing)
+      ++bad_;
+    if (!tty_ || r.verdict == CaseVerdict::kFail || r.verdict == CaseVerdict::kError ||
+        r.verdict == CaseVerdict::kMissing) {
+      if (tty_) std::printf("\r\033[K");
+      std::printf("[%zu/%zu] %-5s %s  %s\n", index + 1, total, verdict_name(r.verdict),
+                  r.spec.id.c_str(), r.reason.c_str());
+      if (r.verdict == CaseVerdict::kFail)
+        std::printf("        tolerance from %s\n", r.tolerance.source.c_str());
+      for (const auto& w : r.warnings) std::printf("        warning: %s\n", w.c_str());
+    }
+    if (tty_) {
+      const int width = 30;
+      const int filled = static_cast<int>(width * (index + 1) / std::max<size_t>(total, 1));
+      std::printf("\r\033[K[%s%s] %zu/%zu cases, %d failing", std::string(filled, '#').c_str(),
+                  std::string(width - filled, '.').c_str(), index + 1, total, bad_);
+      if (index + 1 == total) std::printf("\n");
+    }
+    std::fflush(stdout);
+  }
+
+ private:
+  bool tty_;
+  int bad_ = 0;
+};
+
+void print_summary(const RunReport& report) {
+  std::printf(
+      "hdrconform: %zu cases: %d passed, %d failed, %d errors, %d skipped, %d known limits, %d "
+      "degenerate, %d missing, %d not run in %.1f s on %s (%s), -j %d%s%s\n",
+      report.cases.size(), report.count(CaseVerdict::kPass), report.count(CaseVerdict::kFail),
+      report.count(CaseVerdict::kError), report.count(CaseVerdict::kSkipped),
+      report.count(CaseVerdict::kKnownLimit), report.count(CaseVerdict::kDegenerate),
+      report.count(CaseVerdict::kMissing), report.count(CaseVerdict::kNotRun), report.wall_seconds,
+      report.candidate_device.device.c_str(), report.candidate_device.driver.c_str(), report.jobs,
+      report.shard.empty() ? "" : ", shard ", report.shard.c_str());
+  if (report.warned() > 0) std::printf("  %d passed with warnings\n", report.warned());
+  std::vector<const CaseResult*> by_time, by_budget;
+  int tighten = 0;
+  for (const auto& c : report.cases) {
+    if (c.seconds() > 0) by_time.push_back(&c);
+    if (c.has_stats && c.verdict != CaseVerdict::kFail) by_budget.push_back(&c);
+    tighten += c.could_be_tightened;
+  }
+  std::sort(by_time.begin(), by_time.end(),
+            [](auto* a, auto* b) { return a->seconds() > b->seconds(); });
+  std::sort(by_budget.begin(), by_budget.end(),
+            [](auto* a, auto* b) { return a->budget_used > b->budget_used; });
+  if (!by_time.empty()) {
+    std::printf("  slowest:");
+    for (size_t i = 0; i < std::min<size_t>(3, by_time.size()); ++i)
+      std::printf("%s %s %.2f s", i ? "," : "", by_time[i]->spec.id.c_str(), by_time[i]->seconds());
+    std::printf("\n");
+  }
+  for (const auto& c : report.cases)
+    if (c.verdict == CaseVerdict::kFail)
+      std::printf("  FAIL %s: %s\n", c.spec.id.c_str(), c.reason.c_str());
+  if (!by_budget.empty()) {
+    std::printf("  closest to their tolerance:");
+    for (size_t i = 0; i < std::min<size_t>(3, by_budget.size()); ++i)
+      std::printf("%s %s %.0f %%", i ? "," : "", by_budget[i]->spec.id.c_str(),
+                  100.0 * by_budget[i]->budget_used);
+    std::printf("\n");
+  }
+  if (tighten > 0)
+    std::printf("  %d case(s) use under 10 %% of their tolerance (could be tightened)\n", tighten);
+}
+
+}  // namespace
+
+int run_suite(std::vector<Case> cases, const std::vector<KnownLimit>& limits,
+              const EngineFactory& candidate, const SuiteOptions& options) {
+  std::vector<Error> errors;
+  RunOptions ro;
+  ro.overlays = load_tolerance_overlays(options.cases_dir, &errors);
+  if (!errors.empty()) {
+    for (const auto& e : errors) std::fprintf(stderr, "error: %s\n", e.to_string().c_str());
+    std::fprintf(stderr, "%zu error(s) in tolerance overlays; nothing was run\n", errors.size());
+    return kExitBadInput;
+  }
+  if (!options.shard.empty()) {
+    auto shard = parse_shard(options.shard);
+    if (!shard) {
+      std::fprintf(stderr, "error: %s\n", shard.error().to_string().c_str());
+      return kExitBadInput;
+    }
+    cases = select_shard(cases, *shard);
+  }
+  ro.jobs = options.jobs;
+  ro.known_limits = limits;
+  ro.image_dir = options.out_dir;
+  ro.interrupt = &g_interrupt;
+  Progress progress(isatty(STDOUT_FILENO));
+  ro.on_case = [&](const CaseResult& r, size_t i, size_t n) { progress(r, i, n); };
+  if (options.candidate_dir) {
+    const CandidateDirEngine* dir = options.candidate_dir;
+    ro.missing_candidate = [dir](const Case& c) { return dir->missing(c.id); };
+  }
+  struct sigaction sa {};
+  sa.sa_handler = on_sigint;
+  sigemptyset(&sa.sa_mask);
+  struct sigaction old {};
+  sigaction(SIGINT, &sa, &old);
+
+  RunReport report = run_cases(
+      cases, [] { return std::make_unique<ref::ReferenceEngine>(); }, candidate, ro);
+  sigaction(SIGINT, &old, nullptr);
+  report.command = options.command;
+  report.shard = options.shard;
+  if (!report.candidate_unavailable.empty())
+    std::printf("candidate unavailable: %s\n", report.candidate_unavailable.c_str());
+  if (Status st = write_run_outputs(report, options.out_dir); !st) {
+    std::fprintf(stderr, "error: %s\n", st.error().to_string().c_str());
+    return kExitFail;
+  }
+  print_summary(report);
+  std::error_code ec;
+  std::printf(
+      "report: %s\n",
+      fs::absolute(options.out_dir + "/report/index.html", ec).lexically_normal().string().c_str());
+  if (report.interrupted) std::printf("interrupted: unfinished cases are NOT_RUN\n");
+  return report.exit_code();
+}
+
+}  // namespace hdrc

@@ -1,0 +1,91 @@
+// Running the suite from the command line (`run` and `verify`), and the candidates `verify` uses:
+// images in a directory, or a command run per case. Both are engines (core/engine.h), so they get
+// the same executor, metrics, tolerances, exit codes and report as `run`.
+#pragma once
+
+#include <atomic>
+#include <string>
+#include <vector>
+
+#include "core/engine.h"
+#include "runner/case_loader.h"
+#include "runner/run.h"
+
+namespace hdrc {
+
+// verify --candidate-dir DIR: the candidate output of case ID is DIR/ID.exr (ids contain '/',
+// so these are nested folders), RGBA or RGB float EXR the size of the case's input.
+class CandidateDirEngine final : public Engine {
+ public:
+  explicit CandidateDirEngine(std::string dir) : dir_(std::move(dir)) {}
+  std::string name() const override { return "candidate-dir"; }
+  Status init() override;
+  DeviceInfo device() const override;
+  Result<Image> run(const ResolvedCase& c) override;
+  std::string image_path(const std::string& case_id) const;  // DIR/ID.exr
+  // "" when the image exists, else why it is missing.
+  std::string missing(const std::string& case_id) const;
+
+ private:
+  std::string dir_;
+};
+
+// Splits a command template into argv like a shell would split words, without a shell:
+// whitespace separates words; '…' quotes literally; "…" quotes with \" and \\ escapes; a
+// backslash outside quotes escapes the next character. Nothing else is special ($, `, ;, |, *).
+Result<std::vector<std::string>> split_command_template(const std::string& text);
+
+// Replaces {input}, {params}, {output} and {id} in every word (after splitting, so no value is
+// ever split or interpreted).
+std::vector<std::string> expand_placeholders(const std::vector<std::string>& argv,
+                                             const std::string& input, const std::string& params,
+                                             const std::string& output, const std::string& id);
+
+struct CommandResult {
+  int exit_status = -1;  // the exit status, or -1 when killed by a signal or timed out
+  int signal = 0;        // the signal that ended it (0: none)
+  bool timed_out = false;
+  std::string error;  // fork/exec failure
+};
+// Runs argv (fork/exec, PATH search, no shell) in its own process group with stdout and stderr
+// appended to `log_path`; kills the group after `timeout_s`.
+CommandResult run_command(const std::vector<std::string>& argv, const std::string& log_path,
+                          double timeout_s);
+
+// verify --candidate-cmd TEMPLATE: for each case, exports it into OUT/cases/ID/ (params.json,
+// input.exr and the stage's other images, runner/export.h), runs the command with {input},
+// {params}, {output} = OUT/cases/ID/candidate_output.exr and {id}, and reads what it wrote. A
+// command that fails, times out or writes no image is an error for that case only.
+class CandidateCommandEngine final : public Engine {
+ public:
+  CandidateCommandEngine(std::vector<std::string> argv, std::string out_dir, double timeout_s)
+      : argv_(std::move(argv)), out_dir_(std::move(out_dir)), timeout_s_(timeout_s) {}
+  std::string name() const override { return "candidate-cmd"; }
+  Status init() override;
+  DeviceInfo device() const override;
+  Result<Image> run(const ResolvedCase& c) override;
+
+ private:
+  std::vector<std::string> argv_;
+  std::string out_dir_;
+  double timeout_s_;
+};
+
+struct SuiteOptions {
+  std::string command = "run";  // "run" or "verify"
+  std::string cases_dir;
+  std::string out_dir = "out";
+  int jobs = 0;       // 0: every core
+  std::string shard;  // "K/N" or ""
+  // verify --candidate-dir: report absent images as MISSING.
+  const CandidateDirEngine* candidate_dir = nullptr;
+};
+
+// The part of `run`/`verify` after the cases are loaded: loads the tolerance overlays, applies
+// --shard, runs with -j workers (Ctrl-C stops starting cases; the rest are NOT_RUN), prints a
+// progress line per case (a progress bar on a terminal) and the summary, writes results.json,
+// junit.xml, the case images and the report into out_dir. Returns the exit code.
+int run_suite(std::vector<Case> cases, const std::vector<KnownLimit>& limits,
+              const EngineFactory& candidate, const SuiteOptions& options);
+
+}  // namespace hdrc
