@@ -1,5 +1,5 @@
-// The pipeline stages a case can name. Each stage is one compute shader on the GPU side and one
-// function on the reference side.
+// The pipeline stages a case can name. Each stage is an ordered list of compute passes on the GPU
+// side (docs/gpu-interface.md) and one function on the reference side.
 #pragma once
 
 #include <string>
@@ -18,17 +18,37 @@ enum class StageId {
   kVisualizeHdr,  // VisualizeHDR over an HDR scene colour image
 };
 
+// How many invocations a pass is dispatched over (1-D, in workgroups of kLocalSizeX).
+enum class Dispatch {
+  kPixels,     // width × height: one invocation per pixel of the case's input image
+  kLutTexels,  // N³ (N = r.LUT.Size): one invocation per LUT texel, r fastest, then g, then b
+  kOneGroup,   // a single workgroup (kLocalSizeX invocations), e.g. a reduction into scratch
+};
+
+// One compute pass of a stage.
+struct StagePass {
+  std::string_view shader;  // compute shader, relative to the shader directory
+  Dispatch domain = Dispatch::kPixels;
+  // true: the pass's out_px (binding 2) is the scratch buffer instead of the stage's output, so
+  // scratch_px[0, width·height) holds its image for the passes after it.
+  bool output_to_scratch = false;
+};
+
 struct StageInfo {
   StageId id;
-  std::string_view name;         // the name cases use
-  std::string_view shader;       // compute shader, relative to the shader directory; "" = none
-                                 // yet (its cases are listed in cases/known_limits.json)
-  std::string_view description;  // one line, with the spec sections it implements
-  std::vector<int> devices;      // output devices the stage is defined for
-  bool takes_input = true;       // false: the output does not depend on an input image
+  std::string_view name;          // the name cases use
+  std::vector<StagePass> passes;  // GPU passes, run in order in one submission
+  std::string_view description;   // one line, with the spec sections it implements
+  std::vector<int> devices;       // output devices the stage is defined for
+  bool takes_input = true;        // false: the output does not depend on an input image
 };
 
 const std::vector<StageInfo>& stage_table();
+
+// The pass shaders of `stage` that do not exist under `shader_dir` (empty: the stage has a complete
+// GPU implementation there).
+std::vector<std::string> missing_shaders(const StageInfo& stage, const std::string& shader_dir);
+
 const StageInfo* find_stage(std::string_view name);
 std::string stage_names();  // "shaper, linear_device"
 

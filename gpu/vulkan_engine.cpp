@@ -4,7 +4,13 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
+#include <cstdio>
 #include <cstring>
+#include <limits>
+#include <map>
+#include <mutex>
+#include <utility>
 #include <vector>
 
 #include "core/shader_interface.h"
@@ -20,12 +26,34 @@ std::string default_shader_dir() {
   return HDRC_SOURCE_SHADER_DIR;
 }
 
+float decode_half(uint16_t h) {
+  const bool negative = (h & 0x8000u) != 0;
+  const int exponent = (h >> 10) & 0x1f;
+  const int mantissa = h & 0x3ff;
+  float v;
+  if (exponent == 0) {
+    v = std::ldexp(static_cast<float>(mantissa), -24);  // zero and subnormals: m · 2^-24
+  } else if (exponent == 31) {
+    v = mantissa ? std::numeric_limits<float>::quiet_NaN() : std::numeric_limits<float>::infinity();
+  } else {
+    v = std::ldexp(static_cast<float>(mantissa | 0x400), exponent - 25);  // 1.m · 2^(e − 15)
+  }
+  return negative ? -v : v;
+}
+
+std::array<double, 4> decode_a2b10g10r10(uint32_t texel) {
+  return {(texel & 0x3ffu) / 1023.0, ((texel >> 10) & 0x3ffu) / 1023.0,
+          ((texel >> 20) & 0x3ffu) / 1023.0, ((texel >> 30) & 0x3u) / 3.0};
+}
+
 namespace {
 
 const char* vk_result_name(VkResult r) {
   switch (r) {
     case VK_SUCCESS:
       return "VK_SUCCESS";
+    case VK_NOT_READY:
+      return "VK_NOT_READY";
     case VK_TIMEOUT:
       return "VK_TIMEOUT";
     case VK_ERROR_OUT_OF_HOST_MEMORY:
@@ -46,6 +74,14 @@ const char* vk_result_name(VkResult r) {
       return "VK_ERROR_FEATURE_NOT_PRESENT";
     case VK_ERROR_INCOMPATIBLE_DRIVER:
       return "VK_ERROR_INCOMPATIBLE_DRIVER";
+    case VK_ERROR_TOO_MANY_OBJECTS:
+      return "VK_ERROR_TOO_MANY_OBJECTS";
+    case VK_ERROR_FORMAT_NOT_SUPPORTED:
+      return "VK_ERROR_FORMAT_NOT_SUPPORTED";
+    case VK_ERROR_FRAGMENTED_POOL:
+      return "VK_ERROR_FRAGMENTED_POOL";
+    case VK_ERROR_OUT_OF_POOL_MEMORY:
+      return "VK_ERROR_OUT_OF_POOL_MEMORY";
     default:
       return "VkResult error";
   }
@@ -58,6 +94,7 @@ Error vk_error(const char* call, VkResult r) {
                ""};
 }
 
+// Every failed Vulkan call is reported with the call's text (STYLE.md: errors name what failed).
 #define HDRC_VK(call)                                         \
   do {                                                        \
     const VkResult hdrc_r = (call);                           \
@@ -96,7 +133,51 @@ const char* type_name(VkPhysicalDeviceType t) {
   }
 }
 
-Result<VkInstance> create_instance(bool validation) {
+// Validation messages collected by the debug-utils messenger (the layer may call from any thread).
+struct Messages {
+  std::mutex mutex;
+  std::vector<std::string> list;
+  void clear() {
+    std::lock_guard<std::mutex> lock(mutex);
+    list.clear();
+  }
+  std::vector<std::string> take() {
+    std::lock_guard<std::mutex> lock(mutex);
+    return std::exchange(list, {});
+  }
+};
+
+VKAPI_ATTR VkBool32 VKAPI_CALL on_debug_message(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+                                                VkDebugUtilsMessageTypeFlagsEXT /*types*/,
+                                                const VkDebugUtilsMessengerCallbackDataEXT* data,
+                                                void* user) {
+  auto* messages = static_cast<Messages*>(user);
+  std::string text =
+      severity >= VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT ? "error" : "warning";
+  if (data && data->pMessageIdName) text += std::string(" [") + data->pMessageIdName + "]";
+  text += ": ";
+  text += data && data->pMessage ? data->pMessage : "(no message)";
+  std::lock_guard<std::mutex> lock(messages->mutex);
+  messages->list.push_back(std::move(text));
+  return VK_FALSE;  // never abort the call: the case is failed by the engine instead
+}
+
+VkDebugUtilsMessengerCreateInfoEXT messenger_info(Messages* messages) {
+  VkDebugUtilsMessengerCreateInfoEXT mi{};
+  mi.sType = VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT;
+  mi.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT |
+                       VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
+  mi.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT |
+                   VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
+                   VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
+  mi.pfnUserCallback = on_debug_message;
+  mi.pUserData = messages;
+  return mi;
+}
+
+// `messages` non-null: the validation layer, synchronisation validation and the debug-utils
+// extension are enabled, and instance creation itself is reported to `messages`.
+Result<VkInstance> create_instance(Messages* messages) {
   VkApplicationInfo app{};
   app.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO;
   app.pApplicationName = "hdrconform";
@@ -105,9 +186,22 @@ Result<VkInstance> create_instance(bool validation) {
   ci.sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO;
   ci.pApplicationInfo = &app;
   const char* layers[] = {"VK_LAYER_KHRONOS_validation"};
-  if (validation) {
+  const char* extensions[] = {VK_EXT_DEBUG_UTILS_EXTENSION_NAME};
+  VkDebugUtilsMessengerCreateInfoEXT mi{};
+  const VkValidationFeatureEnableEXT enables[] = {
+      VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT};
+  VkValidationFeaturesEXT features{};
+  if (messages) {
     ci.enabledLayerCount = 1;
     ci.ppEnabledLayerNames = layers;
+    ci.enabledExtensionCount = 1;
+    ci.ppEnabledExtensionNames = extensions;
+    mi = messenger_info(messages);
+    features.sType = VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT;
+    features.enabledValidationFeatureCount = 1;
+    features.pEnabledValidationFeatures = enables;
+    mi.pNext = &features;
+    ci.pNext = &mi;
   }
   VkInstance instance = VK_NULL_HANDLE;
   HDRC_VK(vkCreateInstance(&ci, nullptr, &instance));
@@ -134,54 +228,21 @@ Result<std::vector<DeviceDescription>> describe_devices(VkInstance instance) {
   return out;
 }
 
-}  // namespace
+// ---- RAII holders. Each keeps the VkDevice it was created on; a Gpu (below) outlives them. ----
 
-Result<std::string> list_devices() {
-  auto instance = create_instance(false);
-  if (!instance) return instance.error();
-  auto devices = describe_devices(*instance);
-  vkDestroyInstance(*instance, nullptr);
-  if (!devices) return devices.error();
-  std::string out;
-  for (size_t i = 0; i < devices->size(); ++i) {
-    const auto& d = (*devices)[i];
-    out += std::to_string(i) + ": " + d.name + " (" + d.type + ", " + d.driver + ", Vulkan " +
-           version_string(d.api_version) + ")\n";
-  }
-  if (out.empty()) out = "no Vulkan physical devices\n";
-  return out;
-}
-
-// Owns every Vulkan object of the engine; destroyed in reverse order of creation.
-struct VulkanEngine::State {
-  VkInstance instance = VK_NULL_HANDLE;
-  VkPhysicalDevice physical = VK_NULL_HANDLE;
+template <typename T, void (*Destroy)(VkDevice, T, const VkAllocationCallbacks*)>
+struct Owned {
   VkDevice device = VK_NULL_HANDLE;
-  VkQueue queue = VK_NULL_HANDLE;
-  uint32_t queue_family = 0;
-  VkCommandPool command_pool = VK_NULL_HANDLE;
-  VkDescriptorSetLayout set_layout = VK_NULL_HANDLE;
-  VkPipelineLayout pipeline_layout = VK_NULL_HANDLE;
-  std::map<std::string, VkPipeline> pipelines;  // by stage shader path
-  VkPhysicalDeviceMemoryProperties memory{};
-  DeviceInfo info;
-
-  ~State() {
-    if (device) {
-      vkDeviceWaitIdle(device);
-      for (auto& [name, p] : pipelines) vkDestroyPipeline(device, p, nullptr);
-      if (pipeline_layout) vkDestroyPipelineLayout(device, pipeline_layout, nullptr);
-      if (set_layout) vkDestroyDescriptorSetLayout(device, set_layout, nullptr);
-      if (command_pool) vkDestroyCommandPool(device, command_pool, nullptr);
-      vkDestroyDevice(device, nullptr);
-    }
-    if (instance) vkDestroyInstance(instance, nullptr);
+  T handle = VK_NULL_HANDLE;
+  Owned() = default;
+  Owned(const Owned&) = delete;
+  Owned& operator=(const Owned&) = delete;
+  ~Owned() {
+    if (handle) Destroy(device, handle, nullptr);
   }
 };
 
-namespace {
-
-// A host-visible, coherent storage buffer (RAII).
+// A host-visible, coherent buffer, mapped for its lifetime.
 struct Buffer {
   VkDevice device = VK_NULL_HANDLE;
   VkBuffer buffer = VK_NULL_HANDLE;
@@ -198,27 +259,44 @@ struct Buffer {
   }
 };
 
+// An optimally tiled image with one view, in device-local memory where the device has it.
+struct Texture {
+  VkDevice device = VK_NULL_HANDLE;
+  VkImage image = VK_NULL_HANDLE;
+  VkDeviceMemory memory = VK_NULL_HANDLE;
+  VkImageView view = VK_NULL_HANDLE;
+  Texture() = default;
+  Texture(const Texture&) = delete;
+  Texture& operator=(const Texture&) = delete;
+  ~Texture() {
+    if (view) vkDestroyImageView(device, view, nullptr);
+    if (image) vkDestroyImage(device, image, nullptr);
+    if (memory) vkFreeMemory(device, memory, nullptr);
+  }
+};
+
+uint32_t find_memory_type(const VkPhysicalDeviceMemoryProperties& mem, uint32_t allowed,
+                          VkMemoryPropertyFlags want) {
+  for (uint32_t i = 0; i < mem.memoryTypeCount; ++i)
+    if ((allowed & (1u << i)) && (mem.memoryTypes[i].propertyFlags & want) == want) return i;
+  return UINT32_MAX;
+}
+
 Status make_buffer(VkDevice device, const VkPhysicalDeviceMemoryProperties& mem, VkDeviceSize size,
-                   Buffer* b) {
+                   VkBufferUsageFlags usage, Buffer* b) {
   b->device = device;
   b->size = size;
   VkBufferCreateInfo ci{};
   ci.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO;
   ci.size = size;
-  ci.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+  ci.usage = usage;
   ci.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
   HDRC_VK(vkCreateBuffer(device, &ci, nullptr, &b->buffer));
   VkMemoryRequirements req;
   vkGetBufferMemoryRequirements(device, b->buffer, &req);
-  const VkMemoryPropertyFlags want =
-      VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
-  uint32_t type = UINT32_MAX;
-  for (uint32_t i = 0; i < mem.memoryTypeCount; ++i) {
-    if ((req.memoryTypeBits & (1u << i)) && (mem.memoryTypes[i].propertyFlags & want) == want) {
-      type = i;
-      break;
-    }
-  }
+  const uint32_t type =
+      find_memory_type(mem, req.memoryTypeBits,
+                       VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
   if (type == UINT32_MAX) return Error{"", "", "no host-visible coherent memory type", ""};
   VkMemoryAllocateInfo ai{};
   ai.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
@@ -227,10 +305,412 @@ Status make_buffer(VkDevice device, const VkPhysicalDeviceMemoryProperties& mem,
   HDRC_VK(vkAllocateMemory(device, &ai, nullptr, &b->memory));
   HDRC_VK(vkBindBufferMemory(device, b->buffer, b->memory, 0));
   HDRC_VK(vkMapMemory(device, b->memory, 0, VK_WHOLE_SIZE, 0, &b->mapped));
+  std::memset(b->mapped, 0, size);  // deterministic contents for every binding
   return {};
 }
 
+constexpr VkImageUsageFlags kLutUsage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
+                                        VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
+                                        VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+
+Status make_texture(VkDevice device, const VkPhysicalDeviceMemoryProperties& mem, VkImageType type,
+                    VkFormat format, VkExtent3D extent, Texture* t) {
+  t->device = device;
+  VkImageCreateInfo ci{};
+  ci.sType = VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO;
+  ci.imageType = type;
+  ci.format = format;
+  ci.extent = extent;
+  ci.mipLevels = 1;
+  ci.arrayLayers = 1;
+  ci.samples = VK_SAMPLE_COUNT_1_BIT;
+  ci.tiling = VK_IMAGE_TILING_OPTIMAL;
+  ci.usage = kLutUsage;
+  ci.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+  ci.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  HDRC_VK(vkCreateImage(device, &ci, nullptr, &t->image));
+  VkMemoryRequirements req;
+  vkGetImageMemoryRequirements(device, t->image, &req);
+  uint32_t mt = find_memory_type(mem, req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+  if (mt == UINT32_MAX) mt = find_memory_type(mem, req.memoryTypeBits, 0);
+  if (mt == UINT32_MAX) return Error{"", "", "no memory type for a LUT image", ""};
+  VkMemoryAllocateInfo ai{};
+  ai.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
+  ai.allocationSize = req.size;
+  ai.memoryTypeIndex = mt;
+  HDRC_VK(vkAllocateMemory(device, &ai, nullptr, &t->memory));
+  HDRC_VK(vkBindImageMemory(device, t->image, t->memory, 0));
+  VkImageViewCreateInfo vi{};
+  vi.sType = VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO;
+  vi.image = t->image;
+  vi.viewType = type == VK_IMAGE_TYPE_3D ? VK_IMAGE_VIEW_TYPE_3D : VK_IMAGE_VIEW_TYPE_2D;
+  vi.format = format;
+  vi.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  HDRC_VK(vkCreateImageView(device, &vi, nullptr, &t->view));
+  return {};
+}
+
+// Records: UNDEFINED → GENERAL, cleared to 0 (so a texel a shader fails to write reads back as 0,
+// never as stale memory), visible to compute shaders.
+void record_clear_to_general(VkCommandBuffer cmd, VkImage image) {
+  VkImageMemoryBarrier to_general{};
+  to_general.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER;
+  to_general.srcAccessMask = 0;
+  to_general.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+  to_general.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  to_general.newLayout = VK_IMAGE_LAYOUT_GENERAL;
+  to_general.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  to_general.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  to_general.image = image;
+  to_general.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0,
+                       nullptr, 0, nullptr, 1, &to_general);
+  const VkClearColorValue zero{};
+  const VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  vkCmdClearColorImage(cmd, image, VK_IMAGE_LAYOUT_GENERAL, &zero, 1, &range);
+  VkImageMemoryBarrier to_shader = to_general;
+  to_shader.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+  to_shader.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
+  to_shader.oldLayout = VK_IMAGE_LAYOUT_GENERAL;
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0,
+                       0, nullptr, 0, nullptr, 1, &to_shader);
+}
+
+// The LUT storage formats (P.lut_format), as UE creates them: PF_A2B10G10R10 is UE's default for
+// the volume LUT (PostProcessCombineLUTs.cpp: the LUT's render-target format), RGBA16F and RGBA32F
+// are the higher-precision choices.
+struct LutFormat {
+  VkFormat format;
+  const char* name;
+  uint32_t texel_bytes;
+};
+constexpr LutFormat kLutFormats[] = {
+    {VK_FORMAT_A2B10G10R10_UNORM_PACK32, "VK_FORMAT_A2B10G10R10_UNORM_PACK32", 4},
+    {VK_FORMAT_R16G16B16A16_SFLOAT, "VK_FORMAT_R16G16B16A16_SFLOAT", 8},
+    {VK_FORMAT_R32G32B32A32_SFLOAT, "VK_FORMAT_R32G32B32A32_SFLOAT", 16},
+};
+// The dummies bound where a pass has no LUT image: RGBA16F, whose storage, sampling and linear
+// filtering every Vulkan device supports (Vulkan spec, "Mandatory format support").
+constexpr VkFormat kDummyFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
+
 }  // namespace
+
+Result<std::string> list_devices() {
+  auto instance = create_instance(nullptr);
+  if (!instance) return instance.error();
+  auto devices = describe_devices(*instance);
+  vkDestroyInstance(*instance, nullptr);
+  if (!devices) return devices.error();
+  std::string out;
+  for (size_t i = 0; i < devices->size(); ++i) {
+    const auto& d = (*devices)[i];
+    out += std::to_string(i) + ": " + d.name + " (" + d.type + ", " + d.driver + ", Vulkan " +
+           version_string(d.api_version) + ")\n";
+  }
+  if (out.empty()) out = "no Vulkan physical devices\n";
+  return out;
+}
+
+namespace {
+
+// One Vulkan instance, its logical device and everything created on them. Destroyed (members in
+// reverse order, the device and then the instance last) only when no submission is pending. A new
+// instance per device: on lavapipe the instance's physical device owns the compute thread pool, so
+// a device made on a fresh instance runs while abandoned work still occupies the old pool.
+struct Gpu {
+  struct InstanceHandle {
+    VkInstance handle = VK_NULL_HANDLE;
+    VkDebugUtilsMessengerEXT messenger = VK_NULL_HANDLE;
+    PFN_vkDestroyDebugUtilsMessengerEXT destroy_messenger = nullptr;
+    ~InstanceHandle() {
+      if (messenger && destroy_messenger) destroy_messenger(handle, messenger, nullptr);
+      if (handle) vkDestroyInstance(handle, nullptr);
+    }
+  } instance;
+  VkPhysicalDevice physical = VK_NULL_HANDLE;
+  VkPhysicalDeviceMemoryProperties memory{};
+  VkPhysicalDeviceLimits limits{};
+  struct DeviceHandle {
+    VkDevice handle = VK_NULL_HANDLE;
+    ~DeviceHandle() {
+      if (handle) vkDestroyDevice(handle, nullptr);
+    }
+  } device;
+  VkQueue queue = VK_NULL_HANDLE;
+  Owned<VkCommandPool, vkDestroyCommandPool> command_pool;
+  Owned<VkDescriptorSetLayout, vkDestroyDescriptorSetLayout> set_layout;
+  Owned<VkPipelineLayout, vkDestroyPipelineLayout> pipeline_layout;
+  Owned<VkSampler, vkDestroySampler> sampler;
+  Texture dummy_3d, dummy_2d;  // 1 texel each, bound where a pass has no LUT image
+  Buffer dummy_buffer;         // 16 bytes, bound where a pass has no aux image
+  struct Pipelines {
+    VkDevice device = VK_NULL_HANDLE;
+    std::map<std::string, VkPipeline> by_shader;
+    ~Pipelines() {
+      for (auto& [name, p] : by_shader) vkDestroyPipeline(device, p, nullptr);
+    }
+  } pipelines;
+};
+
+// Everything one case creates. Freed after its fence has signalled — or, after a timeout, kept
+// with its abandoned device until the work finishes.
+struct CaseWork {
+  Buffer params, input, output, aux0, aux1, scratch, readback;
+  Texture lut;
+  Owned<VkDescriptorPool, vkDestroyDescriptorPool> descriptor_pool;
+  Owned<VkFence, vkDestroyFence> fence;
+  struct Commands {
+    VkDevice device = VK_NULL_HANDLE;
+    VkCommandPool pool = VK_NULL_HANDLE;
+    VkCommandBuffer cmd = VK_NULL_HANDLE;
+    ~Commands() {
+      if (cmd) vkFreeCommandBuffers(device, pool, 1, &cmd);
+    }
+  } commands;
+};
+
+struct Abandoned {
+  std::unique_ptr<Gpu> gpu;
+  std::unique_ptr<CaseWork> work;  // declared after gpu: destroyed first
+};
+
+enum class Fate { kOk, kTimeout, kLost };
+
+std::string join_messages(const std::vector<std::string>& m) {
+  std::string out;
+  for (const auto& s : m) out += (out.empty() ? "" : "\n") + s;
+  return out;
+}
+
+}  // namespace
+
+// Owns every Vulkan object of the engine.
+struct VulkanEngine::State {
+  std::unique_ptr<Messages> messages;  // non-null with validation
+  size_t physical_index = 0;           // the chosen device in vkEnumeratePhysicalDevices order
+  uint32_t queue_family = 0;
+  DeviceInfo info;
+  double fence_timeout_s = 60;
+  // SPIR-V per pass shader: compiled once for the whole run, kept across device re-creation.
+  std::map<std::string, std::vector<uint32_t>> spirv;
+  std::unique_ptr<Gpu> gpu;
+  std::vector<Abandoned> abandoned;
+  int generation = 0;
+
+  // Frees abandoned devices whose work has finished (or was lost).
+  void reap() {
+    std::erase_if(abandoned, [](Abandoned& a) {
+      return vkGetFenceStatus(a.gpu->device.handle, a.work->fence.handle) != VK_NOT_READY;
+    });
+  }
+
+  ~State() {
+    if (gpu) vkDeviceWaitIdle(gpu->device.handle);
+    gpu.reset();
+    // Give abandoned work one more fence timeout to finish. A device whose work still runs after
+    // that cannot be destroyed (its memory is in use): it is deliberately leaked, with its
+    // instance, until the process exits.
+    const uint64_t wait_ns = static_cast<uint64_t>(std::max(fence_timeout_s, 10.0) * 1e9);
+    for (Abandoned& a : abandoned) {
+      VkFence f = a.work->fence.handle;
+      if (vkWaitForFences(a.gpu->device.handle, 1, &f, VK_TRUE, wait_ns) == VK_TIMEOUT) {
+        (void)a.work.release();
+        (void)a.gpu.release();
+      }
+    }
+    abandoned.clear();
+  }
+
+  Status create_gpu();
+  // The validation messages collected so far, as an error about `what` (empty message: none).
+  Error validation_error(const std::string& what) {
+    if (!messages) return {};
+    const auto m = messages->take();
+    if (m.empty()) return {};
+    return Error{"", "",
+                 "Vulkan validation reported " + std::to_string(m.size()) + " message(s) for " +
+                     what + ":\n" + join_messages(m),
+                 ""};
+  }
+  Result<VkPipeline> pipeline(const std::string& shader_dir, const std::string& shader);
+  Result<Image> run_passes(const ResolvedCase& c, const std::string& shader_dir, Gpu& g,
+                           CaseWork& w, Fate* fate);
+};
+
+Status VulkanEngine::State::create_gpu() {
+  auto g = std::make_unique<Gpu>();
+  auto instance = create_instance(messages.get());
+  if (!instance) {
+    Error e = instance.error();
+    e.message = "no Vulkan instance: " + e.message +
+                (messages ? " (is vulkan-validationlayers installed?)" : "");
+    return e;
+  }
+  g->instance.handle = *instance;
+  if (messages) {
+    auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
+        vkGetInstanceProcAddr(g->instance.handle, "vkCreateDebugUtilsMessengerEXT"));
+    g->instance.destroy_messenger = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
+        vkGetInstanceProcAddr(g->instance.handle, "vkDestroyDebugUtilsMessengerEXT"));
+    if (!create || !g->instance.destroy_messenger)
+      return Error{"", "",
+                   "VK_EXT_debug_utils is enabled but vkCreateDebugUtilsMessengerEXT is missing",
+                   ""};
+    const VkDebugUtilsMessengerCreateInfoEXT mi = messenger_info(messages.get());
+    HDRC_VK(create(g->instance.handle, &mi, nullptr, &g->instance.messenger));
+  }
+  auto devices = describe_devices(g->instance.handle);
+  if (!devices) return devices.error();
+  if (physical_index >= devices->size() || (*devices)[physical_index].name != info.device)
+    return Error{"", "", "the Vulkan device '" + info.device + "' is no longer available", ""};
+  g->physical = (*devices)[physical_index].handle;
+  vkGetPhysicalDeviceMemoryProperties(g->physical, &g->memory);
+  VkPhysicalDeviceProperties props;
+  vkGetPhysicalDeviceProperties(g->physical, &props);
+  g->limits = props.limits;
+  const VkPhysicalDeviceMemoryProperties& memory = g->memory;
+  const float priority = 1.0f;
+  VkDeviceQueueCreateInfo qci{};
+  qci.sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO;
+  qci.queueFamilyIndex = queue_family;
+  qci.queueCount = 1;
+  qci.pQueuePriorities = &priority;
+  // The LUT store images are declared without a format (core/shader_interface.cpp), so that one
+  // shader writes whichever storage format the case selects.
+  VkPhysicalDeviceFeatures features{};
+  features.shaderStorageImageWriteWithoutFormat = VK_TRUE;
+  VkDeviceCreateInfo dci{};
+  dci.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO;
+  dci.queueCreateInfoCount = 1;
+  dci.pQueueCreateInfos = &qci;
+  dci.pEnabledFeatures = &features;
+  HDRC_VK(vkCreateDevice(g->physical, &dci, nullptr, &g->device.handle));
+  const VkDevice d = g->device.handle;
+  vkGetDeviceQueue(d, queue_family, 0, &g->queue);
+  g->command_pool.device = g->set_layout.device = g->pipeline_layout.device = g->sampler.device =
+      g->pipelines.device = d;
+
+  VkCommandPoolCreateInfo pci{};
+  pci.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO;
+  pci.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+  pci.queueFamilyIndex = queue_family;
+  HDRC_VK(vkCreateCommandPool(d, &pci, nullptr, &g->command_pool.handle));
+
+  // One layout for every pass of every stage: bindings 0–9 of core/shader_interface.h.
+  VkDescriptorSetLayoutBinding bindings[kBindingCount] = {};
+  for (uint32_t i = 0; i < kBindingCount; ++i) {
+    bindings[i].binding = i;
+    bindings[i].descriptorCount = 1;
+    bindings[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
+    bindings[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+  }
+  bindings[kBindingLutStore3d].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+  bindings[kBindingLutStore2d].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+  bindings[kBindingLut3d].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+  bindings[kBindingLut2d].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+  VkDescriptorSetLayoutCreateInfo lci{};
+  lci.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO;
+  lci.bindingCount = kBindingCount;
+  lci.pBindings = bindings;
+  HDRC_VK(vkCreateDescriptorSetLayout(d, &lci, nullptr, &g->set_layout.handle));
+  VkPipelineLayoutCreateInfo plci{};
+  plci.sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO;
+  plci.setLayoutCount = 1;
+  plci.pSetLayouts = &g->set_layout.handle;
+  HDRC_VK(vkCreatePipelineLayout(d, &plci, nullptr, &g->pipeline_layout.handle));
+
+  // The Tonemap pass samples the LUT as UE does (PostProcessTonemap.usf: ColorLookupTable, with
+  // the bilinear clamped sampler of PostProcessTonemap.cpp): linear filtering, clamp to edge,
+  // normalised coordinates, one mip level.
+  VkSamplerCreateInfo sci{};
+  sci.sType = VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO;
+  sci.magFilter = VK_FILTER_LINEAR;
+  sci.minFilter = VK_FILTER_LINEAR;
+  sci.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
+  sci.addressModeU = sci.addressModeV = sci.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+  sci.maxLod = 0.0f;
+  sci.unnormalizedCoordinates = VK_FALSE;
+  HDRC_VK(vkCreateSampler(d, &sci, nullptr, &g->sampler.handle));
+
+  if (auto st = make_texture(d, memory, VK_IMAGE_TYPE_3D, kDummyFormat, {1, 1, 1}, &g->dummy_3d);
+      !st)
+    return st;
+  if (auto st = make_texture(d, memory, VK_IMAGE_TYPE_2D, kDummyFormat, {1, 1, 1}, &g->dummy_2d);
+      !st)
+    return st;
+  if (auto st = make_buffer(d, memory, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, &g->dummy_buffer);
+      !st)
+    return st;
+
+  // The dummies go to GENERAL, cleared, once per device.
+  VkCommandBufferAllocateInfo cbai{};
+  cbai.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO;
+  cbai.commandPool = g->command_pool.handle;
+  cbai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  cbai.commandBufferCount = 1;
+  CaseWork::Commands cmds;
+  cmds.device = d;
+  cmds.pool = g->command_pool.handle;
+  HDRC_VK(vkAllocateCommandBuffers(d, &cbai, &cmds.cmd));
+  VkCommandBufferBeginInfo bi{};
+  bi.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
+  bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  HDRC_VK(vkBeginCommandBuffer(cmds.cmd, &bi));
+  record_clear_to_general(cmds.cmd, g->dummy_3d.image);
+  record_clear_to_general(cmds.cmd, g->dummy_2d.image);
+  HDRC_VK(vkEndCommandBuffer(cmds.cmd));
+  VkSubmitInfo si{};
+  si.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
+  si.commandBufferCount = 1;
+  si.pCommandBuffers = &cmds.cmd;
+  HDRC_VK(vkQueueSubmit(g->queue, 1, &si, VK_NULL_HANDLE));
+  HDRC_VK(vkQueueWaitIdle(g->queue));
+
+  gpu = std::move(g);
+  ++generation;
+  return {};
+}
+
+Result<VkPipeline> VulkanEngine::State::pipeline(const std::string& shader_dir,
+                                                 const std::string& shader) {
+  if (auto it = gpu->pipelines.by_shader.find(shader); it != gpu->pipelines.by_shader.end())
+    return it->second;
+  auto code = spirv.find(shader);
+  if (code == spirv.end()) {
+    auto compiled = compile_compute(shader_dir, shader);
+    if (!compiled) return compiled.error();
+    code = spirv.emplace(shader, std::move(*compiled)).first;
+  }
+  const VkDevice d = gpu->device.handle;
+  VkShaderModuleCreateInfo mci{};
+  mci.sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO;
+  mci.codeSize = code->second.size() * sizeof(uint32_t);
+  mci.pCode = code->second.data();
+  VkShaderModule module = VK_NULL_HANDLE;
+  HDRC_VK(vkCreateShaderModule(d, &mci, nullptr, &module));
+  VkComputePipelineCreateInfo cpci{};
+  cpci.sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO;
+  // Dispatch base: a domain larger than maxComputeWorkGroupCount[0] is split into several
+  // dispatches with a group offset, invisible to the shader (gl_GlobalInvocationID includes it).
+  cpci.flags = VK_PIPELINE_CREATE_DISPATCH_BASE_BIT;
+  cpci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+  cpci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+  cpci.stage.module = module;
+  cpci.stage.pName = "main";
+  cpci.layout = gpu->pipeline_layout.handle;
+  VkPipeline p = VK_NULL_HANDLE;
+  const VkResult r = vkCreateComputePipelines(d, VK_NULL_HANDLE, 1, &cpci, nullptr, &p);
+  vkDestroyShaderModule(d, module, nullptr);
+  if (r != VK_SUCCESS) return vk_error("vkCreateComputePipelines", r);
+  // A pipeline the validation layer objects to is not used (dispatching it is undefined
+  // behaviour) nor cached: every case that needs it reports the messages.
+  if (Error e = validation_error(shader); !e.message.empty()) {
+    vkDestroyPipeline(d, p, nullptr);
+    return e;
+  }
+  gpu->pipelines.by_shader.emplace(shader, p);
+  return p;
+}
 
 VulkanEngine::VulkanEngine(VulkanOptions options) : options_(std::move(options)) {
   if (options_.shader_dir.empty()) options_.shader_dir = default_shader_dir();
@@ -238,20 +718,31 @@ VulkanEngine::VulkanEngine(VulkanOptions options) : options_(std::move(options))
 VulkanEngine::~VulkanEngine() = default;
 
 int VulkanEngine::compiled_pipeline_count() const {
-  return state_ ? static_cast<int>(state_->pipelines.size()) : 0;
+  return state_ && state_->gpu ? static_cast<int>(state_->gpu->pipelines.by_shader.size()) : 0;
+}
+int VulkanEngine::abandoned_device_count() const {
+  return state_ ? static_cast<int>(state_->abandoned.size()) : 0;
+}
+int VulkanEngine::device_generation() const {
+  return state_ ? state_->generation : 0;
 }
 
 Status VulkanEngine::init() {
   auto s = std::make_unique<State>();
-  auto instance = create_instance(options_.validation);
+  s->fence_timeout_s = options_.fence_timeout_s;
+  if (options_.validation) s->messages = std::make_unique<Messages>();
+  // Device selection on a temporary instance; create_gpu() then makes the engine's own.
+  auto instance = create_instance(nullptr);
   if (!instance) {
     Error e = instance.error();
-    e.message = "no Vulkan instance: " + e.message +
-                (options_.validation ? " (is vulkan-validationlayers installed?)" : "");
+    e.message = "no Vulkan instance: " + e.message;
     return e;
   }
-  s->instance = *instance;
-  auto devices = describe_devices(s->instance);
+  struct TemporaryInstance {
+    VkInstance handle;
+    ~TemporaryInstance() { vkDestroyInstance(handle, nullptr); }
+  } temporary{*instance};
+  auto devices = describe_devices(temporary.handle);
   if (!devices) return devices.error();
   if (devices->empty()) return Error{"", "", "no Vulkan physical devices found", ""};
 
@@ -281,14 +772,22 @@ Status VulkanEngine::init() {
       }
     if (!chosen) return Error{"", "", "--device '" + want + "': no Vulkan device matches", known};
   }
-  s->physical = chosen->handle;
+  const VkPhysicalDevice physical = chosen->handle;
+  s->physical_index = static_cast<size_t>(chosen - devices->data());
   s->info = {"vulkan", chosen->name, chosen->driver, version_string(chosen->api_version)};
-  vkGetPhysicalDeviceMemoryProperties(s->physical, &s->memory);
+  VkPhysicalDeviceFeatures features;
+  vkGetPhysicalDeviceFeatures(physical, &features);
+  if (!features.shaderStorageImageWriteWithoutFormat)
+    return Error{"", "",
+                 "device '" + chosen->name +
+                     "' lacks the shaderStorageImageWriteWithoutFormat feature (the LUT store "
+                     "images are declared without a format)",
+                 ""};
 
   uint32_t nq = 0;
-  vkGetPhysicalDeviceQueueFamilyProperties(s->physical, &nq, nullptr);
+  vkGetPhysicalDeviceQueueFamilyProperties(physical, &nq, nullptr);
   std::vector<VkQueueFamilyProperties> families(nq);
-  vkGetPhysicalDeviceQueueFamilyProperties(s->physical, &nq, families.data());
+  vkGetPhysicalDeviceQueueFamilyProperties(physical, &nq, families.data());
   bool found = false;
   for (uint32_t i = 0; i < nq && !found; ++i)
     if (families[i].queueFlags & VK_QUEUE_COMPUTE_BIT) {
@@ -296,44 +795,15 @@ Status VulkanEngine::init() {
       found = true;
     }
   if (!found) return Error{"", "", "device '" + chosen->name + "' has no compute queue", ""};
-
-  const float priority = 1.0f;
-  VkDeviceQueueCreateInfo qci{};
-  qci.sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO;
-  qci.queueFamilyIndex = s->queue_family;
-  qci.queueCount = 1;
-  qci.pQueuePriorities = &priority;
-  VkDeviceCreateInfo dci{};
-  dci.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO;
-  dci.queueCreateInfoCount = 1;
-  dci.pQueueCreateInfos = &qci;
-  HDRC_VK(vkCreateDevice(s->physical, &dci, nullptr, &s->device));
-  vkGetDeviceQueue(s->device, s->queue_family, 0, &s->queue);
-
-  VkCommandPoolCreateInfo pci{};
-  pci.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO;
-  pci.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
-  pci.queueFamilyIndex = s->queue_family;
-  HDRC_VK(vkCreateCommandPool(s->device, &pci, nullptr, &s->command_pool));
-
-  VkDescriptorSetLayoutBinding bindings[3] = {};
-  const uint32_t numbers[3] = {kBindingParams, kBindingInput, kBindingOutput};
-  for (int i = 0; i < 3; ++i) {
-    bindings[i].binding = numbers[i];
-    bindings[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    bindings[i].descriptorCount = 1;
-    bindings[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
+  if (Status st = s->create_gpu(); !st) return st;
+  if (s->messages) {
+    const auto m = s->messages->take();
+    if (!m.empty())
+      return Error{"", "",
+                   "Vulkan validation reported " + std::to_string(m.size()) +
+                       " message(s) while starting:\n" + join_messages(m),
+                   ""};
   }
-  VkDescriptorSetLayoutCreateInfo lci{};
-  lci.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO;
-  lci.bindingCount = 3;
-  lci.pBindings = bindings;
-  HDRC_VK(vkCreateDescriptorSetLayout(s->device, &lci, nullptr, &s->set_layout));
-  VkPipelineLayoutCreateInfo plci{};
-  plci.sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO;
-  plci.setLayoutCount = 1;
-  plci.pSetLayouts = &s->set_layout;
-  HDRC_VK(vkCreatePipelineLayout(s->device, &plci, nullptr, &s->pipeline_layout));
   state_ = std::move(s);
   return {};
 }
@@ -342,140 +812,423 @@ DeviceInfo VulkanEngine::device() const {
   return state_ ? state_->info : DeviceInfo{"vulkan", "(not initialised)", "", ""};
 }
 
-Result<Image> VulkanEngine::run(const ResolvedCase& c) {
-  if (!state_) return Error{"", "", "Vulkan engine used before a successful init()", ""};
-  State& s = *state_;
-  const std::string shader(c.spec.stage->shader);
-  if (shader.empty())
-    return Error{
-        "", "",
-        "stage " + std::string(c.spec.stage->name) + " has no GPU implementation in this version",
-        ""};
+namespace {
 
-  // Pipelines are compiled once per stage shader and cached for the engine's lifetime.
-  auto it = s.pipelines.find(shader);
-  if (it == s.pipelines.end()) {
-    auto spirv = compile_compute(options_.shader_dir, shader);
-    if (!spirv) return spirv.error();
-    VkShaderModuleCreateInfo mci{};
-    mci.sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO;
-    mci.codeSize = spirv->size() * sizeof(uint32_t);
-    mci.pCode = spirv->data();
-    VkShaderModule module = VK_NULL_HANDLE;
-    HDRC_VK(vkCreateShaderModule(s.device, &mci, nullptr, &module));
-    VkComputePipelineCreateInfo cpci{};
-    cpci.sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO;
-    cpci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
-    cpci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-    cpci.stage.module = module;
-    cpci.stage.pName = "main";
-    cpci.layout = s.pipeline_layout;
-    VkPipeline pipeline = VK_NULL_HANDLE;
-    const VkResult r =
-        vkCreateComputePipelines(s.device, VK_NULL_HANDLE, 1, &cpci, nullptr, &pipeline);
-    vkDestroyShaderModule(s.device, module, nullptr);
-    if (r != VK_SUCCESS) return vk_error("vkCreateComputePipelines", r);
-    it = s.pipelines.emplace(shader, pipeline).first;
+// Checks that the device can hold the LUT in `f` as the stages use it; the error names the format
+// and what is missing.
+Status check_lut_format(VkPhysicalDevice physical, const std::string& device_name,
+                        const LutFormat& f, VkImageType type, VkExtent3D extent) {
+  VkFormatProperties props;
+  vkGetPhysicalDeviceFormatProperties(physical, f.format, &props);
+  const VkFormatFeatureFlags have = props.optimalTilingFeatures;
+  std::string missing;
+  const std::pair<VkFormatFeatureFlags, const char*> needed[] = {
+      {VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT, "storage image (CombineLUTs writes it)"},
+      {VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT, "sampled image (the Tonemap pass reads it)"},
+      {VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT,
+       "linear filtering (the Tonemap pass's trilinear lookup)"},
+      {VK_FORMAT_FEATURE_TRANSFER_SRC_BIT, "transfer source (read back)"},
+      {VK_FORMAT_FEATURE_TRANSFER_DST_BIT, "transfer destination (cleared before the bake)"},
+  };
+  for (const auto& [bit, what] : needed)
+    if (!(have & bit)) missing += (missing.empty() ? "" : ", ") + std::string(what);
+  if (!missing.empty())
+    return Error{"", "",
+                 std::string("LUT format ") + f.name + " is not usable on '" + device_name +
+                     "': it lacks " + missing,
+                 ""};
+  VkImageFormatProperties ip;
+  const VkResult r = vkGetPhysicalDeviceImageFormatProperties(
+      physical, f.format, type, VK_IMAGE_TILING_OPTIMAL, kLutUsage, 0, &ip);
+  const char* shape = type == VK_IMAGE_TYPE_3D ? "3-D" : "2-D";
+  if (r == VK_ERROR_FORMAT_NOT_SUPPORTED)
+    return Error{"", "",
+                 std::string("LUT format ") + f.name + " is not supported for a " + shape +
+                     " storage/sampled image on '" + device_name + "'",
+                 ""};
+  if (r != VK_SUCCESS) return vk_error("vkGetPhysicalDeviceImageFormatProperties", r);
+  if (extent.width > ip.maxExtent.width || extent.height > ip.maxExtent.height ||
+      extent.depth > ip.maxExtent.depth)
+    return Error{"", "",
+                 std::string("a ") + shape + " LUT of " + std::to_string(extent.width) + "x" +
+                     std::to_string(extent.height) + "x" + std::to_string(extent.depth) + " in " +
+                     f.name + " exceeds the device's maximum " +
+                     std::to_string(ip.maxExtent.width) + "x" +
+                     std::to_string(ip.maxExtent.height) + "x" + std::to_string(ip.maxExtent.depth),
+                 ""};
+  return {};
+}
+
+// The LUT read back from its image into ref::lut_image's layout: N² × N, texel (r, g, b) at
+// (r + N·b, g), every stored bit decoded exactly.
+Image decode_lut(const void* bytes, const LutFormat& f, int layout, int n) {
+  Image out(n * n, n);
+  for (int b = 0; b < n; ++b)
+    for (int g = 0; g < n; ++g)
+      for (int r = 0; r < n; ++r) {
+        // Tightly packed copy: volume texel (x, y, z) = (r, g, b); 2-D texel (r + N·b, g).
+        const size_t index = layout == 0 ? (static_cast<size_t>(b) * n + g) * n + r
+                                         : static_cast<size_t>(g) * n * n + r + n * b;
+        const auto* p = static_cast<const uint8_t*>(bytes) + index * f.texel_bytes;
+        double* o = out.px(r + n * b, g);
+        if (f.format == VK_FORMAT_A2B10G10R10_UNORM_PACK32) {
+          uint32_t t;
+          std::memcpy(&t, p, 4);
+          const auto v = decode_a2b10g10r10(t);
+          for (int c = 0; c < 4; ++c) o[c] = v[c];
+        } else if (f.format == VK_FORMAT_R16G16B16A16_SFLOAT) {
+          for (int c = 0; c < 4; ++c) {
+            uint16_t h;
+            std::memcpy(&h, p + 2 * c, 2);
+            o[c] = decode_half(h);
+          }
+        } else {
+          for (int c = 0; c < 4; ++c) {
+            float v;
+            std::memcpy(&v, p + 4 * c, 4);
+            o[c] = v;
+          }
+        }
+      }
+  return out;
+}
+
+uint64_t invocations(Dispatch domain, size_t pixels, int lut_size) {
+  switch (domain) {
+    case Dispatch::kPixels:
+      return pixels;
+    case Dispatch::kLutTexels:
+      return static_cast<uint64_t>(lut_size) * lut_size * lut_size;
+    case Dispatch::kOneGroup:
+      return kLocalSizeX;
+  }
+  return 0;
+}
+
+void upload(const Image& img, Buffer* b) {
+  float* dst = static_cast<float*>(b->mapped);
+  for (size_t i = 0; i < img.data.size(); ++i) dst[i] = static_cast<float>(img.data[i]);
+}
+
+#define HDRC_VK_CASE(call)                                     \
+  do {                                                         \
+    const VkResult hdrc_r = (call);                            \
+    if (hdrc_r != VK_SUCCESS) {                                \
+      if (hdrc_r == VK_ERROR_DEVICE_LOST) *fate = Fate::kLost; \
+      return vk_error(#call, hdrc_r);                          \
+    }                                                          \
+  } while (0)
+
+}  // namespace
+
+// Runs every pass of the case's stage in one submission. `fate` tells the caller whether the
+// device can be reused.
+Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::string& shader_dir,
+                                              Gpu& g, CaseWork& w, Fate* fate) {
+  State& s = *this;
+  const StageInfo& stage = *c.spec.stage;
+  const VkDevice d = g.device.handle;
+  const std::string stage_name(stage.name);
+
+  std::vector<VkPipeline> pipelines;
+  for (const StagePass& pass : stage.passes) {
+    auto p = s.pipeline(shader_dir, std::string(pass.shader));
+    if (!p) return p.error();
+    pipelines.push_back(*p);
   }
 
-  const size_t n = c.input.pixel_count();
-  const std::vector<uint8_t> params = pack_std430(c.params);
-  Buffer pbuf, ibuf, obuf;
-  if (auto st = make_buffer(s.device, s.memory, params.size(), &pbuf); !st) return st.error();
-  if (auto st = make_buffer(s.device, s.memory, n * 16, &ibuf); !st) return st.error();
-  if (auto st = make_buffer(s.device, s.memory, n * 16, &obuf); !st) return st.error();
-  std::memcpy(pbuf.mapped, params.data(), params.size());
-  {
-    float* dst = static_cast<float*>(ibuf.mapped);
-    for (size_t i = 0; i < n * 4; ++i) dst[i] = static_cast<float>(c.input.data[i]);
-    std::memset(obuf.mapped, 0, n * 16);
+  // Parameters: the case's block; only the aux image sizes are filled in here, from what is bound.
+  ParamBlock params = c.params;
+  const Image* aux0 = nullptr;
+  const Image* aux1 = nullptr;
+  if (stage.id == StageId::kTonemap) {
+    if (!c.bloom.data.empty()) aux0 = &c.bloom;
+    if (!c.bloom_dirt.data.empty()) aux1 = &c.bloom_dirt;
+  } else if (stage.id == StageId::kUiComposite) {
+    if (c.ui.pixel_count() != c.input.pixel_count())
+      return Error{"", "",
+                   "ui_composite: the UI layer is " + std::to_string(c.ui.width) + "x" +
+                       std::to_string(c.ui.height) + ", the back buffer " +
+                       std::to_string(c.input.width) + "x" + std::to_string(c.input.height),
+                   ""};
+    aux0 = &c.ui;
+  }
+  params.aux0_width = aux0 ? aux0->width : 0;
+  params.aux0_height = aux0 ? aux0->height : 0;
+  params.aux1_width = aux1 ? aux1->width : 0;
+  params.aux1_height = aux1 ? aux1->height : 0;
+
+  const size_t pixels = c.input.pixel_count();
+  const int n = params.lut_size;
+  const bool bakes_lut =
+      std::any_of(stage.passes.begin(), stage.passes.end(),
+                  [](const StagePass& p) { return p.domain == Dispatch::kLutTexels; });
+  const LutFormat* fmt = nullptr;
+  if (bakes_lut) {
+    if (params.lut_format < 0 || params.lut_format > 2)
+      return Error{"", "", "LUT format " + std::to_string(params.lut_format) + " is not supported",
+                   "0 (A2B10G10R10), 1 (RGBA16F), 2 (RGBA32F)"};
+    if (params.lut_layout != 0 && params.lut_layout != 1)
+      return Error{"", "", "LUT layout " + std::to_string(params.lut_layout) + " is not supported",
+                   "0 (volume), 1 (2-D unwrapped)"};
+    if (n < 2 || n > 256)
+      return Error{"", "", "LUT size " + std::to_string(n) + " is out of range", "2-256"};
+    fmt = &kLutFormats[params.lut_format];
+    const VkImageType type = params.lut_layout == 0 ? VK_IMAGE_TYPE_3D : VK_IMAGE_TYPE_2D;
+    const VkExtent3D extent = params.lut_layout == 0
+                                  ? VkExtent3D{uint32_t(n), uint32_t(n), uint32_t(n)}
+                                  : VkExtent3D{uint32_t(n * n), uint32_t(n), 1};
+    if (Status st = check_lut_format(g.physical, s.info.device, *fmt, type, extent); !st)
+      return st.error();
+    if (Status st = make_texture(d, g.memory, type, fmt->format, extent, &w.lut); !st)
+      return st.error();
   }
 
-  VkDescriptorPoolSize pool_size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 3};
+  // Buffers. Sizes are at least 16 bytes (a zero-sized buffer is invalid).
+  const std::vector<uint8_t> packed = pack_std430(params);
+  const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+  const VkDeviceSize image_bytes = std::max<VkDeviceSize>(pixels * 16, 16);
+  if (Status st = make_buffer(d, g.memory, packed.size(), storage, &w.params); !st)
+    return st.error();
+  if (Status st = make_buffer(d, g.memory, image_bytes, storage, &w.input); !st) return st.error();
+  if (Status st = make_buffer(d, g.memory, image_bytes, storage, &w.output); !st) return st.error();
+  // Scratch: an image of the case's size for a pass with output_to_scratch, then 1024 vec4 of
+  // free space (e.g. VisualizeHDR's histogram) at scratch_px[width·height ...].
+  if (Status st = make_buffer(d, g.memory, (pixels + 1024) * 16, storage, &w.scratch); !st)
+    return st.error();
+  std::memcpy(w.params.mapped, packed.data(), packed.size());
+  upload(c.input, &w.input);
+  for (auto [img, buf] : {std::pair{aux0, &w.aux0}, std::pair{aux1, &w.aux1}}) {
+    if (!img) continue;
+    if (Status st = make_buffer(d, g.memory, std::max<VkDeviceSize>(img->pixel_count() * 16, 16),
+                                storage, buf);
+        !st)
+      return st.error();
+    upload(*img, buf);
+  }
+  if (bakes_lut && stage.id == StageId::kCombineLuts) {
+    const VkDeviceSize bytes = static_cast<VkDeviceSize>(n) * n * n * fmt->texel_bytes;
+    if (Status st = make_buffer(d, g.memory, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, &w.readback);
+        !st)
+      return st.error();
+  }
+
+  // One descriptor set per pass (they differ only in binding 2 for output_to_scratch).
+  const uint32_t sets = static_cast<uint32_t>(stage.passes.size());
+  const VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 6 * sets},
+                                        {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 2 * sets},
+                                        {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 2 * sets}};
   VkDescriptorPoolCreateInfo dpci{};
   dpci.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
-  dpci.maxSets = 1;
-  dpci.poolSizeCount = 1;
-  dpci.pPoolSizes = &pool_size;
-  VkDescriptorPool pool = VK_NULL_HANDLE;
-  HDRC_VK(vkCreateDescriptorPool(s.device, &dpci, nullptr, &pool));
-  struct PoolGuard {
-    VkDevice d;
-    VkDescriptorPool p;
-    ~PoolGuard() { vkDestroyDescriptorPool(d, p, nullptr); }
-  } pool_guard{s.device, pool};
+  dpci.maxSets = sets;
+  dpci.poolSizeCount = 3;
+  dpci.pPoolSizes = sizes;
+  w.descriptor_pool.device = d;
+  HDRC_VK_CASE(vkCreateDescriptorPool(d, &dpci, nullptr, &w.descriptor_pool.handle));
+  std::vector<VkDescriptorSetLayout> layouts(sets, g.set_layout.handle);
+  std::vector<VkDescriptorSet> descriptor_sets(sets);
   VkDescriptorSetAllocateInfo dsai{};
   dsai.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO;
-  dsai.descriptorPool = pool;
-  dsai.descriptorSetCount = 1;
-  dsai.pSetLayouts = &s.set_layout;
-  VkDescriptorSet set = VK_NULL_HANDLE;
-  HDRC_VK(vkAllocateDescriptorSets(s.device, &dsai, &set));
-  VkDescriptorBufferInfo infos[3] = {{pbuf.buffer, 0, VK_WHOLE_SIZE},
-                                     {ibuf.buffer, 0, VK_WHOLE_SIZE},
-                                     {obuf.buffer, 0, VK_WHOLE_SIZE}};
-  const uint32_t numbers[3] = {kBindingParams, kBindingInput, kBindingOutput};
-  VkWriteDescriptorSet writes[3] = {};
-  for (int i = 0; i < 3; ++i) {
-    writes[i].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
-    writes[i].dstSet = set;
-    writes[i].dstBinding = numbers[i];
-    writes[i].descriptorCount = 1;
-    writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    writes[i].pBufferInfo = &infos[i];
-  }
-  vkUpdateDescriptorSets(s.device, 3, writes, 0, nullptr);
+  dsai.descriptorPool = w.descriptor_pool.handle;
+  dsai.descriptorSetCount = sets;
+  dsai.pSetLayouts = layouts.data();
+  HDRC_VK_CASE(vkAllocateDescriptorSets(d, &dsai, descriptor_sets.data()));
 
+  const bool volume = bakes_lut && params.lut_layout == 0;
+  const bool unwrapped = bakes_lut && params.lut_layout == 1;
+  const VkImageView view_3d = volume ? w.lut.view : g.dummy_3d.view;
+  const VkImageView view_2d = unwrapped ? w.lut.view : g.dummy_2d.view;
+  auto buffer_of = [&](const Buffer& b) { return b.buffer ? b.buffer : g.dummy_buffer.buffer; };
+  for (uint32_t i = 0; i < sets; ++i) {
+    const VkBuffer out = stage.passes[i].output_to_scratch ? w.scratch.buffer : w.output.buffer;
+    const VkDescriptorBufferInfo buffers[kBindingCount] = {{w.params.buffer, 0, VK_WHOLE_SIZE},
+                                                           {w.input.buffer, 0, VK_WHOLE_SIZE},
+                                                           {out, 0, VK_WHOLE_SIZE},
+                                                           {},
+                                                           {},
+                                                           {},
+                                                           {},
+                                                           {buffer_of(w.aux0), 0, VK_WHOLE_SIZE},
+                                                           {buffer_of(w.aux1), 0, VK_WHOLE_SIZE},
+                                                           {w.scratch.buffer, 0, VK_WHOLE_SIZE}};
+    const VkDescriptorImageInfo images[kBindingCount] = {
+        {},
+        {},
+        {},
+        {VK_NULL_HANDLE, view_3d, VK_IMAGE_LAYOUT_GENERAL},
+        {VK_NULL_HANDLE, view_2d, VK_IMAGE_LAYOUT_GENERAL},
+        {g.sampler.handle, view_3d, VK_IMAGE_LAYOUT_GENERAL},
+        {g.sampler.handle, view_2d, VK_IMAGE_LAYOUT_GENERAL},
+        {},
+        {},
+        {}};
+    VkWriteDescriptorSet writes[kBindingCount] = {};
+    for (uint32_t b = 0; b < kBindingCount; ++b) {
+      writes[b].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
+      writes[b].dstSet = descriptor_sets[i];
+      writes[b].dstBinding = b;
+      writes[b].descriptorCount = 1;
+      if (b == kBindingLutStore3d || b == kBindingLutStore2d) {
+        writes[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+        writes[b].pImageInfo = &images[b];
+      } else if (b == kBindingLut3d || b == kBindingLut2d) {
+        writes[b].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+        writes[b].pImageInfo = &images[b];
+      } else {
+        writes[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+        writes[b].pBufferInfo = &buffers[b];
+      }
+    }
+    vkUpdateDescriptorSets(d, kBindingCount, writes, 0, nullptr);
+  }
+
+  // Commands.
+  w.commands.device = d;
+  w.commands.pool = g.command_pool.handle;
   VkCommandBufferAllocateInfo cbai{};
   cbai.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO;
-  cbai.commandPool = s.command_pool;
+  cbai.commandPool = g.command_pool.handle;
   cbai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
   cbai.commandBufferCount = 1;
-  VkCommandBuffer cmd = VK_NULL_HANDLE;
-  HDRC_VK(vkAllocateCommandBuffers(s.device, &cbai, &cmd));
-  struct CmdGuard {
-    VkDevice d;
-    VkCommandPool p;
-    VkCommandBuffer c;
-    ~CmdGuard() { vkFreeCommandBuffers(d, p, 1, &c); }
-  } cmd_guard{s.device, s.command_pool, cmd};
+  HDRC_VK_CASE(vkAllocateCommandBuffers(d, &cbai, &w.commands.cmd));
+  const VkCommandBuffer cmd = w.commands.cmd;
   VkCommandBufferBeginInfo bi{};
   bi.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
   bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-  HDRC_VK(vkBeginCommandBuffer(cmd, &bi));
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, it->second);
-  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, s.pipeline_layout, 0, 1, &set, 0,
-                          nullptr);
-  const uint32_t groups = static_cast<uint32_t>((n + kLocalSizeX - 1) / kLocalSizeX);
-  vkCmdDispatch(cmd, groups, 1, 1);
-  VkMemoryBarrier barrier{};
-  barrier.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
-  barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
-  barrier.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+  HDRC_VK_CASE(vkBeginCommandBuffer(cmd, &bi));
+  if (bakes_lut) record_clear_to_general(cmd, w.lut.image);
+
+  const uint32_t max_groups = std::max<uint32_t>(g.limits.maxComputeWorkGroupCount[0], 1);
+  for (size_t i = 0; i < stage.passes.size(); ++i) {
+    if (i > 0) {
+      // Pass i reads what pass i−1 wrote (buffers and the LUT image, which stays GENERAL): a
+      // global memory barrier covers both.
+      VkMemoryBarrier between{};
+      between.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
+      between.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+      between.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
+      vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                           VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &between, 0, nullptr, 0,
+                           nullptr);
+    }
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines[i]);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, g.pipeline_layout.handle, 0, 1,
+                            &descriptor_sets[i], 0, nullptr);
+    const uint64_t count = invocations(stage.passes[i].domain, pixels, n);
+    const uint64_t groups = (count + kLocalSizeX - 1) / kLocalSizeX;
+    for (uint64_t base = 0; base < groups; base += max_groups) {
+      const uint32_t here = static_cast<uint32_t>(std::min<uint64_t>(max_groups, groups - base));
+      vkCmdDispatchBase(cmd, static_cast<uint32_t>(base), 0, 0, here, 1, 1);
+    }
+  }
+  VkMemoryBarrier to_host{};
+  to_host.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
+  to_host.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+  to_host.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
   vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1,
-                       &barrier, 0, nullptr, 0, nullptr);
-  HDRC_VK(vkEndCommandBuffer(cmd));
+                       &to_host, 0, nullptr, 0, nullptr);
+  if (w.readback.buffer) {
+    VkImageMemoryBarrier to_copy{};
+    to_copy.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER;
+    to_copy.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+    to_copy.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+    to_copy.oldLayout = VK_IMAGE_LAYOUT_GENERAL;
+    to_copy.newLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+    to_copy.srcQueueFamilyIndex = to_copy.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    to_copy.image = w.lut.image;
+    to_copy.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                         0, 0, nullptr, 0, nullptr, 1, &to_copy);
+    VkBufferImageCopy region{};
+    region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    region.imageExtent = params.lut_layout == 0 ? VkExtent3D{uint32_t(n), uint32_t(n), uint32_t(n)}
+                                                : VkExtent3D{uint32_t(n * n), uint32_t(n), 1};
+    vkCmdCopyImageToBuffer(cmd, w.lut.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                           w.readback.buffer, 1, &region);
+    VkBufferMemoryBarrier copied{};
+    copied.sType = VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER;
+    copied.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    copied.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+    copied.srcQueueFamilyIndex = copied.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    copied.buffer = w.readback.buffer;
+    copied.size = VK_WHOLE_SIZE;
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 0,
+                         nullptr, 1, &copied, 0, nullptr);
+  }
+  HDRC_VK_CASE(vkEndCommandBuffer(cmd));
+  // Recording errors found by the validation layer: the command buffer is not submitted.
+  if (Error e = s.validation_error("stage " + stage_name); !e.message.empty()) return e;
 
   VkFenceCreateInfo fci{};
   fci.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO;
-  VkFence fence = VK_NULL_HANDLE;
-  HDRC_VK(vkCreateFence(s.device, &fci, nullptr, &fence));
-  struct FenceGuard {
-    VkDevice d;
-    VkFence f;
-    ~FenceGuard() { vkDestroyFence(d, f, nullptr); }
-  } fence_guard{s.device, fence};
+  w.fence.device = d;
+  HDRC_VK_CASE(vkCreateFence(d, &fci, nullptr, &w.fence.handle));
   VkSubmitInfo si{};
   si.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
   si.commandBufferCount = 1;
   si.pCommandBuffers = &cmd;
-  HDRC_VK(vkQueueSubmit(s.queue, 1, &si, fence));
-  const uint64_t timeout_ns = static_cast<uint64_t>(options_.fence_timeout_s * 1e9);
-  HDRC_VK(vkWaitForFences(s.device, 1, &fence, VK_TRUE, timeout_ns));
+  HDRC_VK_CASE(vkQueueSubmit(g.queue, 1, &si, w.fence.handle));
+  const uint64_t timeout_ns = static_cast<uint64_t>(s.fence_timeout_s * 1e9);
+  const VkResult waited = vkWaitForFences(d, 1, &w.fence.handle, VK_TRUE, timeout_ns);
+  if (waited == VK_TIMEOUT) {
+    *fate = Fate::kTimeout;
+    char seconds[32];
+    std::snprintf(seconds, sizeof seconds, "%g", s.fence_timeout_s);
+    return Error{"", "",
+                 "stage " + stage_name + ": vkWaitForFences timed out after " + seconds +
+                     " s (fence_timeout_s); the device is abandoned and a new one created for the "
+                     "next case",
+                 ""};
+  }
+  HDRC_VK_CASE(waited);
 
+  if (w.readback.buffer) return decode_lut(w.readback.mapped, *fmt, params.lut_layout, n);
   Image out(c.input.width, c.input.height);
-  const float* src = static_cast<const float*>(obuf.mapped);
-  for (size_t i = 0; i < n * 4; ++i) out.data[i] = src[i];
+  const float* src = static_cast<const float*>(w.output.mapped);
+  for (size_t i = 0; i < pixels * 4; ++i) out.data[i] = src[i];
+  return out;
+}
+
+Result<Image> VulkanEngine::run(const ResolvedCase& c) {
+  if (!state_) return Error{"", "", "Vulkan engine used before a successful init()", ""};
+  State& s = *state_;
+  const StageInfo& stage = *c.spec.stage;
+  const auto missing = missing_shaders(stage, options_.shader_dir);
+  if (!missing.empty()) {
+    std::string list;
+    for (const auto& m : missing) list += (list.empty() ? "" : ", ") + m;
+    return Error{"", "",
+                 "stage " + std::string(stage.name) + " has no GPU implementation in " +
+                     options_.shader_dir + ": missing " + list,
+                 ""};
+  }
+  s.reap();
+  if (!s.gpu) {
+    if (Status st = s.create_gpu(); !st)
+      return Error{"", "", "re-creating the Vulkan device failed: " + st.error().message, ""};
+  }
+  if (s.messages) s.messages->clear();
+
+  auto work = std::make_unique<CaseWork>();
+  Fate fate = Fate::kOk;
+  Result<Image> out = s.run_passes(c, options_.shader_dir, *s.gpu, *work, &fate);
+  if (fate == Fate::kTimeout) {
+    // The submission may still be running: its device and resources stay alive until it ends.
+    s.abandoned.push_back({std::move(s.gpu), std::move(work)});
+  } else if (fate == Fate::kLost) {
+    work.reset();
+    s.gpu.reset();
+  }
+  if (fate != Fate::kOk) {
+    // A fresh device for the next case, made now so that its failure is reported with this one.
+    Error e = out.ok() ? Error{} : out.error();
+    if (Status st = s.create_gpu(); !st)
+      e.message += "; re-creating the device failed: " + st.error().message;
+    if (fate == Fate::kLost) e.message += " (device lost; a new device was created)";
+    return e;
+  }
+  if (Error e = s.validation_error("stage " + std::string(stage.name)); !e.message.empty())
+    return e;
   return out;
 }
 

@@ -1,9 +1,12 @@
-// The Vulkan engine: runs each stage as a GLSL compute shader (float32) on an explicitly selected
-// Vulkan device — lavapipe (Mesa's CPU driver) by default, any other device by name or index.
-// Lifecycle as in core/engine.h; init() fails with the reason when no suitable device exists.
+// The Vulkan engine: runs each stage as its list of GLSL compute passes (float32) on an explicitly
+// selected Vulkan device — lavapipe (Mesa's CPU driver) by default, any other device by name or
+// index. Lifecycle as in core/engine.h; init() fails with the reason when no suitable device
+// exists. The interface the shaders see (bindings, LUT images, dispatch domains) is documented in
+// docs/gpu-interface.md.
 #pragma once
 
-#include <map>
+#include <array>
+#include <cstdint>
 #include <memory>
 #include <string>
 
@@ -15,9 +18,13 @@ struct VulkanOptions {
   // "" = lavapipe (the physical device whose name contains "llvmpipe"); a number = that index in
   // vkEnumeratePhysicalDevices order; otherwise a case-insensitive substring of the device name.
   std::string device;
-  std::string shader_dir;       // where stages/*.comp and lib/*.glsl are read from
-  bool validation = false;      // enable VK_LAYER_KHRONOS_validation (must be installed)
-  double fence_timeout_s = 60;  // a dispatch taking longer marks that case as an error
+  std::string shader_dir;  // where stages/*.comp and lib/*.glsl are read from
+  // Enable VK_LAYER_KHRONOS_validation (with synchronisation validation) and a VK_EXT_debug_utils
+  // messenger: every warning or error it reports while a case runs makes that case an ERROR.
+  bool validation = false;
+  // A submission taking longer marks that case as an ERROR; the engine then abandons the device
+  // (the work may still be running on it) and creates a fresh one for the next case.
+  double fence_timeout_s = 60;
 };
 
 // The shader directory of this build (the source tree's gpu/shaders).
@@ -25,6 +32,13 @@ std::string default_shader_dir();
 
 // "index: name (type, driver)" for every physical device, or the reason there are none.
 Result<std::string> list_devices();
+
+// Exact decoders of the LUT storage formats, as the engine reads the baked LUT back.
+// IEEE 754 binary16 → float (subnormals, ±Inf and NaN included).
+float decode_half(uint16_t h);
+// VK_FORMAT_A2B10G10R10_UNORM_PACK32 → (R, G, B, A): R in bits 0–9, G 10–19, B 20–29 (k/1023),
+// A in bits 30–31 (k/3).
+std::array<double, 4> decode_a2b10g10r10(uint32_t texel);
 
 class VulkanEngine final : public Engine {
  public:
@@ -35,8 +49,13 @@ class VulkanEngine final : public Engine {
   DeviceInfo device() const override;
   Result<Image> run(const ResolvedCase& c) override;
 
-  // Pipelines compiled so far (a run of many cases compiles each stage shader once).
+  // Pipelines on the current device (each pass shader is compiled to SPIR-V once per engine, and
+  // made into a pipeline once per device).
   int compiled_pipeline_count() const;
+  // Devices given up after a timeout whose work has not finished yet (freed once it has).
+  int abandoned_device_count() const;
+  // Logical devices created so far (1 after init; one more after each loss or timeout).
+  int device_generation() const;
 
  private:
   struct State;

@@ -11,9 +11,12 @@
 #include <set>
 #include <sstream>
 
+#include "core/nearest.h"
 #include "reference/combine_luts.h"
 #include "reference/ue_cpp/resolve.h"
+#include "runner/pairwise.h"
 #include "runner/stimuli.h"
+#include "runner/tolerance.h"
 
 namespace hdrc {
 
@@ -22,23 +25,86 @@ namespace fs = std::filesystem;
 using json = nlohmann::ordered_json;
 
 Tolerance default_tolerance() {
-  Tolerance t;
-  t.linear_rel = 1e-5;
-  t.rel_floor = 1e-6;
-  t.pq_code10 = 0.05;
-  t.reason = "project default (docs/tolerances.md): float32 evaluation of double formulas";
-  t.source = "default";
-  return t;
+  return default_tolerance_policy();
 }
 
 bool matches_filter(const std::string& id, const std::string& glob) {
   return glob.empty() || fnmatch(glob.c_str(), id.c_str(), 0) == 0;
 }
 
+bool is_suite_config_file(const std::string& cases_dir, const std::string& path) {
+  static const std::set<std::string> kConfig = {"schema.json", "defaults.json", "coverage.json",
+                                                "known_limits.json", "tolerance_overlays.json"};
+  std::error_code ec;
+  const fs::path rel = fs::relative(path, cases_dir, ec);
+  return !ec && !rel.has_parent_path() && kConfig.count(rel.filename().string()) != 0;
+}
+
 std::string InputSpec::describe() const {
   if (!file.empty()) return "file " + file;
   if (stimulus.empty()) return "lattice";
-  return stimulus + " " + std::to_string(width) + "x" + std::to_string(height);
+  std::string p;
+  for (const auto& [k, v] : params) {
+    p += (p.empty() ? " {" : ", ") + k + "=";
+    for (size_t i = 0; i < v.size(); ++i) {
+      std::ostringstream s;
+      s << v[i];
+      p += (i ? "," : "") + s.str();
+    }
+  }
+  if (!p.empty()) p += "}";
+  return stimulus + p + " " + std::to_string(width) + "x" + std::to_string(height);
+}
+
+std::string id_name(const std::string& name) {
+  static const std::map<std::string, std::string> abbrev = {
+      {"r.HDR.Display.OutputDevice", "dev"},
+      {"r.HDR.Display.ColorGamut", "gamut"},
+      {"r.HDR.Display.MaxLuminance", "max"},
+      {"r.LUT.Size", "lut"},
+      {"r.HDR.EnableHDROutput", "hdr"},
+      {"r.HDR.Display.MinLuminanceLog10", "minlog"},
+      {"r.HDR.Display.MidLuminance", "mid"},
+      {"r.HDR.Aces.SceneColorMultiplier", "scm"},
+      {"r.HDR.Aces.GamutCompression", "gc"},
+      {"r.TonemapperGamma", "gamma"},
+      {"r.Tonemapper.Sharpen", "sharpen"},
+      {"r.BackbufferQuantizationDitheringOverride", "bits"},
+      {"r.Color.Min", "cmin"},
+      {"r.Color.Mid", "cmid"},
+      {"r.Color.Max", "cmax"},
+      {"r.HDR.UI.CompositeMode", "uimode"},
+      {"r.HDR.UI.Level", "uilevel"},
+      {"r.HDR.UI.Luminance", "uinits"},
+      {"r.EyeAdaptation.VisualizeDebugType", "debug"},
+      {"LUTFormat", "fmt"},
+      {"LUTLayout", "layout"},
+      {"ColorVisionDeficiencyType", "cvd"},
+      {"ColorVisionDeficiencySeverity", "severity"},
+      {"ColorVisionDeficiencyCorrect", "correct"},
+      {"ColorVisionDeficiencyShowCorrection", "show"},
+      {"WhiteTemp", "temp"},
+      {"WhiteTint", "tint"},
+      {"TemperatureType", "ttype"},
+      {"ExpandGamut", "expand"},
+      {"BlueCorrection", "blue"},
+      {"ToneCurveAmount", "curve"},
+      {"FilmSlope", "slope"},
+      {"FilmToe", "toe"},
+      {"FilmShoulder", "shoulder"},
+      {"FilmBlackClip", "black"},
+      {"FilmWhiteClip", "white"},
+      {"ColorSaturation", "sat"},
+      {"ColorContrast", "con"},
+      {"ColorGamma", "gam"},
+      {"ColorGain", "gain"},
+      {"ColorOffset", "off"},
+  };
+  auto it = abbrev.find(name);
+  if (it != abbrev.end()) return it->second;
+  std::string s = name.substr(name.rfind('.') + 1);
+  std::transform(s.begin(), s.end(), s.begin(), ::tolower);
+  return s;
 }
 
 namespace {
@@ -65,6 +131,43 @@ std::string json_type(const json& v) {
   return std::string(v.type_name());
 }
 
+std::string join(const std::vector<std::string>& v) {
+  std::string out;
+  for (const auto& s : v) out += (out.empty() ? "" : ", ") + s;
+  return out;
+}
+
+size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<size_t> prev(b.size() + 1), cur(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) prev[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    cur[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const bool same = std::tolower(static_cast<unsigned char>(a[i - 1])) ==
+                        std::tolower(static_cast<unsigned char>(b[j - 1]));
+      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (same ? 0 : 1)});
+    }
+    std::swap(prev, cur);
+  }
+  return prev[b.size()];
+}
+
+// ", did you mean 'x'?" when the nearest valid name is plausibly what was meant (two edits, or
+// at most a third of its letters), else "".
+std::string did_you_mean(const std::string& name, const std::vector<std::string>& names) {
+  const auto near = nearest_names(name, names, 1);
+  if (near.empty()) return "";
+  const size_t d = edit_distance(name, near[0]);
+  if (d == 0 || d > std::max<size_t>(2, std::max(name.size(), near[0].size()) / 3)) return "";
+  return ", did you mean '" + near[0] + "'?";
+}
+
+std::string format_value(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
 class Parser {
  public:
   Parser(std::string file, std::string cases_dir, std::vector<Error>* errors)
@@ -75,16 +178,21 @@ class Parser {
     errors_->push_back(Error{file_, pointer, message, choices});
     ok_ = false;
   }
+  void fail(const Error& e) {
+    errors_->push_back(e);
+    ok_ = false;
+  }
   bool ok() const { return ok_; }
+  size_t error_count() const { return errors_->size(); }
+  const std::string& file() const { return file_; }
 
   void check_keys(const json& obj, const std::string& pointer,
-                  const std::vector<std::string>& allowed) {
-    std::string list;
-    for (const auto& k : allowed) list += (list.empty() ? "" : ", ") + k;
+                  const std::vector<std::string>& allowed, const std::string& what = "") {
     for (auto it = obj.begin(); it != obj.end(); ++it) {
       if (std::find(allowed.begin(), allowed.end(), it.key()) == allowed.end()) {
-        fail(pointer + "/" + escape_pointer_token(it.key()), "unknown key '" + it.key() + "'",
-             list);
+        fail(pointer + "/" + escape_pointer_token(it.key()),
+             "unknown key '" + it.key() + "'" + what + did_you_mean(it.key(), allowed),
+             join(allowed));
       }
     }
   }
@@ -98,11 +206,94 @@ class Parser {
     return true;
   }
 
-  void cvar(const std::string& name, const json& v, const std::string& pointer, CvarValues* cv) {
+  bool cvar(const std::string& name, const json& v, const std::string& pointer, CvarValues* cv) {
     double value = 0;
-    if (!number(v, pointer, &value)) return;
-    if (Status st = cv->set(name, value); !st)
+    if (!number(v, pointer, &value)) return false;
+    if (Status st = cv->set(name, value); !st) {
       fail(pointer, st.error().message, st.error().choices);
+      return false;
+    }
+    return true;
+  }
+
+  bool setting(const std::string& name, const json& v, const std::string& pointer,
+               SettingValues* sv) {
+    Vec4d value{0, 0, 0, 0};
+    int components = 0;
+    if (v.is_number()) {
+      value[0] = v.get<double>();
+      components = 1;
+    } else if (v.is_array() && v.size() == 4 &&
+               std::all_of(v.begin(), v.end(), [](const json& e) { return e.is_number(); })) {
+      for (int i = 0; i < 4; ++i) value[i] = v[i].get<double>();
+      components = 4;
+    } else {
+      fail(pointer, "expected a number or an array of 4 numbers, got " + show(v));
+      return false;
+    }
+    if (Status st = sv->set(name, value, components); !st) {
+      fail(pointer, st.error().message, st.error().choices);
+      return false;
+    }
+    return true;
+  }
+
+  void cvar_object(const json& cv, const std::string& pointer, CvarValues* out) {
+    if (!cv.is_object()) {
+      fail(pointer, "expected an object of cvar: value, got " + show(cv));
+      return;
+    }
+    for (auto it = cv.begin(); it != cv.end(); ++it)
+      cvar(it.key(), it.value(), pointer + "/" + escape_pointer_token(it.key()), out);
+  }
+
+  void setting_object(const json& sv, const std::string& pointer, SettingValues* out) {
+    if (!sv.is_object()) {
+      fail(pointer, "expected an object of setting: value, got " + show(sv));
+      return;
+    }
+    for (auto it = sv.begin(); it != sv.end(); ++it)
+      setting(it.key(), it.value(), pointer + "/" + escape_pointer_token(it.key()), out);
+  }
+
+  // One stimulus parameter from JSON; false when invalid (errors recorded).
+  bool stimulus_param(const StimulusInfo& info, const StimulusParam& sp, const json& v,
+                      const std::string& pointer, StimulusParams* out) {
+    std::vector<double> values;
+    if (sp.kind == ParamKind::kChoice) {
+      std::vector<std::string> choices(sp.choices.begin(), sp.choices.end());
+      const auto it = v.is_string()
+                          ? std::find(choices.begin(), choices.end(), v.get<std::string>())
+                          : choices.end();
+      if (it == choices.end()) {
+        fail(pointer,
+             "unknown " + std::string(sp.name) + " " + show(v) + " of stimulus " +
+                 std::string(info.name) +
+                 (v.is_string() ? did_you_mean(v.get<std::string>(), choices) : ""),
+             join(choices));
+        return false;
+      }
+      values.push_back(static_cast<double>(it - choices.begin()));
+    } else if (sp.kind == ParamKind::kNumberList) {
+      if (!v.is_array() || v.empty() ||
+          !std::all_of(v.begin(), v.end(), [](const json& e) { return e.is_number(); })) {
+        fail(pointer, "expected a non-empty array of numbers, got " + show(v),
+             std::string(sp.description));
+        return false;
+      }
+      for (const json& e : v) values.push_back(e.get<double>());
+    } else {
+      double x = 0;
+      if (!number(v, pointer, &x)) return false;
+      values.push_back(x);
+    }
+    StimulusParams one{{std::string(sp.name), values}};
+    if (Status st = check_stimulus(info, one, 1 << 16, 1 << 16); !st) {
+      fail(pointer, st.error().message, st.error().choices);
+      return false;
+    }
+    (*out)[std::string(sp.name)] = values;
+    return true;
   }
 
   // Returns false when invalid (errors recorded).
@@ -113,22 +304,56 @@ class Parser {
       return false;
     }
     const size_t before = errors_->size();
-    check_keys(v, pointer, {"stimulus", "width", "height", "file"});
     if (v.contains("file") == v.contains("stimulus")) {
       fail(pointer, "an input names exactly one of \"stimulus\" or \"file\"",
            "stimulus: " + stimulus_names() + "; file: an image path under cases/");
       return false;
     }
+    if (v.contains("name")) {
+      const json& n = v["name"];
+      if (!n.is_string() || n.get<std::string>().empty() ||
+          n.get<std::string>().find_first_of("/ *?[]") != std::string::npos) {
+        fail(pointer + "/name",
+             "an input name is a non-empty string without '/', ' ' or glob "
+             "characters, got " +
+                 show(n));
+      } else {
+        in->label = n.get<std::string>();
+      }
+    }
     if (v.contains("stimulus")) {
       const json& s = v["stimulus"];
+      std::vector<std::string> names;
+      for (const auto& st : stimulus_table()) names.emplace_back(st.name);
       if (!s.is_string() || !find_stimulus(s.get<std::string>())) {
-        fail(pointer + "/stimulus", "unknown stimulus " + show(s), stimulus_names());
+        fail(pointer + "/stimulus",
+             "unknown stimulus " + show(s) +
+                 (s.is_string() ? did_you_mean(s.get<std::string>(), names) : ""),
+             stimulus_names());
         return false;
       }
       in->stimulus = s.get<std::string>();
       const StimulusInfo* info = find_stimulus(in->stimulus);
-      in->width = info->default_width;
-      in->height = info->default_height;
+      std::vector<std::string> keys = {"stimulus", "width", "height", "name"};
+      for (const auto& sp : info->params) keys.emplace_back(sp.name);
+      check_keys(v, pointer, keys, " of stimulus " + in->stimulus);
+      std::string auto_label = in->stimulus;
+      for (auto it = v.begin(); it != v.end(); ++it) {
+        const StimulusParam* sp = find_stimulus_param(*info, it.key());
+        if (!sp) continue;
+        if (!stimulus_param(*info, *sp, it.value(), pointer + "/" + it.key(), &in->params))
+          continue;
+        if (sp->kind == ParamKind::kChoice) {
+          auto_label += "_" + it.value().get<std::string>();
+        } else {
+          auto_label += "_" + it.key();
+          const auto& vals = in->params[it.key()];
+          for (size_t i = 0; i < vals.size(); ++i)
+            auto_label += (i ? "-" : "") + format_value(vals[i]);
+        }
+      }
+      if (in->label.empty()) in->label = auto_label;
+      stimulus_default_size(*info, in->params, &in->width, &in->height);
       for (const char* key : {"width", "height"}) {
         if (!v.contains(key)) continue;
         const json& d = v[key];
@@ -139,7 +364,12 @@ class Parser {
         }
         (std::string(key) == "width" ? in->width : in->height) = d.get<int>();
       }
+      if (errors_->size() == before) {
+        if (Status st = check_stimulus(*info, in->params, in->width, in->height); !st)
+          fail(pointer, st.error().message, st.error().choices);
+      }
     } else {
+      check_keys(v, pointer, {"file", "name"}, " of a file input");
       const json& f = v["file"];
       if (!f.is_string()) {
         fail(pointer + "/file", "expected a path string, got " + show(f));
@@ -160,56 +390,49 @@ class Parser {
         return false;
       }
       in->file = p.generic_string();
+      if (in->label.empty()) in->label = p.stem().string();
     }
     return errors_->size() == before;
   }
 
-  void setting(const std::string& name, const json& v, const std::string& pointer,
-               SettingValues* sv) {
-    Vec4d value{0, 0, 0, 0};
-    int components = 0;
-    if (v.is_number()) {
-      value[0] = v.get<double>();
-      components = 1;
-    } else if (v.is_array() && v.size() == 4 &&
-               std::all_of(v.begin(), v.end(), [](const json& e) { return e.is_number(); })) {
-      for (int i = 0; i < 4; ++i) value[i] = v[i].get<double>();
-      components = 4;
-    } else {
-      fail(pointer, "expected a number or an array of 4 numbers, got " + show(v));
-      return;
-    }
-    if (Status st = sv->set(name, value, components); !st)
-      fail(pointer, st.error().message, st.error().choices);
-  }
-
-  void tolerance(const json& v, const std::string& pointer, Tolerance* t) {
-    if (!v.is_object()) {
-      fail(pointer, "expected an object, got " + show(v));
-      return;
-    }
-    check_keys(v, pointer, {"linear_rel", "rel_floor", "pq_code10", "reason"});
-    for (const char* key : {"linear_rel", "rel_floor", "pq_code10"}) {
-      if (!v.contains(key)) continue;
-      double x = 0;
-      if (!number(v[key], pointer + "/" + key, &x)) continue;
-      if (!(x >= 0)) {
-        fail(pointer + "/" + key, std::string(key) + " " + show(v[key]) + " is negative",
-             "a number >= 0");
-        continue;
+  // `"tolerance": NAME` (a set of defaults.json), or an object over the project default, or an
+  // object with "base": NAME over that set.
+  void tolerance(const json& v, const std::string& pointer, const SuiteDefaults& defaults,
+                 Tolerance* t) {
+    std::vector<std::string> names;
+    for (const auto& [n, _] : defaults.tolerances) names.push_back(n);
+    auto named = [&](const json& n, const std::string& at) -> const Tolerance* {
+      if (n.is_string()) {
+        auto it = defaults.tolerances.find(n.get<std::string>());
+        if (it != defaults.tolerances.end()) return &it->second;
       }
-      if (std::string(key) == "linear_rel") t->linear_rel = x;
-      if (std::string(key) == "rel_floor") t->rel_floor = x;
-      if (std::string(key) == "pq_code10") t->pq_code10 = x;
+      fail(at,
+           "unknown tolerance set " + show(n) +
+               (n.is_string() ? did_you_mean(n.get<std::string>(), names) : "") + " (sets are " +
+               "defined in " + (defaults.file.empty() ? "cases/defaults.json" : defaults.file) +
+               ": /tolerances)",
+           names.empty() ? "none defined" : join(names));
+      return nullptr;
+    };
+    if (v.is_string()) {
+      if (const Tolerance* set = named(v, pointer)) *t = *set;
+      return;
     }
-    if (!v.contains("reason") || !v["reason"].is_string() ||
-        v["reason"].get<std::string>().empty()) {
-      fail(pointer + "/reason", "a tolerance must say why (measured error and its cause)",
-           "a non-empty string");
-    } else {
-      t->reason = v["reason"].get<std::string>();
+    Tolerance base = default_tolerance_policy();
+    json body = v;
+    if (v.is_object() && v.contains("base")) {
+      const Tolerance* set = named(v["base"], pointer + "/base");
+      if (!set) return;
+      base = *set;
+      body.erase("base");
     }
-    t->source = file_ + ": " + pointer;
+    auto parsed = parse_tolerance(body, file_, pointer, base);
+    if (!parsed) {
+      fail(parsed.error());
+      return;
+    }
+    *t = *parsed;
+    if (v.is_object() && v.contains("base")) t->source += " over " + base.source;
   }
 
  private:
@@ -218,44 +441,101 @@ class Parser {
   bool ok_ = true;
 };
 
-std::string short_cvar(const std::string& name) {
-  static const std::map<std::string, std::string> abbrev = {
-      {"r.HDR.Display.OutputDevice", "dev"},
-      {"r.HDR.Display.ColorGamut", "gamut"},
-      {"r.HDR.Display.MaxLuminance", "max"},
-      {"r.LUT.Size", "lut"},
-      {"r.HDR.EnableHDROutput", "hdr"},
-      {"r.HDR.Display.MinLuminanceLog10", "minlog"},
-      {"r.HDR.Display.MidLuminance", "mid"},
-      {"r.HDR.Aces.SceneColorMultiplier", "scm"},
-      {"r.HDR.Aces.GamutCompression", "gc"},
-      {"r.TonemapperGamma", "gamma"},
-      {"r.Color.Min", "cmin"},
-      {"r.Color.Mid", "cmid"},
-      {"r.Color.Max", "cmax"},
-      {"r.HDR.UI.CompositeMode", "uimode"},
-      {"r.HDR.UI.Level", "uilevel"},
-      {"r.HDR.UI.Luminance", "uinits"},
-      {"r.EyeAdaptation.VisualizeDebugType", "debug"},
-  };
-  auto it = abbrev.find(name);
-  if (it != abbrev.end()) return it->second;
-  std::string s = name.substr(name.rfind('.') + 1);
-  std::transform(s.begin(), s.end(), s.begin(), ::tolower);
-  return s;
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
 }
 
-std::string format_value(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
+// One matrix dimension: a cvar, a setting, or the inputs.
+struct Dim {
+  enum Kind { kCvar, kSetting, kInputs } kind;
+  std::string name;  // cvar or setting name; "inputs"
+  std::vector<json> values;
+  std::string pointer;
+};
+
+constexpr size_t kMaxIdLength = 160;
+
+std::string value_label(const json& v) {
+  if (v.is_array()) {
+    std::string s;
+    for (size_t i = 0; i < v.size(); ++i) s += (i ? "-" : "") + format_value(v[i].get<double>());
+    return s;
+  }
+  return format_value(v.get<double>());
 }
 
 }  // namespace
 
+SuiteDefaults load_suite_defaults(const std::string& cases_dir, std::vector<Error>* errors) {
+  SuiteDefaults d;
+  const fs::path path = fs::path(cases_dir) / "defaults.json";
+  if (!fs::exists(path)) return d;
+  d.file = path.generic_string();
+  Parser p(d.file, cases_dir, errors);
+  json doc;
+  try {
+    doc = json::parse(read_text(path));
+  } catch (const json::parse_error& e) {
+    errors->push_back(Error{d.file, "", std::string("malformed JSON: ") + e.what(), ""});
+    return d;
+  }
+  if (!doc.is_object()) {
+    p.fail("", "the defaults file is a JSON object, got " + json_type(doc));
+    return d;
+  }
+  p.check_keys(doc, "", {"$schema", "description", "tolerances", "presets"});
+  if (doc.contains("tolerances")) {
+    const json& ts = doc["tolerances"];
+    if (!ts.is_object()) {
+      p.fail("/tolerances", "expected an object of name: tolerance, got " + show(ts));
+    } else {
+      for (auto it = ts.begin(); it != ts.end(); ++it) {
+        auto t =
+            parse_tolerance(it.value(), d.file, "/tolerances/" + escape_pointer_token(it.key()));
+        if (!t)
+          p.fail(t.error());
+        else
+          d.tolerances[it.key()] = *t;
+      }
+    }
+  }
+  if (doc.contains("presets")) {
+    const json& ps = doc["presets"];
+    if (!ps.is_object()) {
+      p.fail("/presets", "expected an object of name: preset, got " + show(ps));
+    } else {
+      for (auto it = ps.begin(); it != ps.end(); ++it) {
+        const std::string at = "/presets/" + escape_pointer_token(it.key());
+        if (!it.value().is_object()) {
+          p.fail(at, "expected an object with cvars and settings, got " + show(it.value()));
+          continue;
+        }
+        p.check_keys(it.value(), at, {"description", "cvars", "settings"});
+        Preset preset;
+        if (it.value().contains("cvars"))
+          p.cvar_object(it.value()["cvars"], at + "/cvars", &preset.cvars);
+        if (it.value().contains("settings"))
+          p.setting_object(it.value()["settings"], at + "/settings", &preset.settings);
+        d.presets[it.key()] = preset;
+      }
+    }
+  }
+  return d;
+}
+
 std::vector<Case> parse_case_file(const std::string& file, const std::string& text,
                                   const std::string& cases_dir, const std::string& name,
                                   std::vector<Error>* errors) {
+  const SuiteDefaults defaults = load_suite_defaults(cases_dir, errors);
+  return parse_case_file(file, text, cases_dir, name, defaults, errors);
+}
+
+std::vector<Case> parse_case_file(const std::string& file, const std::string& text,
+                                  const std::string& cases_dir, const std::string& name,
+                                  const SuiteDefaults& defaults, std::vector<Error>* errors) {
   std::vector<Case> out;
   Parser p(file, cases_dir, errors);
   json doc;
@@ -270,38 +550,58 @@ std::vector<Case> parse_case_file(const std::string& file, const std::string& te
     return out;
   }
   p.check_keys(doc, "",
-               {"$schema", "description", "stage", "cvars", "settings", "input", "bloom",
+               {"$schema", "description", "stage", "preset", "cvars", "settings", "input", "bloom",
                 "bloom_dirt", "matrix", "tolerance"});
 
   Case base;
   base.file = file;
   base.tolerance = default_tolerance();
+  std::vector<std::string> stage_list;
+  for (const auto& s : stage_table()) stage_list.emplace_back(s.name);
   if (!doc.contains("stage")) {
     p.fail("/stage", "missing stage", stage_names());
   } else if (!doc["stage"].is_string() || !find_stage(doc["stage"].get<std::string>())) {
-    p.fail("/stage", "unknown stage " + show(doc["stage"]), stage_names());
+    p.fail("/stage",
+           "unknown stage " + show(doc["stage"]) +
+               (doc["stage"].is_string() ? did_you_mean(doc["stage"].get<std::string>(), stage_list)
+                                         : ""),
+           stage_names());
   } else {
     base.stage = find_stage(doc["stage"].get<std::string>());
   }
-  if (doc.contains("cvars")) {
-    const json& cv = doc["cvars"];
-    if (!cv.is_object()) {
-      p.fail("/cvars", "expected an object of cvar: value, got " + show(cv));
+  // Presets first: the case's own cvars and settings, then its matrix, override them.
+  if (doc.contains("preset")) {
+    const json& pr = doc["preset"];
+    std::vector<std::pair<json, std::string>> refs;
+    if (pr.is_array()) {
+      for (size_t i = 0; i < pr.size(); ++i)
+        refs.emplace_back(pr[i], "/preset/" + std::to_string(i));
     } else {
-      for (auto it = cv.begin(); it != cv.end(); ++it)
-        p.cvar(it.key(), it.value(), "/cvars/" + escape_pointer_token(it.key()), &base.cvars);
+      refs.emplace_back(pr, "/preset");
+    }
+    std::vector<std::string> names;
+    for (const auto& [n, _] : defaults.presets) names.push_back(n);
+    for (const auto& [ref, at] : refs) {
+      auto it =
+          ref.is_string() ? defaults.presets.find(ref.get<std::string>()) : defaults.presets.end();
+      if (it == defaults.presets.end()) {
+        p.fail(at,
+               "unknown preset " + show(ref) +
+                   (ref.is_string() ? did_you_mean(ref.get<std::string>(), names) : "") +
+                   " (presets are defined in " +
+                   (defaults.file.empty() ? "cases/defaults.json" : defaults.file) + ": /presets)",
+               names.empty() ? "none defined" : join(names));
+        continue;
+      }
+      for (const auto& [k, v] : it->second.cvars.explicit_values()) base.cvars.set(k, v);
+      for (const auto& [k, v] : it->second.settings.explicit_values()) {
+        const SettingInfo* info = find_setting(k);
+        base.settings.set(k, v, info ? info->components : 1);
+      }
     }
   }
-  if (doc.contains("settings")) {
-    const json& sv = doc["settings"];
-    if (!sv.is_object()) {
-      p.fail("/settings", "expected an object of setting: value, got " + show(sv));
-    } else {
-      for (auto it = sv.begin(); it != sv.end(); ++it)
-        p.setting(it.key(), it.value(), "/settings/" + escape_pointer_token(it.key()),
-                  &base.settings);
-    }
-  }
+  if (doc.contains("cvars")) p.cvar_object(doc["cvars"], "/cvars", &base.cvars);
+  if (doc.contains("settings")) p.setting_object(doc["settings"], "/settings", &base.settings);
   for (const char* key : {"bloom", "bloom_dirt"}) {
     if (!doc.contains(key)) continue;
     if (base.stage && base.stage->id != StageId::kTonemap) {
@@ -312,47 +612,69 @@ std::vector<Case> parse_case_file(const std::string& file, const std::string& te
     p.input(doc[key], std::string("/") + key,
             std::string(key) == "bloom" ? &base.bloom : &base.bloom_dirt);
   }
-  if (doc.contains("tolerance")) p.tolerance(doc["tolerance"], "/tolerance", &base.tolerance);
+  if (doc.contains("tolerance"))
+    p.tolerance(doc["tolerance"], "/tolerance", defaults, &base.tolerance);
 
-  // Dimensions to expand: cvar value lists and input lists (matrix mode "full": cross product).
-  struct Dim {
-    std::string cvar;  // "" for the input dimension
-    std::vector<json> values;
-    std::string pointer;
-  };
+  // Dimensions to expand: cvar and setting value lists, then the inputs.
   std::vector<Dim> dims;
   std::vector<InputSpec> inputs;
+  std::string mode = "full";
+  std::vector<std::string> full_names;
+  std::string full_pointer = "/matrix/full";
   if (doc.contains("matrix")) {
     const json& m = doc["matrix"];
     if (!m.is_object()) {
       p.fail("/matrix", "expected an object, got " + show(m));
     } else {
-      p.check_keys(m, "/matrix", {"mode", "cvars", "inputs"});
-      if (m.contains("mode") && m["mode"] != "full") {
-        p.fail("/matrix/mode", "unknown matrix mode " + show(m["mode"]), "full");
-      }
-      if (m.contains("cvars")) {
-        if (!m["cvars"].is_object()) {
-          p.fail("/matrix/cvars", "expected an object of cvar: [values], got " + show(m["cvars"]));
+      p.check_keys(m, "/matrix", {"mode", "full", "cvars", "settings", "inputs"});
+      if (m.contains("mode")) {
+        const json& md = m["mode"];
+        if (md != "full" && md != "pairwise") {
+          p.fail(
+              "/matrix/mode",
+              "unknown matrix mode " + show(md) +
+                  (md.is_string() ? did_you_mean(md.get<std::string>(), {"full", "pairwise"}) : ""),
+              "full, pairwise");
         } else {
-          for (auto it = m["cvars"].begin(); it != m["cvars"].end(); ++it) {
-            const std::string ptr = "/matrix/cvars/" + escape_pointer_token(it.key());
-            if (!it.value().is_array() || it.value().empty()) {
-              p.fail(ptr, "expected a non-empty array of values, got " + show(it.value()));
+          mode = md.get<std::string>();
+        }
+      }
+      for (const char* group : {"cvars", "settings"}) {
+        if (!m.contains(group)) continue;
+        const bool is_cvar = std::string(group) == "cvars";
+        const std::string gptr = std::string("/matrix/") + group;
+        if (!m[group].is_object()) {
+          p.fail(gptr, std::string("expected an object of ") + (is_cvar ? "cvar" : "setting") +
+                           ": [values], got " + show(m[group]));
+          continue;
+        }
+        for (auto it = m[group].begin(); it != m[group].end(); ++it) {
+          const std::string ptr = gptr + "/" + escape_pointer_token(it.key());
+          if (!it.value().is_array() || it.value().empty()) {
+            p.fail(ptr, "expected a non-empty array of values, got " + show(it.value()));
+            continue;
+          }
+          if (doc.contains(group) && doc[group].is_object() && doc[group].contains(it.key())) {
+            p.fail(ptr, std::string(is_cvar ? "cvar " : "setting ") + it.key() +
+                            " is set in both /" + group + " and " + gptr);
+          }
+          Dim d{is_cvar ? Dim::kCvar : Dim::kSetting, it.key(), {}, ptr};
+          std::set<std::string> seen;
+          for (size_t i = 0; i < it.value().size(); ++i) {
+            const json& val = it.value()[i];
+            const std::string vptr = ptr + "/" + std::to_string(i);
+            CvarValues cprobe;
+            SettingValues sprobe;
+            const bool valid = is_cvar ? p.cvar(it.key(), val, vptr, &cprobe)
+                                       : p.setting(it.key(), val, vptr, &sprobe);
+            if (!valid) continue;
+            if (!seen.insert(val.dump()).second) {
+              p.fail(vptr, "value " + show(val) + " is listed twice");
               continue;
             }
-            if (doc.contains("cvars") && doc["cvars"].is_object() &&
-                doc["cvars"].contains(it.key())) {
-              p.fail(ptr, "cvar " + it.key() + " is set in both /cvars and /matrix/cvars");
-            }
-            Dim d{it.key(), {}, ptr};
-            for (size_t i = 0; i < it.value().size(); ++i) {
-              CvarValues probe;
-              p.cvar(it.key(), it.value()[i], ptr + "/" + std::to_string(i), &probe);
-              d.values.push_back(it.value()[i]);
-            }
-            dims.push_back(std::move(d));
+            d.values.push_back(val);
           }
+          dims.push_back(std::move(d));
         }
       }
       if (m.contains("inputs")) {
@@ -367,10 +689,38 @@ std::vector<Case> parse_case_file(const std::string& file, const std::string& te
           }
         }
       }
+      if (m.contains("full")) {
+        const json& f = m["full"];
+        if (mode != "pairwise") {
+          p.fail("/matrix/full",
+                 "\"full\" names the dimensions a pairwise matrix crosses exhaustively; this "
+                 "matrix is already full",
+                 "\"mode\": \"pairwise\"");
+        } else if (!f.is_array()) {
+          p.fail("/matrix/full", "expected an array of dimension names, got " + show(f));
+        } else {
+          std::vector<std::string> names;
+          for (const Dim& d : dims) names.push_back(d.name);
+          if (m.contains("inputs")) names.push_back("inputs");
+          for (size_t i = 0; i < f.size(); ++i) {
+            const std::string at = "/matrix/full/" + std::to_string(i);
+            if (!f[i].is_string() ||
+                std::find(names.begin(), names.end(), f[i].get<std::string>()) == names.end()) {
+              p.fail(at,
+                     "unknown matrix dimension " + show(f[i]) +
+                         (f[i].is_string() ? did_you_mean(f[i].get<std::string>(), names) : ""),
+                     join(names));
+              continue;
+            }
+            full_names.push_back(f[i].get<std::string>());
+          }
+        }
+      }
     }
   }
   if (doc.contains("input")) {
-    if (!inputs.empty() || (doc.contains("matrix") && doc["matrix"].contains("inputs"))) {
+    if (!inputs.empty() ||
+        (doc.contains("matrix") && doc["matrix"].is_object() && doc["matrix"].contains("inputs"))) {
       p.fail("/input", "a case names either /input or /matrix/inputs, not both");
     }
     InputSpec in;
@@ -384,48 +734,71 @@ std::vector<Case> parse_case_file(const std::string& file, const std::string& te
   }
   if (!p.ok()) return {};
 
-  // Cross product, last dimension fastest; inputs are the final dimension.
-  size_t total = 1;
-  for (const Dim& d : dims) total *= d.values.size();
-  for (size_t k = 0; k < total; ++k) {
-    std::vector<size_t> idx(dims.size());
-    size_t rest = k;
-    for (size_t d = dims.size(); d-- > 0;) {
-      idx[d] = rest % dims[d].values.size();
-      rest /= dims[d].values.size();
+  // The inputs are the last dimension (only when there is more than one).
+  const bool input_dim = inputs.size() > 1;
+  std::vector<int> sizes;
+  for (const Dim& d : dims) sizes.push_back(static_cast<int>(d.values.size()));
+  if (input_dim) sizes.push_back(static_cast<int>(inputs.size()));
+  std::vector<int> full_idx;
+  for (const std::string& f : full_names) {
+    for (size_t d = 0; d < dims.size(); ++d)
+      if (dims[d].name == f) full_idx.push_back(static_cast<int>(d));
+    if (f == "inputs" && input_dim) full_idx.push_back(static_cast<int>(dims.size()));
+  }
+  const std::vector<std::vector<int>> rows =
+      mode == "pairwise" ? pairwise_rows(sizes, full_idx) : full_rows(sizes);
+
+  for (const auto& row : rows) {
+    Case c = base;
+    std::string suffix;
+    for (size_t d = 0; d < dims.size(); ++d) {
+      const json& val = dims[d].values[row[d]];
+      if (dims[d].kind == Dim::kCvar) {
+        c.cvars.set(dims[d].name, val.get<double>());
+      } else {
+        Vec4d v{0, 0, 0, 0};
+        int comps = 1;
+        if (val.is_array()) {
+          for (int i = 0; i < 4; ++i) v[i] = val[i].get<double>();
+          comps = 4;
+        } else {
+          v[0] = val.get<double>();
+        }
+        c.settings.set(dims[d].name, v, comps);
+      }
+      suffix += (suffix.empty() ? "" : "_") + id_name(dims[d].name) + value_label(val);
     }
-    for (const InputSpec& input : inputs) {
-      Case c = base;
-      std::string suffix;
-      for (size_t d = 0; d < dims.size(); ++d) {
-        const double v = dims[d].values[idx[d]].get<double>();
-        c.cvars.set(dims[d].cvar, v);
-        suffix += (suffix.empty() ? "" : "_") + short_cvar(dims[d].cvar) + format_value(v);
-      }
-      const int device = c.cvars.get_int("r.HDR.Display.OutputDevice");
-      const auto& allowed = base.stage->devices;
-      if (std::find(allowed.begin(), allowed.end(), device) == allowed.end()) {
-        std::string where = "/cvars/r.HDR.Display.OutputDevice";
-        for (size_t d = 0; d < dims.size(); ++d)
-          if (dims[d].cvar == "r.HDR.Display.OutputDevice")
-            where = dims[d].pointer + "/" + std::to_string(idx[d]);
-        std::string choices;
-        for (int a : allowed) choices += (choices.empty() ? "" : ", ") + std::to_string(a);
-        p.fail(where,
-               "stage " + std::string(base.stage->name) + " is not defined for output device " +
-                   std::to_string(device),
-               choices);
-        continue;
-      }
-      c.input = input;
-      if (inputs.size() > 1 || !input.stimulus.empty()) {
-        const std::string in_name =
-            input.stimulus.empty() ? fs::path(input.file).stem().string() : input.stimulus;
-        suffix += (suffix.empty() ? "" : "_") + in_name;
-      }
-      c.id = name + (suffix.empty() ? "" : "/" + suffix);
-      out.push_back(std::move(c));
+    const InputSpec& input = inputs[input_dim ? row.back() : 0];
+    const int device = c.cvars.get_int("r.HDR.Display.OutputDevice");
+    const auto& allowed = base.stage->devices;
+    if (std::find(allowed.begin(), allowed.end(), device) == allowed.end()) {
+      std::string where = "/cvars/r.HDR.Display.OutputDevice";
+      for (size_t d = 0; d < dims.size(); ++d)
+        if (dims[d].name == "r.HDR.Display.OutputDevice")
+          where = dims[d].pointer + "/" + std::to_string(row[d]);
+      std::string choices;
+      for (int a : allowed) choices += (choices.empty() ? "" : ", ") + std::to_string(a);
+      const std::string msg = "stage " + std::string(base.stage->name) +
+                              " is not defined for output device " + std::to_string(device);
+      if (std::none_of(errors->begin(), errors->end(), [&](const Error& e) {
+            return e.file == file && e.pointer == where && e.message == msg;
+          }))
+        p.fail(where, msg, choices);
+      continue;
     }
+    c.input = input;
+    if (input_dim || !input.stimulus.empty()) suffix += (suffix.empty() ? "" : "_") + input.label;
+    c.id = name + (suffix.empty() ? "" : "/" + suffix);
+    // Ids name files (goldens/, the run's per-case images): keep them well under NAME_MAX.
+    if (c.id.size() > kMaxIdLength) {
+      p.fail(doc.contains("matrix") ? "/matrix" : "",
+             "case id '" + c.id.substr(0, 60) + "...' is " + std::to_string(c.id.size()) +
+                 " characters long",
+             "at most " + std::to_string(kMaxIdLength) +
+                 ": fewer matrix dimensions per file, or input \"name\"s");
+      break;
+    }
+    out.push_back(std::move(c));
   }
   if (!p.ok()) return {};
   return out;
@@ -438,26 +811,26 @@ LoadedCases load_cases(const std::string& cases_dir) {
     result.errors.push_back(Error{cases_dir, "", "cases directory does not exist", ""});
     return result;
   }
+  result.defaults = load_suite_defaults(cases_dir, &result.errors);
   std::vector<fs::path> files;
   for (auto it = fs::recursive_directory_iterator(cases_dir, ec);
        it != fs::recursive_directory_iterator(); ++it) {
     if (it->is_regular_file() && it->path().extension() == ".json" &&
-        it->path().filename() != "schema.json" && it->path().filename() != "known_limits.json")
+        !is_suite_config_file(cases_dir, it->path().string()))
       files.push_back(it->path());
   }
   std::sort(files.begin(), files.end());
   std::map<std::string, std::string> seen;  // id -> file
   for (const auto& f : files) {
-    std::ifstream in(f, std::ios::binary);
-    std::stringstream text;
-    text << in.rdbuf();
     std::string name = fs::relative(f, cases_dir, ec).replace_extension().generic_string();
-    auto cases = parse_case_file(f.generic_string(), text.str(), cases_dir, name, &result.errors);
+    auto cases = parse_case_file(f.generic_string(), read_text(f), cases_dir, name, result.defaults,
+                                 &result.errors);
     for (auto& c : cases) {
       auto [it, inserted] = seen.emplace(c.id, c.file);
       if (!inserted) {
         result.errors.push_back(
-            Error{c.file, "", "case id '" + c.id + "' is also produced by " + it->second, ""});
+            Error{c.file, "", "case id '" + c.id + "' is also produced by " + it->second,
+                  "give the inputs distinct \"name\"s or the matrix distinct values"});
         continue;
       }
       result.cases.push_back(std::move(c));
@@ -473,13 +846,10 @@ std::vector<KnownLimit> load_known_limits(const std::string& cases_dir,
   std::vector<KnownLimit> out;
   const fs::path file = fs::path(cases_dir) / "known_limits.json";
   if (!fs::exists(file)) return out;
-  std::ifstream in(file, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
   Parser p(file.generic_string(), cases_dir, errors);
   json doc;
   try {
-    doc = json::parse(text.str());
+    doc = json::parse(read_text(file));
   } catch (const json::parse_error& e) {
     errors->push_back(
         Error{file.generic_string(), "", std::string("malformed JSON: ") + e.what(), ""});
@@ -538,7 +908,7 @@ Result<ResolvedCase> resolve_case(const Case& c) {
     if (!img) return img.error();
     r.input = std::move(*img);
   } else {
-    auto img = make_stimulus(c.input.stimulus, c.input.width, c.input.height);
+    auto img = make_stimulus(c.input.stimulus, c.input.width, c.input.height, c.input.params);
     if (!img) return Error{c.file, "/input/stimulus", img.error().message, img.error().choices};
     r.input = std::move(*img);
   }
@@ -558,7 +928,7 @@ Result<ResolvedCase> resolve_case(const Case& c) {
       if (!img) return img.error();
       *out = std::move(*img);
     } else if (!spec->stimulus.empty()) {
-      auto img = make_stimulus(spec->stimulus, r.input.width, r.input.height);
+      auto img = make_stimulus(spec->stimulus, r.input.width, r.input.height, spec->params);
       if (!img) return img.error();
       *out = std::move(*img);
     }

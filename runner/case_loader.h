@@ -1,8 +1,10 @@
 // Loads case files (cases/**/*.json), validates every field, expands `matrix` into cases.
-// All errors name the file, the JSON pointer, the offending value and the valid choices; loading
-// reports every invalid file, and the caller runs nothing when there is any error.
+// All errors name the file, the JSON pointer, the offending value and the valid choices (with the
+// nearest valid name for a misspelt one); loading reports every invalid file, and the caller runs
+// nothing when there is any error. The format is cases/schema.json, described in docs/cases.md.
 #pragma once
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -11,15 +13,42 @@
 
 namespace hdrc {
 
+// Files at the top of the cases directory that configure the suite and are not case files.
+// defaults.json: shared tolerance sets and presets; coverage.json: the declared coverage;
+// known_limits.json: engine limits; tolerance_overlays.json: tolerance overlays; schema.json.
+bool is_suite_config_file(const std::string& cases_dir, const std::string& path);
+
+// A named bundle of cvars and settings from cases/defaults.json (`"preset": NAME` in a case).
+struct Preset {
+  CvarValues cvars;
+  SettingValues settings;
+};
+
+// cases/defaults.json: tolerance sets (`"tolerance": NAME` in a case) and presets, defined once.
+struct SuiteDefaults {
+  std::string file;  // the defaults file read ("" when absent)
+  std::map<std::string, Tolerance> tolerances;
+  std::map<std::string, Preset> presets;
+};
+
+// Reads `cases_dir`/defaults.json (absent: none). Errors are located like case errors.
+SuiteDefaults load_suite_defaults(const std::string& cases_dir, std::vector<Error>* errors);
+
 struct LoadedCases {
   std::vector<Case> cases;    // sorted by id
   std::vector<Error> errors;  // empty when every file is valid
+  SuiteDefaults defaults;
 };
 
-// Loads every *.json under `cases_dir` except schema.json.
+// Loads every case file under `cases_dir` (every *.json except the suite configuration files).
 LoadedCases load_cases(const std::string& cases_dir);
 
-// Parses one case file's text (exposed for tests). `cases_dir` bounds input file paths.
+// Parses one case file's text (exposed for tests). `cases_dir` bounds input file paths; named
+// tolerance sets and presets come from `defaults`.
+std::vector<Case> parse_case_file(const std::string& file, const std::string& text,
+                                  const std::string& cases_dir, const std::string& name,
+                                  const SuiteDefaults& defaults, std::vector<Error>* errors);
+// The same with the defaults of `cases_dir` (their errors are appended too).
 std::vector<Case> parse_case_file(const std::string& file, const std::string& text,
                                   const std::string& cases_dir, const std::string& name,
                                   std::vector<Error>* errors);
@@ -40,6 +69,10 @@ std::vector<KnownLimit> load_known_limits(const std::string& cases_dir, std::vec
 
 // Glob match (`*`, `?`, `[...]`) of a case id.
 bool matches_filter(const std::string& id, const std::string& glob);
+
+// The short name a matrix dimension has in case ids ("r.HDR.Display.OutputDevice" -> "dev",
+// "LUTFormat" -> "fmt").
+std::string id_name(const std::string& cvar_or_setting);
 
 // Builds the engine input: the stimulus or the image file, and the resolved parameters.
 Result<ResolvedCase> resolve_case(const Case& c);

@@ -5,6 +5,13 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <tuple>
+
+#include "runner/stimuli.h"
 
 #ifndef HDRC_SOURCE_DIR
 #error "HDRC_SOURCE_DIR must be defined"
@@ -30,14 +37,14 @@ const BadCase kBadCases[] = {
      "syntax error while parsing object key - unexpected end of input; expected string literal"},
     {"not_an_object", R"([1, 2])", "t.json: a case file is a JSON object, got array"},
     {"unknown_stage", R"({"stage": "tonemapp", "input": {"stimulus": "log_ramp"}})",
-     "t.json: /stage: unknown stage \"tonemapp\"; valid choices: shaper, linear_device, "
-     "combine_luts, tonemap, dither, ui_composite, visualize_hdr"},
+     "t.json: /stage: unknown stage \"tonemapp\", did you mean 'tonemap'?; valid choices: "
+     "shaper, linear_device, combine_luts, tonemap, dither, ui_composite, visualize_hdr"},
     {"missing_stage", R"({"input": {"stimulus": "log_ramp"}})",
      "t.json: /stage: missing stage; valid choices: shaper, linear_device, combine_luts, tonemap, "
      "dither, ui_composite, visualize_hdr"},
     {"unknown_key", R"({"stage": "shaper", "inptu": 1, "input": {"stimulus": "log_ramp"}})",
-     "t.json: /inptu: unknown key 'inptu'; valid choices: $schema, description, stage, cvars, "
-     "settings, input, bloom, bloom_dirt, matrix, tolerance"},
+     "t.json: /inptu: unknown key 'inptu', did you mean 'input'?; valid choices: $schema, "
+     "description, stage, preset, cvars, settings, input, bloom, bloom_dirt, matrix, tolerance"},
     {"unknown_cvar",
      R"({"stage": "shaper", "cvars": {"r.HDR.Display.OutputDevise": 3}, "input": {"stimulus": "log_ramp"}})",
      "t.json: /cvars/r.HDR.Display.OutputDevise: unknown cvar 'r.HDR.Display.OutputDevise'; valid "
@@ -64,20 +71,22 @@ const BadCase kBadCases[] = {
      "output device 3; valid choices: 7, 8"},
     {"unknown_matrix_mode",
      R"({"stage": "shaper", "matrix": {"mode": "pairwize", "cvars": {"r.LUT.Size": [16]}}, "input": {"stimulus": "log_ramp"}})",
-     "t.json: /matrix/mode: unknown matrix mode \"pairwize\"; valid choices: full"},
-    {"unknown_stimulus", R"({"stage": "shaper", "input": {"stimulus": "rampp"}})",
-     "t.json: /input/stimulus: unknown stimulus \"rampp\"; valid choices: log_ramp, special_ramp, "
-     "pq_codes, ui_overlay"},
+     "t.json: /matrix/mode: unknown matrix mode \"pairwize\", did you mean 'pairwise'?; valid "
+     "choices: full, pairwise"},
+    {"unknown_stimulus", R"({"stage": "shaper", "input": {"stimulus": "log_rmap"}})",
+     "t.json: /input/stimulus: unknown stimulus \"log_rmap\", did you mean 'log_ramp'?; valid "
+     "choices: log_ramp, special_ramp, pq_codes, hue_sweep, colorchecker, primaries, near_black, "
+     "above_peak, pq_lattice, random, ui_overlay, bloom"},
     {"missing_input_file", R"({"stage": "shaper", "input": {"file": "inputs/missing.exr"}})",
      "t.json: /input/file: input file \"inputs/missing.exr\" does not exist (looked for "
      "CASES/inputs/missing.exr)"},
     {"input_leaves_cases", R"({"stage": "shaper", "input": {"file": "../README.md"}})",
      "t.json: /input/file: input path \"../README.md\" leaves the cases directory; valid choices: "
-     "a "
-     "relative path under CASES"},
+     "a relative path under CASES"},
     {"missing_input", R"({"stage": "shaper"})",
      "t.json: /input: missing input; valid choices: {\"stimulus\": log_ramp, special_ramp, "
-     "pq_codes, ui_overlay} or {\"file\": PATH}"},
+     "pq_codes, hue_sweep, colorchecker, primaries, near_black, above_peak, pq_lattice, random, "
+     "ui_overlay, bloom} or {\"file\": PATH}"},
     {"bad_width", R"({"stage": "shaper", "input": {"stimulus": "log_ramp", "width": 0}})",
      "t.json: /input/width: width 0 is not valid; valid choices: integers 1 to 8192"},
     {"tolerance_without_reason",
@@ -87,6 +96,64 @@ const BadCase kBadCases[] = {
     {"negative_tolerance",
      R"({"stage": "shaper", "input": {"stimulus": "log_ramp"}, "tolerance": {"pq_code10": -1, "reason": "x"}})",
      "t.json: /tolerance/pq_code10: pq_code10 -1 is negative; valid choices: a number >= 0"},
+    {"unknown_stimulus_parameter",
+     R"({"stage": "shaper", "input": {"stimulus": "hue_sweep", "luminance": [1]}})",
+     "t.json: /input/luminance: unknown key 'luminance' of stimulus hue_sweep, did you mean "
+     "'luminances'?; valid choices: stimulus, width, height, name, luminances, saturation"},
+    {"stimulus_parameter_out_of_range",
+     R"({"stage": "shaper", "input": {"stimulus": "hue_sweep", "saturation": 2}})",
+     "t.json: /input/saturation: parameter saturation = 2 is out of range; valid choices: 0 to 1"},
+    {"unknown_stimulus_choice",
+     R"({"stage": "shaper", "input": {"stimulus": "primaries", "gamut": "ap0"}})",
+     "t.json: /input/gamut: unknown gamut \"ap0\" of stimulus primaries, did you mean 'ap1'?; "
+     "valid choices: srgb, ap1, rec2020"},
+    {"stimulus_list_not_array",
+     R"({"stage": "shaper", "input": {"stimulus": "colorchecker", "exposures": 2}})",
+     "t.json: /input/exposures: expected a non-empty array of numbers, got 2; valid choices: EV "
+     "stops"},
+    {"pq_codes_too_small",
+     R"({"stage": "shaper", "input": {"stimulus": "pq_codes", "width": 16, "height": 16}})",
+     "t.json: /input: pq_codes needs at least 1024 pixels to hold every 10-bit code, got 16x16; "
+     "valid choices: width x height >= 1024"},
+    {"unknown_tolerance_set",
+     R"({"stage": "shaper", "input": {"stimulus": "log_ramp"}, "tolerance": "shaper_qp"})",
+     "t.json: /tolerance: unknown tolerance set \"shaper_qp\", did you mean 'shaper_pq'? (sets are "
+     "defined in CASES/defaults.json: /tolerances); valid choices: combine_luts, dither, "
+     "linear_dev7, linear_dev8, shaper_log, shaper_pq, tonemap, ui_composite, visualize_hdr"},
+    {"unknown_preset",
+     R"({"stage": "shaper", "preset": "hdr01", "input": {"stimulus": "log_ramp"}})",
+     "t.json: /preset: unknown preset \"hdr01\", did you mean 'hdr10'? (presets are defined in "
+     "CASES/defaults.json: /presets); valid choices: hdr10, hdr_on, hdr_on_rec2020"},
+    {"unknown_full_dimension",
+     R"({"stage": "shaper", "matrix": {"mode": "pairwise", "full": ["r.LUT.Sise"], "cvars": {"r.LUT.Size": [16, 32]}}, "input": {"stimulus": "log_ramp"}})",
+     "t.json: /matrix/full/0: unknown matrix dimension \"r.LUT.Sise\", did you mean "
+     "'r.LUT.Size'?; valid choices: r.LUT.Size"},
+    {"full_needs_pairwise",
+     R"({"stage": "shaper", "matrix": {"full": ["r.LUT.Size"], "cvars": {"r.LUT.Size": [16, 32]}}, "input": {"stimulus": "log_ramp"}})",
+     "t.json: /matrix/full: \"full\" names the dimensions a pairwise matrix crosses exhaustively; "
+     "this matrix is already full; valid choices: \"mode\": \"pairwise\""},
+    {"matrix_value_twice",
+     R"({"stage": "shaper", "matrix": {"cvars": {"r.LUT.Size": [16, 32, 16]}}, "input": {"stimulus": "log_ramp"}})",
+     "t.json: /matrix/cvars/r.LUT.Size/2: value 16 is listed twice"},
+    {"matrix_setting_arity",
+     R"({"stage": "shaper", "matrix": {"settings": {"ColorGain": [[1, 1, 1, 1], 2]}}, "input": {"stimulus": "log_ramp"}})",
+     "t.json: /matrix/settings/ColorGain/1: setting ColorGain takes 4 numbers [r, g, b, a]; valid "
+     "choices: an array of 4 numbers"},
+    {"unknown_setting",
+     R"({"stage": "shaper", "settings": {"LUTFromat": 1}, "input": {"stimulus": "log_ramp"}})",
+     "t.json: /settings/LUTFromat: unknown setting 'LUTFromat'; valid choices: nearest: LUTFormat, "
+     "LUTLayout, WhiteTemp"},
+    {"bloom_outside_tonemap",
+     R"({"stage": "shaper", "input": {"stimulus": "log_ramp"}, "bloom": {"stimulus": "bloom"}})",
+     "t.json: /bloom: bloom is an input of the tonemap stage only; valid choices: tonemap"},
+    {"input_name_with_slash",
+     R"({"stage": "shaper", "input": {"stimulus": "log_ramp", "name": "a/b"}})",
+     "t.json: /input/name: an input name is a non-empty string without '/', ' ' or glob "
+     "characters, got \"a/b\""},
+    {"unknown_tolerance_key",
+     R"({"stage": "shaper", "input": {"stimulus": "log_ramp"}, "tolerance": {"pq_code_10": 1, "reason": "x"}})",
+     "t.json: /tolerance/pq_code_10: unknown key 'pq_code_10'; valid choices: linear_abs, "
+     "linear_rel, pq_code10, pq_code12, delta_e_itp, rel_floor, reason"},
 };
 
 class LoaderErrors : public ::testing::TestWithParam<BadCase> {};
@@ -124,13 +191,199 @@ TEST(CaseLoader, MatrixExpandsToReadableStableIds) {
   EXPECT_EQ(cases[0].tolerance.source, "default");
 }
 
+// Pairwise: the `full` dimensions crossed, every pair of the others covered, settings in the
+// matrix named in the ids.
+TEST(CaseLoader, PairwiseMatrixCrossesFullDimensionsAndCoversPairs) {
+  std::vector<hdrc::Error> errors;
+  auto cases = hdrc::parse_case_file("t.json",
+                                     R"({"stage": "combine_luts", "matrix": {"mode": "pairwise",
+          "full": ["r.HDR.EnableHDROutput", "r.HDR.Display.OutputDevice"],
+          "cvars": {"r.HDR.EnableHDROutput": [1, 0], "r.HDR.Display.OutputDevice": [0, 3, 8],
+                    "r.LUT.Size": [16, 32]},
+          "settings": {"LUTFormat": [0, 1, 2], "LUTLayout": [0, 1]}}})",
+                                     kCasesDir, "lut/x", &errors);
+  ASSERT_TRUE(errors.empty()) << errors[0].to_string();
+  std::set<std::pair<int, int>> hdr_dev;
+  std::set<std::tuple<int, int, int>> size_fmt, fmt_layout, dev_fmt;
+  for (const auto& c : cases) {
+    const int hdr = c.cvars.get_int("r.HDR.EnableHDROutput");
+    const int dev = c.cvars.get_int("r.HDR.Display.OutputDevice");
+    const int size = c.cvars.get_int("r.LUT.Size");
+    const int fmt = static_cast<int>(c.settings.get("LUTFormat"));
+    const int layout = static_cast<int>(c.settings.get("LUTLayout"));
+    hdr_dev.emplace(hdr, dev);
+    size_fmt.emplace(0, size, fmt);
+    fmt_layout.emplace(0, fmt, layout);
+    dev_fmt.emplace(0, dev, fmt);
+    EXPECT_EQ(c.id, "lut/x/hdr" + std::to_string(hdr) + "_dev" + std::to_string(dev) + "_lut" +
+                        std::to_string(size) + "_fmt" + std::to_string(fmt) + "_layout" +
+                        std::to_string(layout));
+  }
+  EXPECT_EQ(hdr_dev.size(), 6u);
+  EXPECT_EQ(size_fmt.size(), 6u);
+  EXPECT_EQ(fmt_layout.size(), 6u);
+  EXPECT_EQ(dev_fmt.size(), 9u);
+  EXPECT_LE(cases.size(), 12u) << "pairwise, not the 72 of the full cross product";
+  // Stable: the same file expands to the same ids.
+  std::vector<hdrc::Error> again_errors;
+  auto again = hdrc::parse_case_file("t.json",
+                                     R"({"stage": "combine_luts", "matrix": {"mode": "pairwise",
+          "full": ["r.HDR.EnableHDROutput", "r.HDR.Display.OutputDevice"],
+          "cvars": {"r.HDR.EnableHDROutput": [1, 0], "r.HDR.Display.OutputDevice": [0, 3, 8],
+                    "r.LUT.Size": [16, 32]},
+          "settings": {"LUTFormat": [0, 1, 2], "LUTLayout": [0, 1]}}})",
+                                     kCasesDir, "lut/x", &again_errors);
+  ASSERT_EQ(again.size(), cases.size());
+  for (size_t i = 0; i < cases.size(); ++i) EXPECT_EQ(again[i].id, cases[i].id);
+}
+
+// Tolerance sets and presets come from cases/defaults.json; the case's own values override a
+// preset; a tolerance can start from a set and change one number (with its own reason).
+TEST(CaseLoader, NamedTolerancesAndPresets) {
+  std::vector<hdrc::Error> errors;
+  auto cases = hdrc::parse_case_file(
+      "t.json",
+      R"({"stage": "tonemap", "preset": "hdr10", "cvars": {"r.HDR.Display.ColorGamut": 0},
+          "input": {"stimulus": "log_ramp"}, "tolerance": "shaper_pq"})",
+      kCasesDir, "t", &errors);
+  ASSERT_TRUE(errors.empty()) << errors[0].to_string();
+  ASSERT_EQ(cases.size(), 1u);
+  EXPECT_EQ(cases[0].cvars.get_int("r.HDR.EnableHDROutput"), 1);
+  EXPECT_EQ(cases[0].cvars.get_int("r.HDR.Display.OutputDevice"), 3);
+  EXPECT_EQ(cases[0].cvars.get_int("r.HDR.Display.ColorGamut"), 0);
+  EXPECT_EQ(cases[0].tolerance.source, kCasesDir + "/defaults.json: /tolerances/shaper_pq");
+  EXPECT_EQ(cases[0].tolerance.linear_rel, 0.00025);
+  auto over = hdrc::parse_case_file("t.json",
+                                    R"({"stage": "tonemap", "input": {"stimulus": "log_ramp"},
+          "tolerance": {"base": "shaper_pq", "pq_code10": 0.5, "reason": "wider here because"}})",
+                                    kCasesDir, "t", &errors);
+  ASSERT_TRUE(errors.empty()) << errors[0].to_string();
+  ASSERT_EQ(over.size(), 1u);
+  EXPECT_EQ(over[0].tolerance.pq_code10, 0.5);
+  EXPECT_EQ(over[0].tolerance.linear_rel, 0.00025);
+  EXPECT_EQ(over[0].tolerance.reason, "wider here because");
+  EXPECT_NE(over[0].tolerance.source.find("over " + kCasesDir + "/defaults.json"),
+            std::string::npos)
+      << over[0].tolerance.source;
+}
+
+TEST(CaseLoader, StimulusParametersAndInputNames) {
+  std::vector<hdrc::Error> errors;
+  auto cases = hdrc::parse_case_file("t.json",
+                                     R"({"stage": "shaper", "matrix": {"inputs": [
+          {"stimulus": "primaries", "gamut": "rec2020", "scales": [1, 10]},
+          {"stimulus": "colorchecker", "exposures": [-1, 1]},
+          {"stimulus": "pq_lattice", "n": 4},
+          {"stimulus": "random", "seed": 3, "name": "noise"},
+          {"file": "inputs/corner_gradient.exr"}]}})",
+                                     kCasesDir, "t", &errors);
+  ASSERT_TRUE(errors.empty()) << errors[0].to_string();
+  ASSERT_EQ(cases.size(), 5u);
+  EXPECT_EQ(cases[0].id, "t/primaries_rec2020_scales1-10");
+  EXPECT_EQ(cases[0].input.params.at("gamut"), std::vector<double>{2});
+  EXPECT_EQ(cases[1].id, "t/colorchecker_exposures-1-1");
+  EXPECT_EQ(cases[2].id, "t/pq_lattice_n4");
+  EXPECT_EQ(cases[2].input.width, 16);
+  EXPECT_EQ(cases[2].input.height, 4);
+  EXPECT_EQ(cases[3].id, "t/noise");
+  EXPECT_EQ(cases[4].id, "t/corner_gradient");
+  auto resolved = hdrc::resolve_case(cases[0]);
+  ASSERT_TRUE(resolved.ok()) << resolved.error().to_string();
+  EXPECT_LT(resolved->input.px(8, 0)[0], 0.0) << "Rec.2020 green has negative sRGB red";
+  auto file = hdrc::resolve_case(cases[4]);
+  ASSERT_TRUE(file.ok()) << file.error().to_string();
+  EXPECT_EQ(file->input.width, 32);
+}
+
+// Every error of a file is reported, and none of its cases is produced.
+TEST(CaseLoader, ReportsEveryErrorOfAFile) {
+  std::vector<hdrc::Error> errors;
+  auto cases =
+      hdrc::parse_case_file("t.json",
+                            R"({"stage": "shaper", "cvars": {"r.LUT.Size": 8, "r.Colr.Min": 0},
+          "input": {"stimulus": "log_ramp", "height": -1}})",
+                            kCasesDir, "t", &errors);
+  EXPECT_TRUE(cases.empty());
+  EXPECT_EQ(errors.size(), 3u);
+}
+
 TEST(CaseLoader, TheDefaultSuiteLoads) {
   auto loaded = hdrc::load_cases(kCasesDir);
   for (const auto& e : loaded.errors) ADD_FAILURE() << e.to_string();
-  // shaper 10 devices x 2 inputs, linear 2 x 5 x 2, LUT 10 x 5 + 2 x 3, tonemap 10 x 2,
-  // dither 2, degenerate 1, UI composite 2 x 2 x 2 + 2, VisualizeHDR 2 x 3, tonemap effects 2.
-  EXPECT_EQ(loaded.cases.size(), 20u + 20u + 56u + 20u + 2u + 1u + 10u + 6u + 2u);
+  // Per file. Full matrices: devices x gamuts (lut/devices 10 x 5), devices x inputs (shaper
+  // 3 x 8 and 7 x 8, linear 5 gamuts x 8, tonemap 10 x 2, stimuli 2 x 11, effects 2). Pairwise ones
+  // are pinned by the covering design (runner/pairwise.h): display is exactly its 100 crossed
+  // combinations, the others are at or near their lower bound (cvars: 10 devices x 5 gamuts;
+  // dither 10 x 4; visualize 10 x 3; UI 4 devices x 4 levels).
+  std::map<std::string, size_t> per_file;
+  for (const auto& c : loaded.cases) ++per_file[c.id.substr(0, c.id.rfind('/'))];
+  const std::map<std::string, size_t> expected = {{"lut/devices", 50},
+                                                  {"lut/grading_cc", 14},
+                                                  {"lut/grading_film", 15},
+                                                  {"lut/grading_white", 14},
+                                                  {"lut/storage", 13},
+                                                  {"tonemap/cvars", 55},
+                                                  {"tonemap/degenerate", 1},
+                                                  {"tonemap/display", 100},
+                                                  {"tonemap/dither", 40},
+                                                  {"tonemap/effects", 2},
+                                                  {"tonemap/linear_dev7", 40},
+                                                  {"tonemap/linear_dev8", 40},
+                                                  {"tonemap/shaper_log", 24},
+                                                  {"tonemap/shaper_pq", 56},
+                                                  {"tonemap/stimuli", 22},
+                                                  {"tonemap/tonemap", 20},
+                                                  {"ui/color_deficiency", 13},
+                                                  {"ui/composite", 16},
+                                                  {"visualize/visualize_hdr", 30}};
+  EXPECT_EQ(per_file, expected);
+  EXPECT_EQ(loaded.cases.size(), 565u);
   for (const auto& c : loaded.cases) EXPECT_NE(c.tolerance.source, "default") << c.id;
+}
+
+// cases/schema.json documents what the loader accepts: the same stages, stimuli and their
+// parameters, matrix modes and top-level keys (the loader's own list, read from its error).
+TEST(CaseLoader, SchemaMatchesTheLoader) {
+  std::ifstream f(kCasesDir + "/schema.json");
+  const nlohmann::ordered_json schema = nlohmann::ordered_json::parse(f);
+  std::vector<std::string> stages;
+  for (const auto& s : hdrc::stage_table()) stages.emplace_back(s.name);
+  EXPECT_EQ(schema["$defs"]["stage"]["enum"].get<std::vector<std::string>>(), stages);
+  std::vector<std::string> stimuli;
+  for (const auto& v : schema["$defs"]["input"]["oneOf"]) {
+    if (!v["properties"].contains("stimulus")) continue;
+    const std::string name = v["properties"]["stimulus"]["const"];
+    stimuli.push_back(name);
+    const hdrc::StimulusInfo* info = hdrc::find_stimulus(name);
+    ASSERT_NE(info, nullptr) << name;
+    std::set<std::string> params, want;
+    for (auto it = v["properties"].begin(); it != v["properties"].end(); ++it)
+      if (it.key() != "stimulus" && it.key() != "width" && it.key() != "height" &&
+          it.key() != "name")
+        params.insert(it.key());
+    for (const auto& p : info->params) want.emplace(p.name);
+    EXPECT_EQ(params, want) << name;
+  }
+  std::vector<std::string> table;
+  for (const auto& s : hdrc::stimulus_table()) table.emplace_back(s.name);
+  EXPECT_EQ(stimuli, table);
+  EXPECT_EQ(schema["$defs"]["matrix"]["properties"]["mode"]["enum"],
+            nlohmann::ordered_json::array({"full", "pairwise"}));
+  std::vector<hdrc::Error> errors;
+  hdrc::parse_case_file("t.json", R"({"stage": "shaper", "zzz": 1})", kCasesDir, "t", &errors);
+  ASSERT_FALSE(errors.empty());
+  std::string keys;
+  for (auto it = schema["properties"].begin(); it != schema["properties"].end(); ++it)
+    keys += (keys.empty() ? "" : ", ") + it.key();
+  EXPECT_EQ(errors[0].choices, keys);
+}
+
+TEST(CaseLoader, SuiteConfigurationFilesAreNotCases) {
+  EXPECT_TRUE(hdrc::is_suite_config_file(kCasesDir, kCasesDir + "/defaults.json"));
+  EXPECT_TRUE(hdrc::is_suite_config_file(kCasesDir, kCasesDir + "/coverage.json"));
+  EXPECT_TRUE(hdrc::is_suite_config_file(kCasesDir, kCasesDir + "/schema.json"));
+  EXPECT_FALSE(hdrc::is_suite_config_file(kCasesDir, kCasesDir + "/lut/defaults.json"));
+  EXPECT_FALSE(hdrc::is_suite_config_file(kCasesDir, kCasesDir + "/a.json"));
 }
 
 TEST(CaseLoader, FilterIsAGlob) {

@@ -1,15 +1,26 @@
 // The hdrconform binary end to end: help and exit codes, bad input, and a planted defect.
+#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
+#include <signal.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <array>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <set>
 #include <sstream>
+
+#include "core/image.h"
 
 #ifndef HDRC_BINARY
 #error "HDRC_BINARY must be defined"
+#endif
+#ifndef HDRC_EXAMPLE_CANDIDATE
+#error "HDRC_EXAMPLE_CANDIDATE must be defined"
 #endif
 
 namespace fs = std::filesystem;
@@ -46,11 +57,14 @@ std::string read(const fs::path& p) {
 }
 
 TEST(Cli, HelpExplainsOptionsAndExitCodes) {
-  for (const char* sub : {"", "run ", "list ", "devices ", "probe ", "cvars "}) {
+  for (const char* sub :
+       {"", "run ", "list ", "devices ", "probe ", "cvars ", "export ", "verify "}) {
     const Ran r = run(std::string(sub) + "--help");
     EXPECT_EQ(r.code, 0) << sub;
     EXPECT_NE(r.out.find("Exit codes:"), std::string::npos) << sub;
     EXPECT_NE(r.out.find("3  engine unavailable"), std::string::npos) << sub;
+    EXPECT_NE(r.out.find("4  pass with warnings"), std::string::npos) << sub;
+    EXPECT_NE(r.out.find("130  interrupted"), std::string::npos) << sub;
   }
   EXPECT_NE(run("run --help").out.find("--shader-dir"), std::string::npos);
 }
@@ -112,7 +126,7 @@ TEST(Cli, NoVulkanDriverSkipsAndExits3) {
   EXPECT_EQ(r.code, 3) << r.out;
   EXPECT_NE(r.out.find("candidate unavailable: vulkan engine unavailable"), std::string::npos)
       << r.out;
-  EXPECT_NE(r.out.find("10 skipped"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("40 skipped"), std::string::npos) << r.out;
   fs::remove_all(out);
 }
 
@@ -195,15 +209,359 @@ TEST(Cli, PlantedDefectOnePixelFailsAndIsLocated) {
   const Ran r = run("run --filter 'tonemap/shaper_pq/dev3_log_ramp' --shader-dir " +
                     shaders.string() + " --out " + out.string());
   EXPECT_EQ(r.code, 1) << r.out;
-  EXPECT_NE(r.out.find("FAIL  tonemap/shaper_pq/dev3_log_ramp  linear rel error"),
+  EXPECT_NE(r.out.find("FAIL  tonemap/shaper_pq/dev3_log_ramp  linear_rel "), std::string::npos)
+      << r.out;
+  // Pixel 517 of the log ramp is 0.01104 scene-linear = 1.1 nits grey: band 1-10 nits.
+  EXPECT_NE(r.out.find(": 1 of 12288 values over (0.00814 %, allowed 0 %) at (517, 0) G, 1-10 "
+                       "nits: input 0.0110410592 reference 0.0110410592 candidate "),
             std::string::npos)
       << r.out;
-  EXPECT_NE(r.out.find("(1 values over) at (517, 0) G: input"), std::string::npos) << r.out;
-  const std::string results = read(out / "results.json");
-  EXPECT_NE(results.find("\"verdict\": \"FAIL\""), std::string::npos);
-  EXPECT_NE(read(out / "junit.xml").find("<failure message=\"linear rel error"), std::string::npos);
+  const auto results = nlohmann::json::parse(read(out / "results.json"));
+  const auto& c = results["cases"][0];
+  EXPECT_EQ(c["verdict"], "FAIL");
+  const auto& w = c["worst_pixel"];
+  EXPECT_EQ(w["x"], 517);
+  EXPECT_EQ(w["y"], 0);
+  EXPECT_EQ(w["channel"], "G");
+  EXPECT_EQ(w["band"], "1-10");
+  EXPECT_EQ(w["metric"], "linear_rel");
+  // The values are the images' own: the input and reference as written, the candidate 0.1 % off
+  // (plus lavapipe's float32 error, under the case's 2.5e-4).
+  auto in = hdrc::read_image((out / "cases/tonemap/shaper_pq/dev3_log_ramp/input.exr").string());
+  auto ref =
+      hdrc::read_image((out / "cases/tonemap/shaper_pq/dev3_log_ramp/reference.exr").string());
+  auto cand =
+      hdrc::read_image((out / "cases/tonemap/shaper_pq/dev3_log_ramp/candidate.exr").string());
+  ASSERT_TRUE(in.ok() && ref.ok() && cand.ok());
+  EXPECT_EQ(static_cast<float>(w["input"].get<double>()), in->px(517, 0)[1]);
+  EXPECT_EQ(static_cast<float>(w["reference"].get<double>()), ref->px(517, 0)[1]);
+  EXPECT_EQ(w["candidate"].get<double>(), cand->px(517, 0)[1]);
+  EXPECT_NEAR(w["candidate"].get<double>() / w["reference"].get<double>(), 1.001, 2.5e-4);
+  EXPECT_EQ(c["stats"]["overall"]["linear_rel"]["over"], 1);
+  EXPECT_EQ(c["stats"]["bands"][2]["metrics"]["linear_rel"]["over"], 1);
+  EXPECT_EQ(c["nonfinite"]["mismatch"], 0);
+  EXPECT_NE(read(out / "junit.xml").find("<failure message=\"linear_rel "), std::string::npos);
+  EXPECT_NE(read(out / "junit.xml").find("at (517, 0) G, 1-10 nits"), std::string::npos);
   fs::remove_all(shaders);
   fs::remove_all(out);
+}
+
+// ---- issue 5: sharding, parallelism, interruption, export/verify, warnings --------------------
+
+std::vector<std::string> listed_ids(const std::string& args) {
+  const Ran r = run("list " + args);
+  EXPECT_EQ(r.code, 0) << r.out;
+  std::vector<std::string> ids;
+  std::istringstream lines(r.out);
+  for (std::string line; std::getline(lines, line);)
+    if (!line.empty()) ids.push_back(line.substr(0, line.find("  (")));
+  return ids;
+}
+
+// --shard K/N over N = 1, 2, 3, 7: the shards are disjoint and together the unsharded list.
+TEST(Cli, ShardsPartitionTheCaseList) {
+  const std::vector<std::string> all = listed_ids("");
+  ASSERT_GT(all.size(), 20u);
+  for (int n : {1, 2, 3, 7}) {
+    std::multiset<std::string> seen;
+    for (int k = 1; k <= n; ++k) {
+      const auto part = listed_ids("--shard " + std::to_string(k) + "/" + std::to_string(n));
+      EXPECT_GE(part.size(), all.size() / n) << k << "/" << n;  // balanced
+      EXPECT_LE(part.size(), all.size() / n + 1) << k << "/" << n;
+      seen.insert(part.begin(), part.end());
+    }
+    EXPECT_EQ(seen, std::multiset<std::string>(all.begin(), all.end())) << "N = " << n;
+  }
+  // run --shard runs exactly the cases list --shard names.
+  const fs::path out = temp_dir("shard_run");
+  const Ran r = run("run --engine reference --filter 'tonemap/shaper_pq/*' --shard 2/3 --out " +
+                    out.string());
+  EXPECT_EQ(r.code, 0) << r.out;
+  const auto results = nlohmann::json::parse(read(out / "results.json"));
+  std::vector<std::string> ran;
+  for (const auto& c : results["cases"]) ran.push_back(c["id"]);
+  EXPECT_EQ(ran, listed_ids("--filter 'tonemap/shaper_pq/*' --shard 2/3"));
+  EXPECT_EQ(results["shard"], "2/3");
+  EXPECT_EQ(run("list --shard 4/3").code, 2);
+  EXPECT_EQ(run("list --shard x").code, 2);
+  fs::remove_all(out);
+}
+
+// -j N: each worker has its own engines; the output is in case order whatever the scheduling.
+TEST(Cli, ParallelRunsGiveTheSameOutputInTheSameOrder) {
+  const fs::path a = temp_dir("j1"), b = temp_dir("j4");
+  const std::string filter = "--engine reference --filter 'tonemap/shaper_*' ";
+  const Ran r1 = run("run -j 1 " + filter + "--out " + a.string());
+  const Ran r4 = run("run -j 4 " + filter + "--out " + b.string());
+  EXPECT_EQ(r1.code, 0) << r1.out;
+  EXPECT_EQ(r4.code, 0) << r4.out;
+  auto case_lines = [](const std::string& out) {
+    std::string lines;
+    std::istringstream in(out);
+    for (std::string l; std::getline(in, l);)
+      if (l.rfind("[", 0) == 0) lines += l + "\n";
+    return lines;
+  };
+  EXPECT_EQ(case_lines(r1.out), case_lines(r4.out));
+  EXPECT_FALSE(case_lines(r1.out).empty());
+  auto ja = nlohmann::json::parse(read(a / "results.json"));
+  auto jb = nlohmann::json::parse(read(b / "results.json"));
+  EXPECT_EQ(jb["jobs"], 4);
+  ASSERT_EQ(ja["cases"].size(), jb["cases"].size());
+  for (size_t i = 0; i < ja["cases"].size(); ++i) {
+    EXPECT_EQ(ja["cases"][i]["id"], jb["cases"][i]["id"]);
+    EXPECT_EQ(ja["cases"][i]["stats"], jb["cases"][i]["stats"]);
+  }
+  fs::remove_all(a);
+  fs::remove_all(b);
+}
+
+// Ctrl-C: the cases already finished are written and readable, the rest are NOT_RUN, exit 130.
+TEST(Cli, InterruptWritesFinishedCasesAndMarksTheRestNotRun) {
+  const fs::path out = temp_dir("sigint");
+  int pipefd[2];
+  ASSERT_EQ(pipe(pipefd), 0);
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    dup2(pipefd[1], 1);
+    close(pipefd[0]);
+    execl(HDRC_BINARY, HDRC_BINARY, "run", "--engine", "reference", "-j", "1", "--out", out.c_str(),
+          static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  close(pipefd[1]);
+  FILE* child_out = fdopen(pipefd[0], "r");
+  std::string text;
+  int lines = 0;
+  char buf[4096];
+  while (lines < 3 && fgets(buf, sizeof buf, child_out)) {
+    text += buf;
+    lines += buf[0] == '[';
+  }
+  ASSERT_EQ(lines, 3) << text;
+  kill(pid, SIGINT);
+  while (fgets(buf, sizeof buf, child_out)) text += buf;
+  fclose(child_out);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status)) << text;
+  EXPECT_EQ(WEXITSTATUS(status), 130) << text;
+  const auto results = nlohmann::json::parse(read(out / "results.json"));
+  EXPECT_TRUE(results["interrupted"].get<bool>());
+  EXPECT_EQ(results["summary"]["exit_code"], 130);
+  EXPECT_EQ(results["cases"].size(), listed_ids("").size());  // every case is listed
+  int finished = 0, not_run = 0;
+  for (const auto& c : results["cases"]) {
+    if (c["verdict"] == "NOT_RUN") {
+      ++not_run;
+    } else {
+      ++finished;
+      for (const auto& [name, path] : c["images"].items())
+        EXPECT_TRUE(hdrc::read_image((out / path.get<std::string>()).string()).ok()) << path;
+    }
+  }
+  EXPECT_GE(finished, 3);
+  EXPECT_GT(not_run, 0);
+  EXPECT_NE(read(out / "junit.xml").find("NOT_RUN: not run: the run was interrupted"),
+            std::string::npos);
+  fs::remove_all(out);
+}
+
+bool vulkan_available() {
+  return run("devices").code == 0;
+}
+
+// export, then a port (examples/vulkan_candidate, hdrconform's own GPU engine reading only the
+// exported files) renders each case into DIR/<id>.exr, then verify --candidate-dir: the same
+// verdicts and statistics as `run`.
+TEST(Cli, ExportThenVerifyCandidateDirMatchesRun) {
+  if (!vulkan_available()) GTEST_SKIP() << "no Vulkan device";
+  const std::string filter = "--filter 'tonemap/linear_dev7/gamut[02]_[ls]*_ramp' ";
+  const fs::path exported = temp_dir("export"), cand = temp_dir("cand"), ran = temp_dir("ran"),
+                 verified = temp_dir("verified");
+  const Ran e = run("export " + filter + "--out " + exported.string());
+  ASSERT_EQ(e.code, 0) << e.out;
+  const auto manifest = nlohmann::json::parse(read(exported / "manifest.json"));
+  ASSERT_GE(manifest["cases"].size(), 2u);  // log and special ramps of gamuts 0 and 2
+  ASSERT_LE(manifest["cases"].size(), 8u);
+  for (const auto& c : manifest["cases"]) {
+    const std::string id = c["id"];
+    fs::create_directories((cand / id).parent_path());
+    const std::string cmd = std::string(HDRC_EXAMPLE_CANDIDATE) + " --params " +
+                            (exported / c["dir"].get<std::string>() / "params.json").string() +
+                            " --output " + (cand / (id + ".exr")).string();
+    ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  }
+  const Ran r = run("run " + filter + "--out " + ran.string());
+  const Ran v =
+      run("verify " + filter + "--candidate-dir " + cand.string() + " --out " + verified.string());
+  EXPECT_EQ(r.code, v.code) << r.out << v.out;
+  const auto jr = nlohmann::json::parse(read(ran / "results.json"));
+  const auto jv = nlohmann::json::parse(read(verified / "results.json"));
+  EXPECT_EQ(jv["command"], "verify");
+  ASSERT_EQ(jr["cases"].size(), jv["cases"].size());
+  for (size_t i = 0; i < jr["cases"].size(); ++i) {
+    EXPECT_EQ(jr["cases"][i]["id"], jv["cases"][i]["id"]);
+    EXPECT_EQ(jr["cases"][i]["verdict"], jv["cases"][i]["verdict"]);
+    EXPECT_EQ(jr["cases"][i]["stats"], jv["cases"][i]["stats"]) << jr["cases"][i]["id"];
+  }
+  for (const auto& p : {exported, cand, ran, verified}) fs::remove_all(p);
+}
+
+// Missing and corrupted candidate images: each case says what is wrong, the others still run.
+TEST(Cli, VerifyReportsMissingAndCorruptCandidatesPerCase) {
+  const fs::path cand = temp_dir("badcand"), out = temp_dir("badcand_out");
+  const auto ids = listed_ids("--filter 'tonemap/linear_dev8/gamut[0-4]_log_ramp'");
+  ASSERT_EQ(ids.size(), 5u);
+  // A good image (the reference's own output), then damaged copies.
+  const fs::path ref_out = temp_dir("badcand_ref");
+  ASSERT_EQ(run("run --engine reference --filter '" + ids[0] + "' --out " + ref_out.string()).code,
+            0);
+  const fs::path good = ref_out / "cases" / ids[0] / "reference.exr";
+  auto place = [&](const std::string& id) {
+    fs::create_directories((cand / id).parent_path());
+    return cand / (id + ".exr");
+  };
+  fs::copy_file(good, place(ids[0]));  // 0: good
+  // 1: missing. 2: truncated to half its bytes.
+  fs::copy_file(good, place(ids[2]));
+  fs::resize_file(place(ids[2]), fs::file_size(good) / 2);
+  // 3: wrong size.
+  ASSERT_TRUE(hdrc::write_exr(place(ids[3]).string(), hdrc::Image(10, 1)).ok());
+  // 4: two channels.
+  {
+    OIIO::ImageSpec spec(1024, 4, 2, OIIO::TypeDesc::FLOAT);
+    std::vector<float> px(1024 * 4 * 2, 0.5f);
+    auto o = OIIO::ImageOutput::create(place(ids[4]).string());
+    ASSERT_TRUE(o && o->open(place(ids[4]).string(), spec) &&
+                o->write_image(OIIO::TypeDesc::FLOAT, px.data()) && o->close());
+  }
+  const Ran v = run("verify --filter 'tonemap/linear_dev8/gamut[0-4]_log_ramp' --candidate-dir " +
+                    cand.string() + " --out " + out.string());
+  EXPECT_EQ(v.code, 1) << v.out;
+  const auto results = nlohmann::json::parse(read(out / "results.json"));
+  std::map<std::string, nlohmann::json> by_id;
+  for (const auto& c : results["cases"]) by_id[c["id"]] = c;
+  EXPECT_EQ(by_id[ids[0]]["verdict"], "PASS") << by_id[ids[0]]["reason"];
+  EXPECT_EQ(by_id[ids[1]]["verdict"], "MISSING");
+  EXPECT_EQ(by_id[ids[1]]["reason"], "missing candidate image " + place(ids[1]).string());
+  auto reason = [&](int i) { return by_id[ids[i]]["reason"].get<std::string>(); };
+  EXPECT_EQ(by_id[ids[2]]["verdict"], "ERROR");
+  EXPECT_NE(reason(2).find(place(ids[2]).string() + ": bad candidate image: cannot"),
+            std::string::npos)
+      << reason(2);
+  EXPECT_EQ(by_id[ids[3]]["verdict"], "ERROR");
+  EXPECT_EQ(reason(3), "candidate-dir: the candidate image is 10x1, the reference 1024x4");
+  EXPECT_EQ(by_id[ids[4]]["verdict"], "ERROR");
+  EXPECT_EQ(reason(4), "candidate-dir: " + place(ids[4]).string() +
+                           ": bad candidate image: image has 2 channel(s); valid choices: 3 (RGB) "
+                           "or 4 (RGBA) channels");
+  EXPECT_EQ(results["summary"]["missing"], 1);
+  EXPECT_NE(read(out / "junit.xml").find("<failure message=\"MISSING: missing candidate image"),
+            std::string::npos);
+  // Not a directory: bad input, nothing run.
+  EXPECT_EQ(run("verify --candidate-dir /nonexistent/dir --out " + out.string()).code, 2);
+  EXPECT_EQ(run("verify --out " + out.string()).code, 2);
+  for (const auto& p : {cand, out, ref_out}) fs::remove_all(p);
+}
+
+// verify --candidate-cmd with the example candidate in examples/: the way to verify a port.
+TEST(Cli, VerifyCandidateCmdWithTheExampleCandidate) {
+  if (!vulkan_available()) GTEST_SKIP() << "no Vulkan device";
+  const fs::path out = temp_dir("cmd");
+  const Ran v = run("verify --filter 'tonemap/shaper_pq/dev3_[ls]*_ramp' -j 2 --candidate-cmd '" +
+                    std::string(HDRC_EXAMPLE_CANDIDATE) +
+                    " --params {params} --output {output}' --out " + out.string());
+  EXPECT_EQ(v.code, 0) << v.out;
+  EXPECT_NE(v.out.find("2 passed"), std::string::npos) << v.out;
+  const fs::path dir = out / "cases/tonemap/shaper_pq/dev3_log_ramp";
+  EXPECT_TRUE(fs::exists(dir / "params.json"));
+  EXPECT_TRUE(hdrc::read_image((dir / "candidate.exr").string()).ok());
+  fs::remove_all(out);
+}
+
+// A command that fails or hangs is an error for its case; the run goes on. Case data is never
+// interpreted by a shell: {id} holds '/' and the template's quotes group words.
+TEST(Cli, VerifyCandidateCmdFailureAndTimeoutArePerCaseErrors) {
+  const fs::path out = temp_dir("cmdfail");
+  const std::string filter = "--filter 'tonemap/linear_dev8/gamut[01]_log_ramp' ";
+  Ran v = run("verify " + filter +
+              "--candidate-cmd 'sh -c \"echo no GPU for $0 >&2; exit 3\" {id} {output}' --out " +
+              out.string());
+  EXPECT_EQ(v.code, 1) << v.out;
+  auto results = nlohmann::json::parse(read(out / "results.json"));
+  ASSERT_EQ(results["cases"].size(), 2u);
+  for (const auto& c : results["cases"]) {
+    EXPECT_EQ(c["verdict"], "ERROR");
+    EXPECT_NE(c["reason"].get<std::string>().find(
+                  "candidate command exited with status 3; output: no GPU for " +
+                  c["id"].get<std::string>()),
+              std::string::npos)
+        << c["reason"];
+  }
+  v = run("verify " + filter +
+          "-j 2 --timeout 0.5 --candidate-cmd 'sh -c \"sleep 30\" {output}' --out " + out.string());
+  EXPECT_EQ(v.code, 1) << v.out;
+  results = nlohmann::json::parse(read(out / "results.json"));
+  for (const auto& c : results["cases"])
+    EXPECT_NE(c["reason"].get<std::string>().find("timed out after 0.5"), std::string::npos)
+        << c["reason"];
+  EXPECT_LT(results["wall_seconds"].get<double>(), 10);
+  v = run("verify " + filter + "--candidate-cmd 'true {output}' --out " + out.string());
+  EXPECT_NE(v.out.find("candidate command exited 0 but wrote no image"), std::string::npos)
+      << v.out;
+  EXPECT_EQ(run("verify --candidate-cmd 'convert {input}' --out " + out.string()).code, 2);
+  EXPECT_EQ(run("verify --candidate-cmd 'x \"unterminated {output}' --out " + out.string()).code,
+            2);
+  fs::remove_all(out);
+}
+
+// A warn level: every case passes but one is over its warn level: exit 4. A per-backend overlay
+// (cases/tolerance_overlays.json) tightens it into a failure, naming the overlay as the source.
+TEST(Cli, WarnLevelGivesExitCode4AndOverlaysApply) {
+  const fs::path cases = temp_dir("warn_cases"), ref_out = temp_dir("warn_ref"),
+                 cand = temp_dir("warn_cand"), out = temp_dir("warn_out");
+  std::ofstream(cases / "w.json") << R"({"stage": "shaper", "input": {"stimulus": "log_ramp"},
+    "tolerance": {"linear_rel": {"max": 1e-2, "warn": 1e-4}, "rel_floor": 1e-6,
+                  "pq_code10": null, "reason": "test"}})";
+  ASSERT_EQ(
+      run("run --engine reference --cases " + cases.string() + " --out " + ref_out.string()).code,
+      0);
+  auto img = hdrc::read_image((ref_out / "cases/w/log_ramp/reference.exr").string());
+  ASSERT_TRUE(img.ok());
+  for (double& v : img->data) v *= 1.001;
+  ASSERT_TRUE(hdrc::write_exr((cand / "w/log_ramp.exr").string(), *img).ok());
+  const std::string verify =
+      "verify --cases " + cases.string() + " --candidate-dir " + cand.string() + " --out ";
+  Ran v = run(verify + out.string());
+  EXPECT_EQ(v.code, 4) << v.out;
+  EXPECT_NE(v.out.find("warning: linear_rel 0.001 over its warn level 0.0001"), std::string::npos)
+      << v.out;
+  auto results = nlohmann::json::parse(read(out / "results.json"));
+  EXPECT_EQ(results["cases"][0]["verdict"], "PASS");
+  EXPECT_TRUE(results["cases"][0]["warn"].get<bool>());
+  EXPECT_EQ(results["summary"]["warned"], 1);
+  EXPECT_NE(read(out / "junit.xml").find("<system-out>warning: linear_rel"), std::string::npos);
+
+  std::ofstream(cases / "tolerance_overlays.json") << R"({"overlays": [
+    {"engine": "candidate-dir", "cases": "w/*",
+     "tolerance": {"linear_rel": 1e-4, "reason": "this backend must be exact"}}]})";
+  v = run(verify + out.string());
+  EXPECT_EQ(v.code, 1) << v.out;
+  results = nlohmann::json::parse(read(out / "results.json"));
+  EXPECT_EQ(results["cases"][0]["verdict"], "FAIL");
+  EXPECT_EQ(results["cases"][0]["tolerance"]["source"],
+            (cases / "w.json").string() + ": /tolerance + overlay " +
+                (cases / "tolerance_overlays.json").string() + ": /overlays/0/tolerance");
+  // An overlay without a reason is bad input: nothing runs.
+  std::ofstream(cases / "tolerance_overlays.json")
+      << R"({"overlays": [{"engine": "candidate-dir", "tolerance": {"linear_rel": 1e-4}}]})";
+  v = run(verify + out.string());
+  EXPECT_EQ(v.code, 2) << v.out;
+  EXPECT_NE(v.out.find("/overlays/0/tolerance/reason: a tolerance must say why"), std::string::npos)
+      << v.out;
+  for (const auto& p : {cases, ref_out, cand, out}) fs::remove_all(p);
 }
 
 }  // namespace

@@ -9,9 +9,14 @@
 #include "gpu/vulkan_engine.h"
 #include "reference/reference_engine.h"
 #include "runner/case_loader.h"
+#include "runner/coverage.h"
+#include "runner/goldens.h"
+#include "runner/export.h"
+#include "report/html_report.h"
 #include "runner/probe.h"
 #include "runner/results.h"
 #include "runner/run.h"
+#include "runner/verify.h"
 
 #ifndef HDRC_SOURCE_CASES_DIR
 #error "HDRC_SOURCE_CASES_DIR must be defined by the build"
@@ -22,21 +27,15 @@ namespace {
 constexpr const char* kExitCodes =
     "Exit codes:\n"
     "  0  pass: every case passed\n"
-    "  1  fail: at least one case failed or errored\n"
+    "  1  fail: at least one case failed or errored, or (verify) had no candidate image\n"
     "  2  bad input: usage error or invalid case files (nothing was run or written)\n"
     "  3  engine unavailable: nothing failed, but the candidate engine could not start and its\n"
     "     cases were skipped (never counted as passed)\n"
+    "  4  pass with warnings: every case passed, at least one over a tolerance's warn level\n"
+    "  130  interrupted (Ctrl-C): finished cases are written, the rest are NOT_RUN\n"
     "Cases listed in cases/known_limits.json (KNOWN_LIMIT) and combinations for which UE computes\n"
     "degenerate parameters (DEGENERATE) are reported with their reason and do not change the "
     "code.\n";
-
-void print_case_line(const hdrc::CaseResult& r, size_t index, size_t total) {
-  std::printf("[%zu/%zu] %-5s %s  %s\n", index + 1, total, hdrc::verdict_name(r.verdict),
-              r.spec.id.c_str(), r.reason.c_str());
-  if (r.verdict == hdrc::CaseVerdict::kFail)
-    std::printf("        tolerance from %s\n", r.spec.tolerance.source.c_str());
-  std::fflush(stdout);
-}
 
 int load_or_report(const std::string& dir, const std::string& filter, std::vector<hdrc::Case>* out,
                    std::vector<hdrc::KnownLimit>* limits) {
@@ -83,11 +82,88 @@ int main(int argc, char** argv) {
                   "Vulkan device: index or name substring (default: lavapipe)");
   run->add_option("--shader-dir", vk.shader_dir, "GLSL shader directory (default: gpu/shaders)");
   run->add_flag("--vk-validation", vk.validation, "enable the Khronos validation layer");
+  int jobs = 0;
+  std::string shard;
+  const std::string jobs_help = "worker threads, each with its own engines (default: every core)";
+  const std::string shard_help =
+      "run shard K of N (1-based): case i of the sorted list goes to shard (i mod N) + 1";
+  run->add_option("-j,--jobs", jobs, jobs_help)->check(CLI::NonNegativeNumber);
+  run->add_option("--shard", shard, shard_help);
+
+  // Goldens (runner/goldens.h): `run` checks the reference against them; `goldens update` is the
+  // only command that writes them. Default: goldens/ beside the default cases/ directory.
+  std::string goldens_dir;
+  bool no_goldens = false;
+  run->add_option("--goldens", goldens_dir,
+                  "golden directory the reference is checked against (default: the repository's "
+                  "goldens/ with the default --cases; no check with another --cases)");
+  run->add_flag("--no-goldens", no_goldens, "skip the golden check");
+
+  CLI::App* coverage = app.add_subcommand(
+      "coverage",
+      "print, per cvar and setting, every declared value (cases/coverage.json) and the cases that\n"
+      "run with it, and the required combinations between them; fails if anything is uncovered");
+  coverage->footer(kExitCodes);
+  coverage->add_option("--cases", cases_dir, "case directory")->capture_default_str();
+
+  CLI::App* goldens = app.add_subcommand("goldens", "manage the reference goldens (goldens/)");
+  goldens->footer(kExitCodes);
+  goldens->require_subcommand(1);
+  CLI::App* goldens_update = goldens->add_subcommand(
+      "update",
+      "run the reference on the cases and write their outputs to the golden directory (32-bit\n"
+      "float EXR + a JSON sidecar each); goldens whose hashes and reference version are unchanged\n"
+      "are left as they are; without --filter, goldens of cases no longer in the suite are removed");
+  goldens_update->footer(kExitCodes);
+  goldens_update->add_option("--cases", cases_dir, "case directory")->capture_default_str();
+  goldens_update->add_option("--filter", filter, "only cases whose id matches this glob");
+  goldens_update->add_option("--goldens", goldens_dir,
+                             "golden directory (default: the repository's goldens/)");
+  goldens_update->add_option("-j,--jobs", jobs, jobs_help)->check(CLI::NonNegativeNumber);
 
   CLI::App* list = app.add_subcommand("list", "list the expanded case ids");
   list->footer(kExitCodes);
   list->add_option("--cases", cases_dir, "case directory")->capture_default_str();
   list->add_option("--filter", filter, "only cases whose id matches this glob");
+  list->add_option("--shard", shard, shard_help);
+
+  CLI::App* export_cmd = app.add_subcommand(
+      "export",
+      "write each case's input image(s) and resolved parameters (params.json: every value the\n"
+      "shaders need) under DIR/cases/<case id>/, so another engine can render the same cases");
+  export_cmd->footer(kExitCodes);
+  export_cmd->add_option("--cases", cases_dir, "case directory")->capture_default_str();
+  export_cmd->add_option("--filter", filter, "only cases whose id matches this glob");
+  export_cmd->add_option("--shard", shard, shard_help);
+  export_cmd->add_option("--out", out_dir, "output directory")->required();
+
+  std::string candidate_dir, candidate_cmd;
+  double cmd_timeout = 120;
+  CLI::App* verify = app.add_subcommand(
+      "verify",
+      "judge another engine's output images against the reference: found in a directory\n"
+      "(DIR/<case id>.exr) or written by a command run once per case");
+  verify->footer(
+      std::string(
+          "TEMPLATE is split into words like a shell would (quotes, backslash) but run without\n"
+          "one; {input}, {params}, {output} and {id} are replaced inside each word. Example:\n"
+          "  hdrconform verify --candidate-cmd 'my_port --params {params} --in {input} --out "
+          "{output}'\n") +
+      kExitCodes);
+  verify->add_option("--cases", cases_dir, "case directory")->capture_default_str();
+  verify->add_option("--filter", filter, "only cases whose id matches this glob");
+  verify->add_option("--out", out_dir, "output directory for results.json, junit.xml, report/")
+      ->capture_default_str();
+  verify->add_option("-j,--jobs", jobs, jobs_help)->check(CLI::NonNegativeNumber);
+  verify->add_option("--shard", shard, shard_help);
+  auto* dir_opt = verify->add_option("--candidate-dir", candidate_dir,
+                                     "directory of candidate images DIR/<case id>.exr");
+  auto* cmd_opt = verify->add_option("--candidate-cmd", candidate_cmd,
+                                     "command TEMPLATE run per case (see below)");
+  dir_opt->excludes(cmd_opt);
+  verify->add_option("--timeout", cmd_timeout, "seconds a candidate command may take per case")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
 
   CLI::App* devices = app.add_subcommand("devices", "list the Vulkan physical devices");
   devices->footer(kExitCodes);
@@ -123,6 +199,15 @@ int main(int argc, char** argv) {
                    "sRGB-encoded r,g,b,a")
       ->capture_default_str();
   probe->add_flag("--json", probe_opts.json, "print a JSON document instead of lines");
+
+  std::string report_dir;
+  CLI::App* report_cmd = app.add_subcommand(
+      "report",
+      "rebuild RESULTS_DIR/report/ (the HTML report) from RESULTS_DIR/results.json and the case\n"
+      "images beside it");
+  report_cmd->footer(kExitCodes);
+  report_cmd->add_option("RESULTS_DIR", report_dir, "a directory written by `hdrconform run --out`")
+      ->required();
 
   try {
     app.parse(argc, argv);
@@ -165,6 +250,19 @@ int main(int argc, char** argv) {
     return hdrc::kExitPass;
   }
 
+  if (*report_cmd) {
+    auto info = hdrc::write_report(report_dir);
+    if (!info) {
+      std::fprintf(stderr, "error: %s\n", info.error().to_string().c_str());
+      return hdrc::kExitBadInput;
+    }
+    std::error_code ec;
+    std::printf("report: %zu cases, %zu files, %.1f MB in %.2f s\nreport: %s\n", info->cases,
+                info->files, info->bytes / 1e6, info->seconds,
+                std::filesystem::absolute(info->index_path, ec).lexically_normal().c_str());
+    return hdrc::kExitPass;
+  }
+
   if (*probe) {
     if (hdrc::Status st = hdrc::run_probe(probe_opts, std::cin, std::cout); !st) {
       std::fprintf(stderr, "error: %s\n", st.error().to_string().c_str());
@@ -178,6 +276,59 @@ int main(int argc, char** argv) {
   if (int code = load_or_report(cases_dir, filter, &cases, &limits); code != hdrc::kExitPass)
     return code;
 
+  // The golden directory, and the options `goldens update` needs to find the same cases again.
+  namespace fs = std::filesystem;
+  std::error_code gec;
+  const bool default_cases = fs::weakly_canonical(cases_dir, gec) ==
+                             fs::weakly_canonical(HDRC_SOURCE_CASES_DIR, gec);
+  std::string golden_extra;
+  if (!default_cases) golden_extra += "--cases " + cases_dir;
+  if (!goldens_dir.empty())
+    golden_extra += std::string(golden_extra.empty() ? "" : " ") + "--goldens " + goldens_dir;
+  if (goldens_dir.empty() && default_cases)
+    goldens_dir = fs::weakly_canonical(fs::path(HDRC_SOURCE_CASES_DIR) / ".." / "goldens", gec)
+                      .generic_string();
+
+  if (*coverage) {
+    std::vector<hdrc::Error> errors;
+    const hdrc::CoverageSpec spec = hdrc::load_coverage_spec(cases_dir, &errors);
+    for (const auto& e : errors) std::fprintf(stderr, "error: %s\n", e.to_string().c_str());
+    if (!errors.empty()) return hdrc::kExitBadInput;
+    const hdrc::CoverageReport rep = hdrc::compute_coverage(spec, cases);
+    std::printf("%zu cases\n%s", cases.size(), rep.text().c_str());
+    return rep.complete() ? hdrc::kExitPass : hdrc::kExitFail;
+  }
+
+  if (*goldens_update) {
+    if (goldens_dir.empty()) {
+      std::fprintf(stderr,
+                   "error: --goldens DIR is required with --cases %s (the repository's goldens/ "
+                   "belong to its cases/)\n",
+                   cases_dir.c_str());
+      return hdrc::kExitBadInput;
+    }
+    const hdrc::GoldenUpdateReport rep =
+        hdrc::update_goldens(cases, goldens_dir, /*prune=*/filter.empty(), jobs);
+    for (const auto& l : rep.lines) std::printf("%s\n", l.c_str());
+    for (const auto& e : rep.errors) std::fprintf(stderr, "error: %s\n", e.to_string().c_str());
+    std::printf(
+        "goldens: %d written, %d unchanged, %d removed, %d degenerate cases (no golden); "
+        "reference %s; %s holds %.1f MB\n",
+        rep.written, rep.unchanged, rep.removed, rep.skipped_degenerate,
+        hdrc::reference_version().c_str(), goldens_dir.c_str(),
+        hdrc::directory_bytes(goldens_dir) / 1e6);
+    return rep.errors.empty() ? hdrc::kExitPass : hdrc::kExitFail;
+  }
+
+  if (!shard.empty() && !*run && !*verify) {
+    auto sh = hdrc::parse_shard(shard);
+    if (!sh) {
+      std::fprintf(stderr, "error: %s\n", sh.error().to_string().c_str());
+      return hdrc::kExitBadInput;
+    }
+    cases = hdrc::select_shard(cases, *sh);
+  }
+
   if (*list) {
     for (const auto& c : cases)
       std::printf("%s  (%s, %s)\n", c.id.c_str(), std::string(c.stage->name).c_str(),
@@ -185,31 +336,81 @@ int main(int argc, char** argv) {
     return hdrc::kExitPass;
   }
 
-  hdrc::ref::ReferenceEngine reference;
-  std::unique_ptr<hdrc::Engine> candidate;
-  if (engine == "vulkan")
-    candidate = std::make_unique<hdrc::gpu::VulkanEngine>(vk);
-  else
-    candidate = std::make_unique<hdrc::ref::ReferenceEngine>();
-
-  hdrc::RunReport report = hdrc::run_cases(cases, reference, *candidate, limits, print_case_line);
-  if (!report.candidate_unavailable.empty())
-    std::printf("candidate unavailable: %s\n", report.candidate_unavailable.c_str());
-  if (hdrc::Status st = hdrc::write_run_outputs(report, out_dir); !st) {
-    std::fprintf(stderr, "error: %s\n", st.error().to_string().c_str());
-    return hdrc::kExitFail;
+  if (*export_cmd) {
+    const hdrc::ExportSummary sum = hdrc::export_cases(cases, out_dir);
+    for (const auto& e : sum.errors) std::fprintf(stderr, "error: %s\n", e.to_string().c_str());
+    std::error_code ec;
+    std::printf("exported %zu cases (%zu degenerate) to %s\n", sum.cases, sum.degenerate,
+                std::filesystem::absolute(out_dir, ec).lexically_normal().c_str());
+    return sum.errors.empty() ? hdrc::kExitPass : hdrc::kExitFail;
   }
-  std::error_code ec;
-  const std::string report_path =
-      std::filesystem::absolute(out_dir + "/report/index.html", ec).lexically_normal().string();
-  std::printf(
-      "hdrconform: %zu cases: %d passed, %d failed, %d errors, %d skipped, %d known limits, %d "
-      "degenerate in %.1f s on %s (%s)\n",
-      report.cases.size(), report.count(hdrc::CaseVerdict::kPass),
-      report.count(hdrc::CaseVerdict::kFail), report.count(hdrc::CaseVerdict::kError),
-      report.count(hdrc::CaseVerdict::kSkipped), report.count(hdrc::CaseVerdict::kKnownLimit),
-      report.count(hdrc::CaseVerdict::kDegenerate), report.wall_seconds,
-      report.candidate_device.device.c_str(), report.candidate_device.driver.c_str());
-  std::printf("report: %s\n", report_path.c_str());
-  return report.exit_code();
+
+  hdrc::SuiteOptions suite;
+  suite.cases_dir = cases_dir;
+  suite.out_dir = out_dir;
+  suite.jobs = jobs;
+  suite.shard = shard;
+  if (*verify) {
+    suite.command = "verify";
+    if (candidate_dir.empty() == candidate_cmd.empty()) {
+      std::fprintf(stderr,
+                   "error: verify needs exactly one of --candidate-dir or --candidate-cmd\n");
+      return hdrc::kExitBadInput;
+    }
+    if (!candidate_dir.empty()) {
+      hdrc::CandidateDirEngine dir(candidate_dir);
+      if (hdrc::Status st = dir.init(); !st) {
+        std::fprintf(stderr, "error: --candidate-dir: %s\n", st.error().to_string().c_str());
+        return hdrc::kExitBadInput;
+      }
+      suite.candidate_dir = &dir;
+      return hdrc::run_suite(
+          cases, limits, [&] { return std::make_unique<hdrc::CandidateDirEngine>(candidate_dir); },
+          suite);
+    }
+    auto argv_template = hdrc::split_command_template(candidate_cmd);
+    if (!argv_template) {
+      std::fprintf(stderr, "error: %s\n", argv_template.error().to_string().c_str());
+      return hdrc::kExitBadInput;
+    }
+    if (candidate_cmd.find("{output}") == std::string::npos) {
+      std::fprintf(stderr,
+                   "error: --candidate-cmd: the template has no {output}: the command must be "
+                   "told where to write its image; valid placeholders: {input} {params} {output} "
+                   "{id}\n");
+      return hdrc::kExitBadInput;
+    }
+    return hdrc::run_suite(
+        cases, limits,
+        [&] {
+          return std::make_unique<hdrc::CandidateCommandEngine>(*argv_template, out_dir,
+                                                                cmd_timeout);
+        },
+        suite);
+  }
+
+  int code = hdrc::run_suite(
+      cases, limits,
+      [&]() -> std::unique_ptr<hdrc::Engine> {
+        if (engine == "vulkan") return std::make_unique<hdrc::gpu::VulkanEngine>(vk);
+        return std::make_unique<hdrc::ref::ReferenceEngine>();
+      },
+      suite);
+  // The reference against the goldens: a regression of the reference, or a missing or stale
+  // golden, fails the run (exit 1) unless the run already failed worse.
+  if (code == hdrc::kExitBadInput || code == hdrc::kExitInterrupted) return code;
+  if (no_goldens) {
+    std::printf("goldens: not checked (--no-goldens)\n");
+  } else if (goldens_dir.empty()) {
+    std::printf("goldens: not checked (--cases %s has no golden directory; pass --goldens DIR)\n",
+                cases_dir.c_str());
+  } else {
+    std::vector<hdrc::Case> checked = cases;
+    if (!shard.empty())
+      if (auto sh = hdrc::parse_shard(shard)) checked = hdrc::select_shard(checked, *sh);
+    const hdrc::GoldenRunSummary g =
+        hdrc::check_run_against_goldens(checked, out_dir, goldens_dir, golden_extra);
+    if (g.failed() > 0 && code != hdrc::kExitFail) code = hdrc::kExitFail;
+  }
+  return code;
 }

@@ -10,7 +10,12 @@ packages=(
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers glslang-dev spirv-tools
   libopencolorio-dev ccache
 )
-if [ "${HDRC_WITH_BROWSER:-0}" = 1 ]; then packages+=(chromium nodejs npm); fi
+# The report's browser test (report/browser_test): Debian's Chromium, and Node.js with npm unless
+# a node/npm is already on the PATH (e.g. NodeSource's nodejs, which bundles npm and conflicts
+# with Debian's npm package).
+packages+=(chromium)
+command -v node >/dev/null 2>&1 || packages+=(nodejs)
+command -v npm >/dev/null 2>&1 || packages+=(npm)
 
 missing=()
 for p in "${packages[@]}"; do
@@ -18,12 +23,22 @@ for p in "${packages[@]}"; do
     missing+=("$p")
   fi
 done
-if [ ${#missing[@]} -eq 0 ]; then
-  exit 0
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "setup: installing ${missing[*]}" >&2
+  sudo=""
+  if [ "$(id -u)" != 0 ]; then sudo=sudo; fi
+  export DEBIAN_FRONTEND=noninteractive
+  $sudo apt-get update -qq
+  $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
-echo "setup: installing ${missing[*]}" >&2
-sudo=""
-if [ "$(id -u)" != 0 ]; then sudo=sudo; fi
-export DEBIAN_FRONTEND=noninteractive
-$sudo apt-get update -qq
-$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+
+# The browser test's npm dependencies (playwright-core, which drives /usr/bin/chromium; it never
+# downloads a browser), from its package-lock.json. Reinstalled only when the lock file changes.
+browser_test="$(cd "$(dirname "$0")/.." && pwd)/report/browser_test"
+stamp="$browser_test/node_modules/.hdrc-lock.sha256"
+lock_sum="$(sha256sum "$browser_test/package-lock.json" | cut -d' ' -f1)"
+if [ ! -f "$stamp" ] || [ "$(cat "$stamp")" != "$lock_sum" ]; then
+  echo "setup: npm ci in report/browser_test" >&2
+  (cd "$browser_test" && npm ci --no-audit --no-fund --loglevel=error >/dev/null)
+  echo "$lock_sum" >"$stamp"
+fi
