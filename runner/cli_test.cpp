@@ -565,3 +565,65 @@ TEST(Cli, WarnLevelGivesExitCode4AndOverlaysApply) {
 }
 
 }  // namespace
+
+// ---- issue 6: planted constant defects in a copy of the suite's shaders ----------------------
+
+// Runs lut/devices/* with one constant of a copied shader library changed and returns the ids of
+// the failing cases (results.json) and the console output.
+std::vector<std::string> failing_with_planted_constant(const std::string& lib_file,
+                                                       const std::string& from,
+                                                       const std::string& to, std::string* out) {
+  const fs::path shaders = temp_dir("planted_constant");
+  const fs::path results = temp_dir("planted_constant_out");
+  fs::copy(fs::path(HDRC_SOURCE_DIR) / "gpu/shaders", shaders, fs::copy_options::recursive);
+  std::string text = read(shaders / "lib" / lib_file);
+  const size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  if (at == std::string::npos) return {};
+  text.replace(at, from.size(), to);
+  std::ofstream(shaders / "lib" / lib_file) << text;
+  const Ran r = run("run --filter 'lut/devices/*' --no-goldens --shader-dir " + shaders.string() +
+                    " --out " + results.string());
+  *out = r.out;
+  EXPECT_EQ(r.code, 1) << r.out;
+  std::vector<std::string> failing;
+  const auto j = nlohmann::json::parse(read(results / "results.json"));
+  for (const auto& c : j["cases"])
+    if (c["verdict"] == "FAIL") failing.push_back(c["id"].get<std::string>());
+  fs::remove_all(shaders);
+  fs::remove_all(results);
+  return failing;
+}
+
+// One ACES matrix entry changed in its 5th decimal (AP0_2_AP1_MAT row 2, 1.1762296998 →
+// 1.1762396998): the HDR10/ACES devices 3 and 4 fail in the narrow output gamuts (sRGB, P3), where
+// the change moves stored texels by 2-3 10-bit codes; the located texel is named.
+TEST(Cli, PlantedAcesMatrixEntryFailsTheAcesDevices) {
+  std::string out;
+  const auto failing = failing_with_planted_constant(
+      "aces_common.glsl", "-0.0765537734, 1.1762296998", "-0.0765537734, 1.1762396998", &out);
+  const std::vector<std::string> want = {"lut/devices/dev3_gamut0", "lut/devices/dev3_gamut1",
+                                         "lut/devices/dev4_gamut0", "lut/devices/dev4_gamut1"};
+  EXPECT_EQ(failing, want) << out;
+  EXPECT_NE(out.find("FAIL  lut/devices/dev3_gamut0  linear_abs 0.00293 over its hard cap 0.00098 "
+                     "at (213, 0) G"),
+            std::string::npos)
+      << out;
+}
+
+// FilmToneMap's grey match point 0.18 → 0.1801 (4th decimal): every device on the film path
+// fails, in every gamut (SDR 0-2 and 9, the film colour without gamma), and no ACES or linear
+// device does (3-8 do not read it). A 5th-decimal
+// change is below one 10-bit storage step here and is caught by the texel-level probe test
+// (gpu/grading_shader_test.cpp).
+TEST(Cli, PlantedFilmToneMapConstantFailsTheFilmPathDevices) {
+  std::string out;
+  const auto failing =
+      failing_with_planted_constant("film_tonemap.glsl", "const float FILM_MATCH = 0.18;",
+                                    "const float FILM_MATCH = 0.1801;", &out);
+  std::vector<std::string> want;
+  for (int device : {0, 1, 2, 9})
+    for (int gamut = 0; gamut < 5; ++gamut)
+      want.push_back("lut/devices/dev" + std::to_string(device) + "_gamut" + std::to_string(gamut));
+  EXPECT_EQ(failing, want) << out;
+}
