@@ -5,7 +5,6 @@
 
 namespace hdrc {
 
-namespace {
 size_t edit_distance(std::string_view a, std::string_view b) {
   std::vector<size_t> prev(b.size() + 1), cur(b.size() + 1);
   for (size_t j = 0; j <= b.size(); ++j) prev[j] = j;
@@ -20,7 +19,6 @@ size_t edit_distance(std::string_view a, std::string_view b) {
   }
   return prev[b.size()];
 }
-}  // namespace
 
 std::vector<std::string> nearest_names(std::string_view name, const std::vector<std::string>& names,
                                        size_t n) {

@@ -7,6 +7,9 @@
 
 namespace hdrc {
 
+// Case-insensitive Levenshtein distance.
+size_t edit_distance(std::string_view a, std::string_view b);
+
 // Up to `n` of `names` closest to `name` by case-insensitive edit distance, closest first (ties
 // keep the order of `names`).
 std::vector<std::string> nearest_names(std::string_view name, const std::vector<std::string>& names,

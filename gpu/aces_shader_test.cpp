@@ -31,6 +31,7 @@
 #include "reference/aces/aces_params.h"
 #include "reference/color/st2084.h"
 #include "reference/color/ue_matrices.h"
+#include "reference/combine_luts.h"
 #include "reference/ue_cpp/resolve.h"
 
 namespace fs = std::filesystem;
@@ -108,20 +109,9 @@ hdrc::ParamBlock resolve_block(const AcesConfig& cfg, int width) {
   return r->params;
 }
 
-// reference/combine_luts.cpp: aces_params() — the reference reads the float-packed block.
+// The reference reads the float-packed block exactly as CombineLUTs does.
 aces::AcesShaderParams reference_params(const hdrc::ParamBlock& p) {
-  aces::AcesTonemapParams packed;
-  for (int i = 0; i < 4; ++i) {
-    packed.min_max_data[i] = static_cast<float>(p.aces_min_max[i]);
-    packed.mid_data[i] = static_cast<float>(p.aces_mid[i]);
-    packed.coefs_low_0[i] = static_cast<float>(p.aces_coefs_low_0[i]);
-    packed.coefs_high_0[i] = static_cast<float>(p.aces_coefs_high_0[i]);
-  }
-  packed.coefs_low_4 = static_cast<float>(p.aces_coefs_low_4);
-  packed.coefs_high_4 = static_cast<float>(p.aces_coefs_high_4);
-  packed.scene_color_multiplier = static_cast<float>(p.aces_scene_color_multiplier);
-  packed.gamut_compression = static_cast<float>(p.aces_gamut_compression);
-  return aces::compute_aces_tonemap_params(packed);
+  return hdrc::ref::aces_params(p);
 }
 
 // Runs `body` over `inputs` (each already a float value) for the parameters of `cfg`.

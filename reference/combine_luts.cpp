@@ -59,6 +59,17 @@ WorkingColorSpace working_color_space(const ParamBlock& p) {
   return w;
 }
 
+Vec3 pq_encode(const Vec3& nits) {
+  Vec3 out;
+  for (int c = 0; c < 3; ++c) {
+    const double v = nits[c];
+    out[c] = (std::isnan(v) || v < 0.0) ? d3d::kNaN : st2084::pq_from_nits(v);
+  }
+  return out;
+}
+
+}  // namespace
+
 aces::AcesShaderParams aces_params(const ParamBlock& p) {
   aces::AcesTonemapParams packed;
   for (int i = 0; i < 4; ++i) {
@@ -73,17 +84,6 @@ aces::AcesShaderParams aces_params(const ParamBlock& p) {
   packed.gamut_compression = static_cast<float>(p.aces_gamut_compression);
   return aces::compute_aces_tonemap_params(packed);
 }
-
-Vec3 pq_encode(const Vec3& nits) {
-  Vec3 out;
-  for (int c = 0; c < 3; ++c) {
-    const double v = nits[c];
-    out[c] = (std::isnan(v) || v < 0.0) ? d3d::kNaN : st2084::pq_from_nits(v);
-  }
-  return out;
-}
-
-}  // namespace
 
 Vec3 combine_luts_texel(const ParamBlock& p, const Vec3& lattice, CombineLutsTrace* trace) {
   CombineLutsTrace t;

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/shader_interface.h"
+#include "reference/aces/aces_output.h"
 #include "reference/color/vec.h"
 
 namespace hdrc::ref {
@@ -24,6 +25,10 @@ struct CombineLutsTrace {
   Vec3 device{};           // OutDeviceColor
   Vec3 stored{};           // OutDeviceColor / 1.05 (before storage quantisation)
 };
+
+// The ACES shader parameters as the shaders read them: ParamBlock's fields packed to float, as UE's
+// CPU uploads them, then unpacked (TonemapCommon.ush: ComputeACESTonemapParams).
+aces::AcesShaderParams aces_params(const ParamBlock& p);
 
 // The colour function at a lattice coordinate (each channel in [0, 1]).
 Vec3 combine_luts_texel(const ParamBlock& p, const Vec3& lattice,

@@ -26,6 +26,9 @@
 
 namespace hdrc {
 
+// One JSON-pointer reference token, escaped as RFC 6901 says ('~' → "~0", '/' → "~1").
+std::string escape_pointer_token(const std::string& s);
+
 // The JSON key of a metric ("linear_rel", "pq_code10", ...), used in tolerances and results.
 const char* metric_key(Metric m);
 // "linear_abs, linear_rel, pq_code10, pq_code12, delta_e_itp"
