@@ -59,15 +59,6 @@ const CvarInfo* find_cvar(std::string_view name) {
   return nullptr;
 }
 
-namespace {
-std::string format_number(double v) {
-  std::ostringstream s;
-  s.precision(9);
-  s << v;
-  return s.str();
-}
-}  // namespace
-
 std::vector<std::string> nearest_cvar_names(std::string_view name, size_t n) {
   std::vector<std::string> names;
   for (const auto& c : cvar_table()) names.emplace_back(c.name);

@@ -1,6 +1,14 @@
 #include "core/result.h"
 
+#include <cstdio>
+
 namespace hdrc {
+
+std::string format_number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.9g", v);
+  return buf;
+}
 
 std::string Error::to_string() const {
   std::string s;

@@ -8,6 +8,9 @@
 
 namespace hdrc {
 
+// A number as error messages show it: 9 significant digits (printf's %.9g).
+std::string format_number(double v);
+
 struct Error {
   std::string file;     // the file the problem is in ("" when none)
   std::string pointer;  // JSON pointer or other location inside the file ("" when none)

@@ -39,12 +39,6 @@ std::optional<double> parse_number(const std::string& s) {
   }
 }
 
-std::string format9(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.9g", v);
-  return buf;
-}
-
 ref::Vec3 pick(const std::string& stage, const ref::CombineLutsTrace& c,
                const ref::TonemapTrace& t) {
   if (stage == "lattice") return c.lattice;
@@ -162,7 +156,8 @@ Status run_probe(const ProbeOptions& o, std::istream& in, std::ostream& out) {
         rows.push_back(
             {{"line", number}, {"input", {rgb[0], rgb[1], rgb[2]}}, {o.stage, {v[0], v[1], v[2]}}});
       } else {
-        out << format9(v[0]) << ' ' << format9(v[1]) << ' ' << format9(v[2]) << '\n';
+        out << format_number(v[0]) << ' ' << format_number(v[1]) << ' ' << format_number(v[2])
+            << '\n';
       }
       continue;
     }
@@ -181,7 +176,8 @@ Status run_probe(const ProbeOptions& o, std::istream& in, std::ostream& out) {
       rows.push_back(
           {{"line", number}, {"input", {rgb[0], rgb[1], rgb[2]}}, {o.stage, {v[0], v[1], v[2]}}});
     } else {
-      out << format9(v[0]) << ' ' << format9(v[1]) << ' ' << format9(v[2]) << '\n';
+      out << format_number(v[0]) << ' ' << format_number(v[1]) << ' ' << format_number(v[2])
+          << '\n';
     }
   }
   if (o.json) {

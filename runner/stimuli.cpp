@@ -156,15 +156,6 @@ void stimulus_default_size(const StimulusInfo& info, const StimulusParams& param
   *height = info.default_height;
 }
 
-namespace {
-std::string fmt(double v) {
-  std::ostringstream s;
-  s.precision(9);
-  s << v;
-  return s.str();
-}
-}  // namespace
-
 Status check_stimulus(const StimulusInfo& info, const StimulusParams& params, int width,
                       int height) {
   for (const auto& [name, values] : params) {
@@ -178,20 +169,21 @@ Status check_stimulus(const StimulusInfo& info, const StimulusParams& params, in
                        (near.empty() ? "" : ", did you mean '" + near[0] + "'?"),
                    stimulus_param_names(info)};
     }
-    const std::string range = fmt(p->min_value) + " to " + fmt(p->max_value);
+    const std::string range = format_number(p->min_value) + " to " + format_number(p->max_value);
     if (values.empty() || (p->kind != PK::kNumberList && values.size() != 1))
       return Error{"", "", "parameter " + name + " takes one value", ""};
     for (double v : values) {
       if (p->kind == PK::kChoice) {
         if (!(v >= 0 && v < static_cast<double>(p->choices.size()) && v == std::floor(v)))
-          return Error{"", "", "parameter " + name + " has no choice " + fmt(v), ""};
+          return Error{"", "", "parameter " + name + " has no choice " + format_number(v), ""};
         continue;
       }
       if (p->kind == PK::kInteger && v != std::floor(v))
-        return Error{"", "", "parameter " + name + " is an integer, got " + fmt(v),
+        return Error{"", "", "parameter " + name + " is an integer, got " + format_number(v),
                      "integers " + range};
       if (!(v >= p->min_value && v <= p->max_value))
-        return Error{"", "", "parameter " + name + " = " + fmt(v) + " is out of range", range};
+        return Error{"", "", "parameter " + name + " = " + format_number(v) + " is out of range",
+                     range};
     }
   }
   for (const char* lo_hi : {"nits", ""}) {

@@ -38,25 +38,21 @@ std::string show(const json& v) {
 }
 
 // A number as people write it: 1, 0.5, 1e-05.
-std::string num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.9g", v);
-  return buf;
-}
 
 // A number >= 0 (upper bound `hi`), or null when `null_ok` (returned as kNotJudged).
 Result<double> limit_value(const json& v, const std::string& file, const std::string& pointer,
                            const std::string& key, bool null_ok, double hi = kNotJudged) {
   if (v.is_null() && null_ok) return kNotJudged;
   const std::string range =
-      hi < kNotJudged ? "a number from 0 to " + num(hi) : std::string("a number >= 0");
+      hi < kNotJudged ? "a number from 0 to " + format_number(hi) : std::string("a number >= 0");
   if (!v.is_number())
     return Error{file, pointer,
                  key + " must be a number, got " + std::string(v.type_name()) + " " + show(v),
                  null_ok ? range + " or null (not judged)" : range};
   const double x = v.get<double>();
   if (!(x >= 0)) return Error{file, pointer, key + " " + show(v) + " is negative", range};
-  if (!(x <= hi)) return Error{file, pointer, key + " " + show(v) + " is over " + num(hi), range};
+  if (!(x <= hi))
+    return Error{file, pointer, key + " " + show(v) + " is over " + format_number(hi), range};
   return x;
 }
 
@@ -157,16 +153,18 @@ Result<Tolerance> parse_tolerance(const json& j, const std::string& file,
     // The criteria of one metric must make sense together.
     if (t.allowed_fraction[i] > 0 && !(t.hard[i] < kNotJudged))
       return Error{file, at,
-                   key + ": allowed_fraction " + num(t.allowed_fraction[i]) +
+                   key + ": allowed_fraction " + format_number(t.allowed_fraction[i]) +
                        " needs a hard cap, or the allowed values could be off by any amount",
                    "add \"hard\": a number >= max"};
     if (t.hard[i] < t.max(m))
-      return Error{file, at, key + ": hard " + num(t.hard[i]) + " is below max " + num(t.max(m)),
-                   "hard >= max"};
+      return Error{
+          file, at,
+          key + ": hard " + format_number(t.hard[i]) + " is below max " + format_number(t.max(m)),
+          "hard >= max"};
     if (t.warn[i] < kNotJudged && t.max(m) < kNotJudged && t.warn[i] > t.max(m))
       return Error{file, at,
-                   key + ": warn " + num(t.warn[i]) + " is above max " + num(t.max(m)) +
-                       "; a warn level sits below the fail limit",
+                   key + ": warn " + format_number(t.warn[i]) + " is above max " +
+                       format_number(t.max(m)) + "; a warn level sits below the fail limit",
                    "warn <= max"};
   }
   if (j.contains("rel_floor")) {
