@@ -8,11 +8,11 @@
 
 #include "gpu/vulkan_engine.h"
 #include "reference/reference_engine.h"
+#include "report/html_report.h"
 #include "runner/case_loader.h"
 #include "runner/coverage.h"
-#include "runner/goldens.h"
 #include "runner/export.h"
-#include "report/html_report.h"
+#include "runner/goldens.h"
 #include "runner/probe.h"
 #include "runner/results.h"
 #include "runner/run.h"
@@ -113,7 +113,8 @@ int main(int argc, char** argv) {
       "update",
       "run the reference on the cases and write their outputs to the golden directory (32-bit\n"
       "float EXR + a JSON sidecar each); goldens whose hashes and reference version are unchanged\n"
-      "are left as they are; without --filter, goldens of cases no longer in the suite are removed");
+      "are left as they are; without --filter, goldens of cases no longer in the suite are "
+      "removed");
   goldens_update->footer(kExitCodes);
   goldens_update->add_option("--cases", cases_dir, "case directory")->capture_default_str();
   goldens_update->add_option("--filter", filter, "only cases whose id matches this glob");
@@ -279,8 +280,8 @@ int main(int argc, char** argv) {
   // The golden directory, and the options `goldens update` needs to find the same cases again.
   namespace fs = std::filesystem;
   std::error_code gec;
-  const bool default_cases = fs::weakly_canonical(cases_dir, gec) ==
-                             fs::weakly_canonical(HDRC_SOURCE_CASES_DIR, gec);
+  const bool default_cases =
+      fs::weakly_canonical(cases_dir, gec) == fs::weakly_canonical(HDRC_SOURCE_CASES_DIR, gec);
   std::string golden_extra;
   if (!default_cases) golden_extra += "--cases " + cases_dir;
   if (!goldens_dir.empty())
@@ -348,6 +349,16 @@ int main(int argc, char** argv) {
   hdrc::SuiteOptions suite;
   suite.cases_dir = cases_dir;
   suite.out_dir = out_dir;
+  // The run's last line names the report (README: the main job ends with the report's path).
+  auto finish = [&](int code) {
+    std::error_code ec;
+    if (code != hdrc::kExitBadInput &&
+        fs::exists(out_dir + "/results.json"))  // bad input writes nothing
+      std::printf(
+          "report: %s\n",
+          fs::absolute(out_dir + "/report/index.html", ec).lexically_normal().string().c_str());
+    return code;
+  };
   suite.jobs = jobs;
   suite.shard = shard;
   if (*verify) {
@@ -364,9 +375,9 @@ int main(int argc, char** argv) {
         return hdrc::kExitBadInput;
       }
       suite.candidate_dir = &dir;
-      return hdrc::run_suite(
+      return finish(hdrc::run_suite(
           cases, limits, [&] { return std::make_unique<hdrc::CandidateDirEngine>(candidate_dir); },
-          suite);
+          suite));
     }
     auto argv_template = hdrc::split_command_template(candidate_cmd);
     if (!argv_template) {
@@ -380,13 +391,13 @@ int main(int argc, char** argv) {
                    "{id}\n");
       return hdrc::kExitBadInput;
     }
-    return hdrc::run_suite(
+    return finish(hdrc::run_suite(
         cases, limits,
         [&] {
           return std::make_unique<hdrc::CandidateCommandEngine>(*argv_template, out_dir,
                                                                 cmd_timeout);
         },
-        suite);
+        suite));
   }
 
   int code = hdrc::run_suite(
@@ -398,7 +409,7 @@ int main(int argc, char** argv) {
       suite);
   // The reference against the goldens: a regression of the reference, or a missing or stale
   // golden, fails the run (exit 1) unless the run already failed worse.
-  if (code == hdrc::kExitBadInput || code == hdrc::kExitInterrupted) return code;
+  if (code == hdrc::kExitBadInput || code == hdrc::kExitInterrupted) return finish(code);
   if (no_goldens) {
     std::printf("goldens: not checked (--no-goldens)\n");
   } else if (goldens_dir.empty()) {
@@ -412,5 +423,5 @@ int main(int argc, char** argv) {
         hdrc::check_run_against_goldens(checked, out_dir, goldens_dir, golden_extra);
     if (g.failed() > 0 && code != hdrc::kExitFail) code = hdrc::kExitFail;
   }
-  return code;
+  return finish(code);
 }

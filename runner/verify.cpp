@@ -366,10 +366,6 @@ int run_suite(std::vector<Case> cases, const std::vector<KnownLimit>& limits,
     return kExitFail;
   }
   print_summary(report);
-  std::error_code ec;
-  std::printf(
-      "report: %s\n",
-      fs::absolute(options.out_dir + "/report/index.html", ec).lexically_normal().string().c_str());
   if (report.interrupted) std::printf("interrupted: unfinished cases are NOT_RUN\n");
   return report.exit_code();
 }
