@@ -5,9 +5,9 @@ set -euo pipefail
 
 packages=(
   cmake ninja-build g++ pkg-config
-  libopenimageio-dev libopenexr-dev libimath-dev
+  libopenimageio-dev openimageio-tools libopenexr-dev libimath-dev
   libgtest-dev nlohmann-json3-dev libcli11-dev
-  libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers glslang-dev spirv-tools
+  libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers glslang-dev glslang-tools spirv-tools
   libopencolorio-dev ccache
 )
 # The report's browser test (report/browser_test): Debian's Chromium, and Node.js with npm unless
