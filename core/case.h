@@ -100,6 +100,10 @@ struct Case {
   InputSpec bloom;       // tonemap: the bloom texture (stimulus "" and file "": no bloom)
   InputSpec bloom_dirt;  // tonemap: the bloom dirt mask texture (empty: none)
   Tolerance tolerance;
+  // Non-empty (the reason) when the case pins UE's non-finite behaviour itself: it may compare no
+  // finite value and is judged by the non-finite census (docs/diff-metrics.md). Any other case
+  // that compares no finite value is an ERROR, never a PASS.
+  std::string pins_nonfinite;
 };
 
 // A case with everything an engine needs: the host-derived parameters and the input pixels.

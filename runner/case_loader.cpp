@@ -70,6 +70,7 @@ std::string id_name(const std::string& name) {
       {"r.TonemapperGamma", "gamma"},
       {"r.Tonemapper.Sharpen", "sharpen"},
       {"r.BackbufferQuantizationDitheringOverride", "bits"},
+      {"r.DefaultBackBufferPixelFormat", "bb"},
       {"r.Color.Min", "cmin"},
       {"r.Color.Mid", "cmid"},
       {"r.Color.Max", "cmax"},
@@ -523,7 +524,7 @@ std::vector<Case> parse_case_file(const std::string& file, const std::string& te
   }
   p.check_keys(doc, "",
                {"$schema", "description", "stage", "preset", "cvars", "settings", "input", "bloom",
-                "bloom_dirt", "matrix", "tolerance"});
+                "bloom_dirt", "matrix", "tolerance", "pins_nonfinite"});
 
   Case base;
   base.file = file;
@@ -586,6 +587,15 @@ std::vector<Case> parse_case_file(const std::string& file, const std::string& te
   }
   if (doc.contains("tolerance"))
     p.tolerance(doc["tolerance"], "/tolerance", defaults, &base.tolerance);
+  if (doc.contains("pins_nonfinite")) {
+    const json& why = doc["pins_nonfinite"];
+    if (!why.is_string() || why.get<std::string>().empty())
+      p.fail("/pins_nonfinite",
+             "expected the reason the case pins non-finite behaviour, got " + show(why),
+             "a non-empty string");
+    else
+      base.pins_nonfinite = why.get<std::string>();
+  }
 
   // Dimensions to expand: cvar and setting value lists, then the inputs.
   std::vector<Dim> dims;

@@ -44,7 +44,8 @@ const BadCase kBadCases[] = {
      "dither, ui_composite, visualize_hdr"},
     {"unknown_key", R"({"stage": "shaper", "inptu": 1, "input": {"stimulus": "log_ramp"}})",
      "t.json: /inptu: unknown key 'inptu', did you mean 'input'?; valid choices: $schema, "
-     "description, stage, preset, cvars, settings, input, bloom, bloom_dirt, matrix, tolerance"},
+     "description, stage, preset, cvars, settings, input, bloom, bloom_dirt, matrix, tolerance, "
+     "pins_nonfinite"},
     {"unknown_cvar",
      R"({"stage": "shaper", "cvars": {"r.HDR.Display.OutputDevise": 3}, "input": {"stimulus": "log_ramp"}})",
      "t.json: /cvars/r.HDR.Display.OutputDevise: unknown cvar 'r.HDR.Display.OutputDevise'; valid "

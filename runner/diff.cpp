@@ -219,6 +219,12 @@ double OutputEncoding::to_nits(double v) const {
   }
 }
 
+bool OutputEncoding::nan_marks_negative() const {
+  const bool after_luts = stage == StageId::kCombineLuts || stage == StageId::kTonemap ||
+                          stage == StageId::kDither || stage == StageId::kVisualizeHdr;
+  return after_luts && device >= 2 && device <= 7;
+}
+
 std::string OutputEncoding::describe() const {
   std::string transfer;
   if (stage == StageId::kShaper || (stage == StageId::kLinearDevice && device == 8)) {
@@ -297,6 +303,15 @@ DiffStats diff_images(const Image& input, const Image& reference, const Image& c
       const double* c = candidate.px(x, y);
       const double* in = has_input ? input.px(x, y) : nullptr;
       ++s.pixels;
+      // The pixel's largest |nits| over the finite colour values of both sides: the scale of the
+      // float32 noise for the sign-boundary rule.
+      double pixel_scale = 0;
+      for (int ch = 0; ch < 3; ++ch) {
+        if (std::isfinite(r[ch]))
+          pixel_scale = std::fmax(pixel_scale, std::fabs(enc.to_nits(r[ch])));
+        if (std::isfinite(c[ch]))
+          pixel_scale = std::fmax(pixel_scale, std::fabs(enc.to_nits(c[ch])));
+      }
       bool rgb_finite = true;
       for (int ch = 0; ch < 4; ++ch) {
         census(r[ch], &s.nonfinite.reference);
@@ -306,6 +321,12 @@ DiffStats diff_images(const Image& input, const Image& reference, const Image& c
         if (ch < 3) rgb_finite = false;
         if (!rf && !cf && consistent_nonfinite(r[ch], c[ch])) {
           ++s.nonfinite.consistent;
+        } else if (ch < 3 && enc.nan_marks_negative() && (std::isnan(r[ch]) || std::isnan(c[ch])) &&
+                   (rf || cf) &&
+                   std::fabs(enc.to_nits(rf ? r[ch] : c[ch])) < kSignBoundaryNoise * pixel_scale) {
+          if (s.nonfinite.sign_boundary == 0)
+            s.nonfinite.first_sign_boundary = {x, y, ch, in ? in[ch] : 0.0, r[ch], c[ch], -1};
+          ++s.nonfinite.sign_boundary;
         } else {
           if (s.nonfinite.mismatch == 0)
             s.nonfinite.first_mismatch = {x, y, ch, in ? in[ch] : 0.0, r[ch], c[ch], -1};
@@ -385,11 +406,36 @@ DiffStats diff_images(const Image& input, const Image& reference, const Image& c
   return s;
 }
 
-Verdict judge(const DiffStats& s, const Tolerance& tol) {
+Verdict judge(const DiffStats& s, const Tolerance& tol, bool pins_nonfinite) {
   Verdict v;
   if (s.nonfinite.mismatch > 0) {
     v.reason = std::to_string(s.nonfinite.mismatch) + " non-finite mismatch(es); first at " +
                describe_pixel(s.nonfinite.first_mismatch);
+    return v;
+  }
+  // A case that compares nothing cannot fail: not a PASS (docs/diff-metrics.md).
+  const size_t colour_values = 3 * s.pixels;
+  const std::string boundary =
+      s.nonfinite.sign_boundary == 0
+          ? ""
+          : "; " + std::to_string(s.nonfinite.sign_boundary) +
+                " NaN vs zero within float32 noise (sign boundary), first at " +
+                describe_pixel(s.nonfinite.first_sign_boundary);
+  if (pins_nonfinite && s.nonfinite.consistent == 0) {
+    v.error = true;
+    v.reason = "the case pins non-finite behaviour, but no value is non-finite on both sides";
+    return v;
+  }
+  if (s.values == 0) {
+    if (!pins_nonfinite) {
+      v.error = true;
+      v.reason = "nothing compared: " + std::to_string(colour_values - s.values) + " of " +
+                 std::to_string(colour_values) + " values are non-finite on both sides";
+      return v;
+    }
+    v.pass = true;
+    v.reason = "non-finite census: " + std::to_string(s.nonfinite.consistent) +
+               " consistent non-finite values, no mismatch" + boundary;
     return v;
   }
   std::string passing;
@@ -430,8 +476,13 @@ Verdict judge(const DiffStats& s, const Tolerance& tol) {
                            " at " + describe_pixel(st.worst));
     if (limit < kNotJudged) {
       any_max = true;
-      const double used = limit > 0 ? st.at_allowed_fraction / limit
-                                    : (st.at_allowed_fraction > 0 ? kNotJudged : 0.0);
+      double used = limit > 0 ? st.at_allowed_fraction / limit
+                              : (st.at_allowed_fraction > 0 ? kNotJudged : 0.0);
+      // Every criterion counts: with an allowed fraction also the share of it used and the hard
+      // cap (a LUT case whose values are exact but for one-code flips uses its cap, not 0 %).
+      if (tol.allowed_fraction[m] > 0)
+        used = std::fmax(used, st.fraction_over / tol.allowed_fraction[m]);
+      if (tol.hard[m] < kNotJudged && tol.hard[m] > 0) used = std::fmax(used, st.max / tol.hard[m]);
       v.budget_used = std::fmax(v.budget_used, used);
       if (!(used < 0.1)) all_small = false;
       passing += (passing.empty() ? "" : ", ") + key + " " + fmt(st.max) + " <= " + fmt(limit);
@@ -442,7 +493,7 @@ Verdict judge(const DiffStats& s, const Tolerance& tol) {
   }
   v.pass = true;
   v.could_be_tightened = any_max && all_small;
-  v.reason = passing.empty() ? "no metric judged" : passing;
+  v.reason = (passing.empty() ? "no metric judged" : passing) + boundary;
   return v;
 }
 

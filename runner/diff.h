@@ -45,7 +45,11 @@ struct OutputEncoding {
   // The encoding of `stage`'s output for the resolved parameters `p` (device, gamut, WCS).
   static OutputEncoding of(StageId stage, const ParamBlock& p);
   double to_nits(double value) const;  // per channel
-  std::string describe() const;        // "PQ EOTF, Rec.2020"
+  // True when the output is a power-law encoding (PQ, explicit gamma) of a value that can be
+  // negative, so that a NaN marks a negative value: devices 2–7 from CombineLUTs on. Where this
+  // holds, the census applies the sign-boundary rule (docs/diff-metrics.md).
+  bool nan_marks_negative() const;
+  std::string describe() const;  // "PQ EOTF, Rec.2020"
 };
 
 // One value of an image pair.
@@ -77,7 +81,16 @@ struct NonFiniteCensus {
   size_t consistent = 0;  // NaN/NaN or same-sign Inf pairs
   size_t mismatch = 0;    // any other pair involving a non-finite value
   PixelRef first_mismatch;
+  // NaN on one side, on the other a colour value within float32 noise of zero (|nits| <
+  // kSignBoundaryNoise x the pixel's largest |nits|): the NaN of an encoding of a value whose sign
+  // float32 noise decides (docs/diff-metrics.md, "Sign boundary"). Judged consistent, counted
+  // here, never in the numeric metrics.
+  size_t sign_boundary = 0;
+  PixelRef first_sign_boundary;
 };
+
+// The sign-boundary rule's bound: 2^-20, 16 float32 ulps (2^-24) of the pixel's largest channel.
+inline constexpr double kSignBoundaryNoise = 1.0 / 1048576.0;
 
 struct DiffStats {
   size_t pixels = 0;  // pixels compared
@@ -104,6 +117,7 @@ DiffStats diff_images(const Image& input, const Image& reference, const Image& c
 
 struct Verdict {
   bool pass = false;
+  bool error = false;                 // not judgeable (nothing compared): an ERROR, not a FAIL
   std::string reason;                 // one line: what failed and where, or the passing metrics
   std::vector<std::string> warnings;  // one line per metric over its warn level
   // Passed with every metric that has a max under 10 % of it (for an allowed fraction: the value
@@ -113,8 +127,10 @@ struct Verdict {
 };
 
 // Applies the tolerance: non-finite mismatches first, then per metric the hard cap and the
-// allowed fraction over max. Written so that NaN fails (`!(m <= tol)`).
-Verdict judge(const DiffStats& s, const Tolerance& tol);
+// allowed fraction over max. Written so that NaN fails (`!(m <= tol)`). A case in which no finite
+// value was compared is an ERROR ("nothing compared") unless it `pins_nonfinite` (Case): then the
+// census judges it, and it needs at least one non-finite value to pin.
+Verdict judge(const DiffStats& s, const Tolerance& tol, bool pins_nonfinite = false);
 
 // "(517, 0) G, 10-100 nits: input 0.5 reference 0.49 candidate 0.48"
 std::string describe_pixel(const PixelRef& p);

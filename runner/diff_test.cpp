@@ -331,3 +331,100 @@ TEST(Diff, CouldBeTightenedAndNaNLimits) {
 }
 
 }  // namespace
+
+// The sign-boundary rule (docs/diff-metrics.md): where a NaN marks the power-law encoding of a
+// negative value (CombineLUTs' PQ texels of device 3 here), NaN against a value within float32
+// noise of zero (|nits| < 2^-20 x the pixel's largest |nits|) is consistent and counted; a value
+// above that noise is a mismatch, and so is NaN vs 0 where NaN marks nothing (the shaper).
+TEST(Diff, SignBoundaryNaNAgainstNoiseOfZero) {
+  const OutputEncoding lut3{StageId::kCombineLuts, 3};
+  ASSERT_TRUE(lut3.nan_marks_negative());
+  ASSERT_FALSE((OutputEncoding{StageId::kShaper, 3}.nan_marks_negative()));
+  ASSERT_FALSE((OutputEncoding{StageId::kCombineLuts, 0}.nan_marks_negative()));
+  // 0.5 as a stored texel: PQ 0.525 is ~112 nits, so the bound is ~1.1e-4 nits. PQ 0.000196 is
+  // 2.5e-6 nits (inside); PQ 0.05 is 0.06 nits (outside).
+  for (const auto& [cand, boundary] : {std::pair{0.000196, true}, std::pair{0.05, false}}) {
+    for (bool nan_in_reference : {true, false}) {
+      hdrc::Image in = grey(3, 0.5), ref = grey(3, 0.5), cnd = grey(3, 0.5);
+      (nan_in_reference ? ref : cnd).px(1, 0)[2] = kNaN;
+      (nan_in_reference ? cnd : ref).px(1, 0)[2] = cand;
+      const auto s = hdrc::diff_images(in, ref, cnd, lut3, tol(1, 1e-6, 100));
+      EXPECT_EQ(s.nonfinite.sign_boundary, boundary ? 1u : 0u) << cand;
+      EXPECT_EQ(s.nonfinite.mismatch, boundary ? 0u : 1u) << cand;
+      EXPECT_EQ(s.values, 8u);  // the pair is in no numeric metric
+      const auto v = hdrc::judge(s, tol(1, 1e-6, 100));
+      EXPECT_EQ(v.pass, boundary) << v.reason;
+      if (boundary) {
+        EXPECT_EQ(s.nonfinite.first_sign_boundary.x, 1);
+        EXPECT_NE(v.reason.find("sign boundary"), std::string::npos) << v.reason;
+      }
+    }
+  }
+  // A NaN in a pixel whose every other value is zero has no noise to hide in: a mismatch.
+  hdrc::Image in = grey(1, 0.0), ref = grey(1, 0.0), cnd = grey(1, 0.0);
+  ref.px(0, 0)[0] = kNaN;
+  EXPECT_EQ(hdrc::diff_images(in, ref, cnd, lut3, tol(1, 1e-6, 100)).nonfinite.mismatch, 1u);
+}
+
+// A case that compares no finite value cannot fail, so it must not pass: an ERROR naming the
+// count. A case that declares it pins non-finite behaviour is judged by the census instead, and
+// is an ERROR when there is nothing non-finite to pin.
+TEST(Diff, NothingComparedIsAnErrorUnlessTheCasePinsNonFinite) {
+  hdrc::Image in = grey(3, 0.1), ref = grey(3, kNaN), cand = grey(3, kNaN);
+  const auto s = hdrc::diff_images(in, ref, cand, kShaper, tol(1e-3, 1e-6, 1));
+  ASSERT_EQ(s.values, 0u);
+  auto v = hdrc::judge(s, tol(1e-3, 1e-6, 1));
+  EXPECT_FALSE(v.pass);
+  EXPECT_TRUE(v.error);
+  EXPECT_EQ(v.reason, "nothing compared: 9 of 9 values are non-finite on both sides");
+  v = hdrc::judge(s, tol(1e-3, 1e-6, 1), /*pins_nonfinite=*/true);
+  EXPECT_TRUE(v.pass) << v.reason;
+  EXPECT_FALSE(v.could_be_tightened);
+  EXPECT_EQ(v.reason.rfind("non-finite census: 9 consistent", 0), 0u) << v.reason;
+  // Pinned, but a candidate that turns one NaN into a number fails on the census.
+  cand.px(1, 0)[0] = 0.25;
+  v = hdrc::judge(hdrc::diff_images(in, ref, cand, kShaper, tol(1e-3, 1e-6, 1)), tol(1e-3, 1e-6, 1),
+                  true);
+  EXPECT_FALSE(v.pass);
+  EXPECT_FALSE(v.error);
+  // Pinned, with nothing non-finite: an ERROR, not a pass.
+  const hdrc::Image fine = grey(3, 0.1);
+  v = hdrc::judge(hdrc::diff_images(in, fine, fine, kShaper, tol(1e-3, 1e-6, 1)),
+                  tol(1e-3, 1e-6, 1), true);
+  EXPECT_TRUE(v.error);
+  EXPECT_FALSE(v.pass);
+  // One finite value compared: judged as usual.
+  hdrc::Image ref1 = grey(3, kNaN), cand1 = grey(3, kNaN);
+  ref1.px(2, 0)[1] = cand1.px(2, 0)[1] = 0.5;
+  v = hdrc::judge(hdrc::diff_images(in, ref1, cand1, kShaper, tol(1e-3, 1e-6, 1)),
+                  tol(1e-3, 1e-6, 1));
+  EXPECT_TRUE(v.pass) << v.reason;
+}
+
+// "Could be tightened" weighs every criterion: with an allowed fraction, the share of it used and
+// the hard cap count too, so exact-but-for-a-few-flips values are not "under 10 %".
+TEST(Diff, CouldBeTightenedCountsFractionAndHardCap) {
+  hdrc::Image in = grey(1000, 0.5), ref = grey(1000, 0.5), cand = grey(1000, 0.5);
+  cand.px(10, 0)[0] = 0.5 + 9e-4;  // one value of 3000 off by 9e-4, the rest exact
+  hdrc::Tolerance t;
+  const int abs = static_cast<int>(Metric::kLinearAbs);
+  t.linear_abs = 2e-5;
+  t.allowed_fraction[abs] = 0.01;
+  t.hard[abs] = kInf;  // no cap: the share of the fraction decides
+  auto s = hdrc::diff_images(in, ref, cand, kShaper, t);
+  auto v = hdrc::judge(s, t);
+  ASSERT_TRUE(v.pass) << v.reason;
+  EXPECT_TRUE(v.could_be_tightened);  // 1/3000 of 1 %: 3.3 %
+  EXPECT_NEAR(v.budget_used, (1.0 / 3000) / 0.01, 1e-12);
+  t.allowed_fraction[abs] = 0.002;  // 1/3000 of 0.2 %: 17 %
+  t.hard[abs] = 1e-2;
+  s = hdrc::diff_images(in, ref, cand, kShaper, t);
+  v = hdrc::judge(s, t);
+  EXPECT_FALSE(v.could_be_tightened);
+  t.allowed_fraction[abs] = 0.01;
+  t.hard[abs] = 9.8e-4;  // the flip uses 92 % of the cap
+  s = hdrc::diff_images(in, ref, cand, kShaper, t);
+  v = hdrc::judge(s, t);
+  EXPECT_FALSE(v.could_be_tightened);
+  EXPECT_NEAR(v.budget_used, 9e-4 / 9.8e-4, 1e-6);
+}

@@ -92,7 +92,9 @@ json case_json(const CaseResult& c, const RunReport& r) {
                  {"candidate", census_side(s.nonfinite.candidate)},
                  {"consistent", s.nonfinite.consistent},
                  {"mismatch", s.nonfinite.mismatch},
-                 {"first_mismatch", pixel(s.nonfinite.first_mismatch)}};
+                 {"first_mismatch", pixel(s.nonfinite.first_mismatch)},
+                 {"sign_boundary", s.nonfinite.sign_boundary},
+                 {"first_sign_boundary", pixel(s.nonfinite.first_sign_boundary)}};
     // The worst pixel is the first non-finite mismatch when there is one (it decided the
     // verdict), else the worst value of the metric using most of its budget.
     if (s.nonfinite.mismatch > 0) {

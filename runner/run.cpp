@@ -157,10 +157,10 @@ class Executor {
     if (!save(r, "candidate", *cand_img)) return r;
     t0 = std::chrono::steady_clock::now();
     r.stats = diff_images(resolved->input, *ref_img, *cand_img, enc, r.tolerance);
-    const Verdict v = judge(r.stats, r.tolerance);
+    const Verdict v = judge(r.stats, r.tolerance, !c.pins_nonfinite.empty());
     r.diff_seconds = seconds_since(t0);
     r.has_stats = true;
-    r.verdict = v.pass ? CaseVerdict::kPass : CaseVerdict::kFail;
+    r.verdict = v.pass ? CaseVerdict::kPass : (v.error ? CaseVerdict::kError : CaseVerdict::kFail);
     r.reason = v.reason;
     r.warnings = v.warnings;
     r.could_be_tightened = v.could_be_tightened;
