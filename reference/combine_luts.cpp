@@ -14,6 +14,7 @@
 #include "reference/grading/color_polynomial.h"
 #include "reference/grading/expand_gamut.h"
 #include "reference/grading/film_tonemap.h"
+#include "reference/grading/hlsl_ops.h"
 #include "reference/lut_shaper.h"
 
 namespace hdrc::ref {
@@ -103,8 +104,14 @@ Vec3 combine_luts_texel(const ParamBlock& p, const Vec3& lattice, CombineLutsTra
   const grading::Fade fade{
       {p.color_scale[0], p.color_scale[1], p.color_scale[2]},
       {p.overlay_color[0], p.overlay_color[1], p.overlay_color[2], p.overlay_color[3]}};
-  // §4.7 GradedColor for the HDR / linear devices.
-  t.graded = grading::apply_fade(p.wcs_from_ap1 * t.color_corrected, fade);
+  // §4.7 GradedColor for the HDR / linear devices. The matrix product in float32's range: a
+  // ColorGamma-0.01 texel near FLT_MAX overflows to +Inf here on the GPU, and the fade's lerp makes
+  // it NaN (Inf + 0 · −Inf), as in UE's shader (docs/ue55-decisions.md, issue 11 closures).
+  const Vec3 graded_ap1 = p.wcs_from_ap1 * t.color_corrected;
+  t.graded = grading::apply_fade(
+      {grading::hlsl::f32_range(graded_ap1[0]), grading::hlsl::f32_range(graded_ap1[1]),
+       grading::hlsl::f32_range(graded_ap1[2])},
+      fade);
   // §4.8, §4.10, §4.11 the SDR film path (devices 0–2 and 9).
   grading::FilmPathParams film;
   film.blue_correction = p.blue_correction;

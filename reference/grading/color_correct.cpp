@@ -27,9 +27,11 @@ Vec3 color_correct(const Vec3& ap1, const ColorCorrectZone& z) {
   Vec3 c;
   for (int i = 0; i < 3; ++i) {
     double v = hlsl::max(0.0, hlsl::lerp(luma, ap1[i], z.saturation[i] * z.saturation[3]));
-    v = d3d::pow(v * (1.0 / 0.18), z.contrast[i] * z.contrast[3]) * 0.18;
-    v = d3d::pow(v, 1.0 / (z.gamma[i] * z.gamma[3]));
-    c[i] = v * (z.gain[i] * z.gain[3]) + (z.offset[i] + z.offset[3]);
+    // Each power can leave float32's range where the double does not (ColorGamma 0.01 raises to
+    // 100): hlsl::f32_range gives the Inf UE's float shader computes.
+    v = hlsl::f32_range(d3d::pow(v * (1.0 / 0.18), z.contrast[i] * z.contrast[3])) * 0.18;
+    v = hlsl::f32_range(d3d::pow(v, 1.0 / (z.gamma[i] * z.gamma[3])));
+    c[i] = hlsl::f32_range(v * (z.gain[i] * z.gain[3]) + (z.offset[i] + z.offset[3]));
   }
   return c;
 }
@@ -46,7 +48,12 @@ Vec3 color_correct_all(const Vec3& ap1, const ColorCorrectParams& p) {
   const Vec3 h = color_correct(ap1, combine_with_global(p.highlights, p.global));
   const Vec3 m = color_correct(ap1, combine_with_global(p.midtones, p.global));
   Vec3 out;
-  for (int i = 0; i < 3; ++i) out[i] = s[i] * w.shadows + m[i] * w.midtones + h[i] * w.highlights;
+  // Left to right as the shader adds, each partial result in float32's range: two zones near
+  // FLT_MAX overflow in their sum even where each term does not.
+  using hlsl::f32_range;
+  for (int i = 0; i < 3; ++i)
+    out[i] = f32_range(f32_range(f32_range(s[i] * w.shadows) + f32_range(m[i] * w.midtones)) +
+                       f32_range(h[i] * w.highlights));
   return out;
 }
 

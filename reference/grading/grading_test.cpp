@@ -16,6 +16,7 @@
 #include "reference/grading/expand_gamut.h"
 #include "reference/grading/film_common.h"
 #include "reference/grading/film_tonemap.h"
+#include "reference/grading/hlsl_ops.h"
 #include "reference/grading/white_balance.h"
 
 namespace {
@@ -757,6 +758,33 @@ TEST(ColorPolynomial, InverseGamma) {
   EXPECT_EQ(out[0], 0.5);
   EXPECT_EQ(out[1], 0.0);
   EXPECT_EQ(out[2], 0.0);
+}
+
+}  // namespace
+
+namespace {
+
+// ColorGamma at its 0.01 edge raises to the power 100: float32 (UE's shader) overflows to +Inf
+// above 2^(128/100) = 2.42, where double would carry 3.0^100 = 5.2e47 on. The reference keeps
+// float32's range (docs/ue55-decisions.md, closures of issue 11): 2.4^100 = 1.0e38 stays finite,
+// 2.5^100 = 6.2e39 is +Inf; the zone blend's Inf · 0 is then NaN, as on the GPU.
+TEST(GradingColorCorrect, Float32OverflowAtTheGammaEdge) {
+  namespace g = hdrc::ref::grading;
+  g::ColorCorrectZone z;
+  z.gamma = {0.01, 0.01, 0.01, 1.0};
+  // AP1 grey 2.4 (luma 2.4): saturation 1 keeps it; contrast 1: pow(2.4/0.18, 1)·0.18 = 2.4.
+  const Vec3 low = g::color_correct({2.4, 2.4, 2.4}, z);
+  EXPECT_TRUE(std::isfinite(low[0]));
+  EXPECT_NEAR(low[0] / std::pow(2.4, 100.0), 1.0, 1e-12);
+  const Vec3 high = g::color_correct({2.5, 2.5, 2.5}, z);
+  EXPECT_EQ(high[0], std::numeric_limits<double>::infinity());
+  // The float32 threshold itself: the largest float, FLT_MAX, is finite; half an ulp more is Inf.
+  EXPECT_EQ(hdrc::ref::grading::hlsl::f32_range(0x1.fffffep+127), 0x1.fffffep+127);
+  EXPECT_TRUE(std::isinf(hdrc::ref::grading::hlsl::f32_range(0x1.ffffffp+127)));
+  EXPECT_EQ(hdrc::ref::grading::hlsl::f32_range(-1e39), -std::numeric_limits<double>::infinity());
+  // Blended with a zero weight (ColorCorrectAll: highlights weight 0 for a mid grey) Inf · 0 is
+  // NaN in float32 and here.
+  EXPECT_TRUE(std::isnan(high[0] * 0.0));
 }
 
 }  // namespace

@@ -40,6 +40,15 @@ inline double smoothstep(double a, double b, double x) {
   return t * t * (3.0 - 2.0 * t);
 }
 
+// The float32 range of UE's shader arithmetic: a double result beyond it is what float32 would
+// round to ±Inf (|x| >= FLT_MAX + half an ulp, 2^128 − 2^103), so a later step sees the same Inf
+// (and 0·Inf = NaN) as the GPU. Used where a grading control can overflow float: ColorGamma at its
+// 0.01 edge raises to the power 100 (docs/precision.md, float32 overflow).
+inline double f32_range(double x) {
+  constexpr double kOverflow = 0x1.ffffffp+127;
+  return std::fabs(x) >= kOverflow ? std::copysign(INFINITY, x) : x;
+}
+
 // HLSL sign(): −1, 0 or +1 (0 for ±0).
 inline double sign(double x) {
   return x > 0.0 ? 1.0 : (x < 0.0 ? -1.0 : 0.0);
