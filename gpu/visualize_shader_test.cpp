@@ -297,7 +297,7 @@ TEST(VisualizeShader, PassesMatchReferenceWithIdentityTonemap) {
     in.hdr_scene_color = &rc.input;
     in.one_over_pre_exposure = 1.0 / rc.params.pre_exposure;
     in.histogram = vis::build_histogram(rc.input, in.params, in.one_over_pre_exposure);
-    in.eye.exposure = rc.params.exposure;
+    in.eye.exposure = rc.params.exposure * rc.params.pre_exposure;  // EyeAdaptationBuffer[0].x
     in.eye.average_scene_luminance =
         vis::average_luminance_without_outliers(in.histogram, in.params);
     const hdrc::ref::grading::FilmParams film{rc.params.film_slope, rc.params.film_toe,
@@ -355,7 +355,9 @@ TEST(VisualizeShader, HistogramPassNumbersMatchReference) {
     in.hdr_scene_color = &rc.input;
     in.one_over_pre_exposure = 1.0 / pre;
     in.histogram = vis::build_histogram(rc.input, in.params, in.one_over_pre_exposure);
-    in.eye.exposure = exposure;
+    // rc.params.exposure is Exposure / PreExposure (the Tonemap pass's); VisualizeHDR reads the
+    // plain exposure (EyeAdaptationBuffer[0].x).
+    in.eye.exposure = exposure * pre;
     in.eye.average_scene_luminance =
         vis::average_luminance_without_outliers(in.histogram, in.params);
     in.tone_curve = vis::per_channel([](double v) { return v; });

@@ -107,7 +107,10 @@ Result<Image> visualize_hdr_stage(const ParamBlock& p, const Image& hdr_scene) {
   in.hdr_scene_color = &hdr_scene;
   in.one_over_pre_exposure = 1.0 / p.pre_exposure;
   in.histogram = visualize::build_histogram(hdr_scene, in.params, in.one_over_pre_exposure);
-  in.eye.exposure = p.exposure;
+  // EyeAdaptationBuffer[0].x holds the plain exposure (PostProcessVisualizeHDR.usf MainPS reads
+  // it as EyeAdaptationResult; the Tonemap pass reads the same entry and applies
+  // OneOverPreExposure on its own). p.exposure is Exposure / PreExposure (resolve.cpp).
+  in.eye.exposure = p.exposure * p.pre_exposure;
   in.eye.exposure_bias_only = 1.0;
   in.eye.average_scene_luminance =
       visualize::average_luminance_without_outliers(in.histogram, in.params);

@@ -115,9 +115,12 @@ void main() {
   scratch_px[base + VIS_ILLUMINANCE] = vec4(illuminance_rgb, ue_luminance(illuminance_rgb));
 
   // Exposure lines and labels (EyeAdaptationBuffer: EyeAdaptationResult = the Exposure setting,
-  // ExposureBiasOnly 1, so the "without bias" exposure equals it).
+  // ExposureBiasOnly 1, so the "without bias" exposure equals it). The buffer holds the plain
+  // exposure: the Tonemap pass reads the same entry and applies OneOverPreExposure separately
+  // (PostProcessVisualizeHDR.usf MainPS: EyeAdaptationBuffer[0].r). P.exposure is
+  // Exposure · OneOverPreExposure (the Tonemap pass's product), so PreExposure is multiplied back.
   const float panel_width = float(panel_geometry(w, h).width);
-  const float exposure = P.exposure;
+  const float exposure = P.exposure * P.pre_exposure;
   const float exposure_without_bias = exposure / EA_EXPOSURE_BIAS_ONLY;
   scratch_px[base + VIS_EXPOSURE] = vec4(
       log2_d3d(1.0 / exposure_without_bias),
