@@ -44,6 +44,9 @@ const std::vector<CvarInfo>& cvar_table() {
        "< 0: the post-process Sharpen setting; else overrides it (clamped to 10)"},
       {"r.BackbufferQuantizationDitheringOverride", CvarType::kInt, 0, 0, 16,
        "dither bits; 0 = from the back buffer format"},
+      {"r.DefaultBackBufferPixelFormat", CvarType::kInt, 4, 0, 4,
+       "SDR back buffer: 0 8-bit RGBA (dither 1/255), 1 16-bit RGBA, 2 float RGB, 3 float RGBA, "
+       "4 10-bit RGB 2-bit alpha (default; these dither 1/1023). SceneTextures.cpp"},
       {"r.HDR.UI.CompositeMode", CvarType::kInt, 1, 0, 1, "1: HDR UI composite shader"},
       {"r.HDR.UI.Level", CvarType::kFloat, 1.0, 0.0, 10.0, "UI luminance scale in the composite"},
       {"r.HDR.UI.Luminance", CvarType::kFloat, 300.0, 1.0, 10000.0, "UI white in nits"},

@@ -150,8 +150,11 @@ Result<Resolution> resolve(const Case& c, int width, int height) {
   } else if (dither_bits > 0) {
     p.dither_amount = 1.0 / (std::exp2(dither_bits) - 1.0);
   } else {
-    // 8-bit swap chain for the SDR devices, 10-bit (or float) for HDR (docs/ue55-decisions.md).
-    p.dither_amount = device <= 2 ? 1.0 / 255.0 : 1.0 / 1023.0;
+    // AddTonemapPass: 1/1023 unless the view family's render target is PF_B8G8R8A8/PF_R8G8B8A8.
+    // An SDR back buffer has r.DefaultBackBufferPixelFormat's format (default 4, A2B10G10R10:
+    // 5.5 SceneTextures.cpp); an HDR swap chain is 10-bit or float (docs/ue55-decisions.md D10).
+    const bool eight_bit = device <= 2 && cv.get_int("r.DefaultBackBufferPixelFormat") == 0;
+    p.dither_amount = eight_bit ? 1.0 / 255.0 : 1.0 / 1023.0;
   }
   p.frame_index = static_cast<int>(st.get("FrameIndex")) % 8;
   p.grain_random = {halton(p.frame_index, 2), halton(p.frame_index, 3), 0.0, 0.0};

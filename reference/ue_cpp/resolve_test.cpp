@@ -56,9 +56,26 @@ TEST(Resolve, TonemapperGammaForcesExplicitGammaDevice) {
   EXPECT_FLOAT_EQ(p.inverse_gamma[1], 1.0f);  // 2.2 / DisplayGamma 2.2
 }
 
-// Dither amount (spec §6.1 step 10): none for 8/9, override bits, else 8-bit SDR / 10-bit HDR.
+// Dither amount (spec §6.1 step 10, 5.5 AddTonemapPass): none for 8/9, override bits, else
+// 1/1023 unless the SDR back buffer is 8-bit: r.DefaultBackBufferPixelFormat defaults to 4
+// (A2B10G10R10, 5.5 SceneTextures.cpp), so the default SDR amount is 1/1023; format 0 is 1/255.
 TEST(Resolve, DitherAmountPerDevice) {
-  EXPECT_DOUBLE_EQ(hdrc::ref::resolve(make({}), 1, 1)->params.dither_amount, 1.0 / 255.0);
+  EXPECT_DOUBLE_EQ(hdrc::ref::resolve(make({}), 1, 1)->params.dither_amount, 1.0 / 1023.0);
+  EXPECT_DOUBLE_EQ(
+      hdrc::ref::resolve(make({{"r.DefaultBackBufferPixelFormat", 0}}), 1, 1)->params.dither_amount,
+      1.0 / 255.0);
+  for (int format = 1; format <= 4; ++format)
+    EXPECT_DOUBLE_EQ(hdrc::ref::resolve(make({{"r.DefaultBackBufferPixelFormat", format}}), 1, 1)
+                         ->params.dither_amount,
+                     1.0 / 1023.0)
+        << format;
+  // An HDR swap chain is never 8-bit, whatever the SDR default says.
+  EXPECT_DOUBLE_EQ(hdrc::ref::resolve(make({{"r.HDR.EnableHDROutput", 1},
+                                            {"r.HDR.Display.OutputDevice", 3},
+                                            {"r.DefaultBackBufferPixelFormat", 0}}),
+                                      1, 1)
+                       ->params.dither_amount,
+                   1.0 / 1023.0);
   EXPECT_DOUBLE_EQ(
       hdrc::ref::resolve(make({{"r.HDR.EnableHDROutput", 1}, {"r.HDR.Display.OutputDevice", 5}}), 1,
                          1)
