@@ -178,10 +178,18 @@ double dither_grain(double u, double v) {
 
 Image dither_image(const ParamBlock& p, const Image& in) {
   Image out = in;
+  // GrainUV in float32 as UE computes it: MainCS's UV = (DispatchThreadId + 0.5) multiplied by
+  // Color_ExtentInverse (the float reciprocal of the extent, FScreenPassTextureViewportParameters),
+  // then + GrainRandomFull.xy (float constants). A division by the extent in double rounds
+  // differently, and the hash magnifies that ~5e5 times (docs/precision.md, dither).
+  const float inv_w = 1.0f / static_cast<float>(in.width);
+  const float inv_h = 1.0f / static_cast<float>(in.height);
+  const float grain_u = static_cast<float>(p.grain_random[0]);
+  const float grain_v = static_cast<float>(p.grain_random[1]);
   for (int y = 0; y < in.height; ++y)
     for (int x = 0; x < in.width; ++x) {
-      const double u = (x + 0.5) / in.width + p.grain_random[0];
-      const double v = (y + 0.5) / in.height + p.grain_random[1];
+      const float u = (static_cast<float>(x) + 0.5f) * inv_w + grain_u;
+      const float v = (static_cast<float>(y) + 0.5f) * inv_h + grain_v;
       const double n = 2.0 * dither_grain(u, v) - 1.0;
       // clamp(n·∞, −1, 1) − that · sqrt(saturate(1 − |n|)) (docs/ue55-decisions.md D6.1).
       const double sg = sign_d3d(n);
