@@ -1,0 +1,91 @@
+#!/usr/bin/env python3
+"""Per-case tolerances from a measured run (docs/tolerances.md, "Measured per-case tolerances").
+
+Reads a results.json of `hdrconform run` on lavapipe and rewrites the measured overlays of
+cases/tolerance_overlays.json: one overlay per passing case whose measured maxima, times MARGIN,
+lie under its group tolerance. Each overlay selects the case by its id, the vulkan engine and the
+llvmpipe device only (another GPU keeps the group sets of cases/defaults.json), sets each judged
+metric's max to MARGIN x its measured maximum and records the measurement in its reason.
+Hand-written overlays (whose reason does not start with PREFIX) are kept, in front.
+
+Not touched: metrics measured at exactly 0 (bit-exact: a max of 0 would fail on any change of
+rounding; the group set keeps judging them) and metrics with an allowed fraction where some value
+is over max (LUT code flips, the dither grain: judged by the fraction and the hard cap). Where no
+value is over max, the fraction is dropped and max = hard = MARGIN x measured.
+
+Usage: scripts/measured_tolerances.py RESULTS_JSON [CASES_DIR] [--margin M]
+"""
+import argparse
+import json
+import math
+import os
+import sys
+
+PREFIX = "measured per case on lavapipe"
+METRICS = ["linear_abs", "linear_rel", "pq_code10", "pq_code12", "delta_e_itp"]
+
+
+def sig(x):
+    """x rounded up to 2 significant digits (a limit never falls below margin x measured)."""
+    if x <= 0:
+        return 0.0
+    e = math.floor(math.log10(x)) - 1
+    return float(f"{math.ceil(x / 10**e)}e{e}")
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("results")
+    ap.add_argument("cases", nargs="?", default=os.path.join(os.path.dirname(__file__), "..", "cases"))
+    ap.add_argument("--margin", type=float, default=3.0)
+    a = ap.parse_args()
+    results = json.load(open(a.results))
+    device = results["cases"][0]["device"]["device"] if results["cases"] else ""
+    if "llvmpipe" not in device:
+        sys.exit(f"{a.results}: measured on '{device}', not lavapipe (llvmpipe)")
+    path = os.path.join(a.cases, "tolerance_overlays.json")
+    doc = json.load(open(path))
+    kept = [o for o in doc["overlays"] if not o["tolerance"]["reason"].startswith(PREFIX)]
+    made = []
+    for c in results["cases"]:
+        if c["verdict"] != "PASS" or not c.get("stats"):
+            continue
+        tol, overall = c["tolerance"], c["stats"]["overall"]
+        patch, said = {}, []
+        for m in METRICS:
+            t = tol.get(m)
+            if not isinstance(t, dict) or not isinstance(t.get("max"), (int, float)):
+                continue
+            measured = overall[m]["max"]
+            if not isinstance(measured, (int, float)) or measured <= 0:
+                continue
+            limit = sig(a.margin * measured)
+            if t.get("allowed_fraction", 0) > 0:
+                # An allowed fraction (LUT code flips, dither grain) is kept where any value is
+                # over max; where none is, every value is within max: judge them all by one max.
+                hard = t.get("hard")
+                if overall[m]["over"] > 0 or not isinstance(hard, (int, float)) or limit >= hard:
+                    continue
+                patch[m] = {"max": limit, "allowed_fraction": 0, "hard": limit, "warn": None}
+            else:
+                if limit >= t["max"]:
+                    continue
+                patch[m] = {"max": limit, "warn": None}
+            said.append(f"{m} {measured:.3g}")
+        if not patch:
+            continue
+        patch["reason"] = (f"{PREFIX} ({', '.join(said)}); max = {a.margin:g} x measured, rounded "
+                           f"up to 2 digits: the margin covers rounding reshuffled by constant "
+                           f"changes (docs/tolerances.md)")
+        made.append({"engine": "vulkan", "device": "llvmpipe*", "cases": c["id"],
+                     "tolerance": patch})
+    doc["overlays"] = kept + made
+    with open(path, "w") as f:
+        json.dump(doc, f, indent=2)
+        f.write("\n")
+    print(f"{path}: {len(kept)} hand-written overlays kept, {len(made)} measured per case "
+          f"(margin {a.margin:g})")
+
+
+if __name__ == "__main__":
+    main()
