@@ -313,34 +313,24 @@ TEST(CaseLoader, TheDefaultSuiteLoads) {
   auto loaded = hdrc::load_cases(kCasesDir);
   for (const auto& e : loaded.errors) ADD_FAILURE() << e.to_string();
   // Per file. Full matrices: devices x gamuts (lut/devices 10 x 5), devices x inputs (shaper
-  // 3 x 8 and 7 x 8, linear 5 gamuts x 8, tonemap 10 x 2, stimuli 2 x 9, out_of_gamut 3 x 2, effects 2). Pairwise ones
-  // are pinned by the covering design (runner/pairwise.h): display is exactly its 100 crossed
-  // combinations, the others are at or near their lower bound (cvars: 10 devices x 5 gamuts;
-  // dither 10 x 4; visualize 10 x 3; UI 4 devices x 4 levels).
+  // 3 x 8 and 7 x 8, linear 5 gamuts x 8, tonemap 10 x 2, stimuli 2 x 9, out_of_gamut 3 x 2,
+  // effects 2). Pairwise ones are pinned by the covering design (runner/pairwise.h): display is
+  // exactly its 100 crossed combinations, the others are at or near their lower bound (cvars: 10
+  // devices x 5 gamuts; dither 10 x 4; visualize 10 x 3; UI 4 devices x 4 levels).
   std::map<std::string, size_t> per_file;
   for (const auto& c : loaded.cases) ++per_file[c.id.substr(0, c.id.rfind('/'))];
-  const std::map<std::string, size_t> expected = {{"lut/devices", 50},
-                                                  {"lut/grading_cc", 14},
-                                                  {"lut/grading_film", 15},
-                                                  {"lut/grading_white", 14},
-                                                  {"lut/storage", 13},
-                                                  {"tonemap/cvars", 55},
-                                                  {"tonemap/degenerate", 1},
-                                                  {"tonemap/display", 100},
-                                                  {"tonemap/dither", 40},
-                                                  {"tonemap/effects", 2},
-                                                  {"tonemap/linear_dev7", 40},
-                                                  {"tonemap/linear_dev8", 40},
-                                                  {"tonemap/nonfinite_pin", 1},
-                                                  {"tonemap/out_of_gamut", 6},
-                                                  {"tonemap/shaper_log", 24},
-                                                  {"tonemap/shaper_pq", 56},
-                                                  {"tonemap/stimuli", 18},
-                                                  {"tonemap/tonemap", 20},
-                                                  {"ui/color_deficiency", 13},
-                                                  {"ui/composite", 16},
-                                                  {"visualize/pre_exposure", 8},
-                                                  {"visualize/visualize_hdr", 30}};
+  const std::map<std::string, size_t> expected = {
+      {"lut/devices", 50},           {"lut/grading_cc", 14},
+      {"lut/grading_film", 15},      {"lut/grading_white", 14},
+      {"lut/storage", 13},           {"tonemap/cvars", 55},
+      {"tonemap/degenerate", 1},     {"tonemap/display", 100},
+      {"tonemap/dither", 40},        {"tonemap/effects", 2},
+      {"tonemap/linear_dev7", 40},   {"tonemap/linear_dev8", 40},
+      {"tonemap/nonfinite_pin", 1},  {"tonemap/out_of_gamut", 6},
+      {"tonemap/shaper_log", 24},    {"tonemap/shaper_pq", 56},
+      {"tonemap/stimuli", 18},       {"tonemap/tonemap", 20},
+      {"ui/color_deficiency", 13},   {"ui/composite", 16},
+      {"visualize/pre_exposure", 8}, {"visualize/visualize_hdr", 30}};
   EXPECT_EQ(per_file, expected);
   EXPECT_EQ(loaded.cases.size(), 576u);
   for (const auto& c : loaded.cases) EXPECT_NE(c.tolerance.source, "default") << c.id;
