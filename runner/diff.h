@@ -18,6 +18,7 @@
 
 #include <array>
 #include <cstddef>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -54,6 +55,12 @@ struct PixelRef {
   double input = 0, reference = 0, candidate = 0;
   int band = -1;  // the reference pixel's luminance band
   bool valid() const { return x >= 0; }
+  // The whole pixel, for messages (describe_pixel): RGB of each image, the pixel's ΔE_ITP (NaN
+  // when not finite on both sides), and for a LUT (combine_luts: N² × N, texel (r, g, b) at
+  // (r + N·b, g)) its edge N, so the message names the lattice point (0: not a LUT).
+  std::array<double, 3> input_rgb{}, reference_rgb{}, candidate_rgb{};
+  double delta_e_itp = std::numeric_limits<double>::quiet_NaN();
+  int lut_size = 0;
 };
 
 // Statistics of one metric over a set of values (all, or one band).
@@ -77,6 +84,9 @@ struct NonFiniteCensus {
   size_t consistent = 0;  // NaN/NaN or same-sign Inf pairs
   size_t mismatch = 0;    // any other pair involving a non-finite value
   PixelRef first_mismatch;
+  // The rule that made the reference's value non-finite at first_mismatch, where the reference
+  // knows it ("LinearToST2084 of a negative value: pow of a negative base is NaN"); "" otherwise.
+  std::string rule;
 };
 
 struct DiffStats {
@@ -116,8 +126,14 @@ struct Verdict {
 // allowed fraction over max. Written so that NaN fails (`!(m <= tol)`).
 Verdict judge(const DiffStats& s, const Tolerance& tol);
 
-// "(517, 0) G, 10-100 nits: input 0.5 reference 0.49 candidate 0.48"
+// "(517, 0) G, 10-100 nits: input 0.5 reference 0.49 candidate 0.48; pixel RGB input (…)
+// reference (…) candidate (…), ΔE_ITP 0.31". A LUT texel is named by its lattice point:
+// "lattice (r 6, g 0, b 1) = pixel (22, 0) G, …".
 std::string describe_pixel(const PixelRef& p);
+
+// Why the reference is non-finite at `p` for `stage`/`device`, where UE's rule is known from the
+// input (NaN in, PQ of a negative or +Inf, a device encode of a negative); "" when not known.
+std::string nonfinite_rule(StageId stage, int device, const PixelRef& p);
 
 // BT.2100 ICtCp of a BT.2020 RGB colour in nits (PQ variant), and BT.2124's ΔE_ITP.
 ref::Vec3 ictcp_from_rec2020_nits(const ref::Vec3& rgb_nits);

@@ -27,7 +27,8 @@ namespace {
 constexpr const char* kExitCodes =
     "Exit codes:\n"
     "  0  pass: every case passed\n"
-    "  1  fail: at least one case failed or errored, or (verify) had no candidate image\n"
+    "  1  fail: at least one case failed or errored, or (verify) had no candidate image, or\n"
+    "     (verify --require-all) was declined by the candidate (UNSUPPORTED)\n"
     "  2  bad input: usage error or invalid case files (nothing was run or written)\n"
     "  3  engine unavailable: nothing failed, but the candidate engine could not start and its\n"
     "     cases were skipped (never counted as passed)\n"
@@ -164,6 +165,17 @@ int main(int argc, char** argv) {
   dir_opt->excludes(cmd_opt);
   verify->add_option("--timeout", cmd_timeout, "seconds a candidate command may take per case")
       ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  hdrc::SuiteOptions suite;  // verify's candidate protocol options (runner/verify.h)
+  verify->add_flag("--require-all", suite.require_all,
+                   "fail the run when the candidate declines a case (UNSUPPORTED)");
+  verify->add_option("--candidate-limits", suite.candidate_limits,
+                     "the candidate's declared deviations (known_limits.json's form)");
+  verify
+      ->add_option("--reference", suite.reference,
+                   "baked (UE's LUT) or analytic (per-pixel CombineLUTs, for ports without a "
+                   "LUT)")
+      ->check(CLI::IsMember({"baked", "analytic"}))
       ->capture_default_str();
 
   CLI::App* devices = app.add_subcommand("devices", "list the Vulkan physical devices");
@@ -346,7 +358,6 @@ int main(int argc, char** argv) {
     return sum.errors.empty() ? hdrc::kExitPass : hdrc::kExitFail;
   }
 
-  hdrc::SuiteOptions suite;
   suite.cases_dir = cases_dir;
   suite.out_dir = out_dir;
   // The run's last line names the report (README: the main job ends with the report's path).
@@ -361,8 +372,20 @@ int main(int argc, char** argv) {
   };
   suite.jobs = jobs;
   suite.shard = shard;
+  // What a failing case's reproduce command repeats (runner/verify.h: reproduce_command).
+  auto repro = [&](const std::string& option, const std::string& value) {
+    suite.reproduce_args +=
+        (suite.reproduce_args.empty() ? "" : " ") + option + " " + hdrc::shell_quote(value);
+  };
+  if (!default_cases) repro("--cases", cases_dir);
+  if (*run && engine != "vulkan") repro("--engine", engine);
+  if (*run && !vk.shader_dir.empty()) repro("--shader-dir", vk.shader_dir);
   if (*verify) {
     suite.command = "verify";
+    suite.candidate_engine = candidate_dir.empty() ? "candidate-cmd" : "candidate-dir";
+    if (!candidate_dir.empty()) repro("--candidate-dir", candidate_dir);
+    if (!candidate_cmd.empty()) repro("--candidate-cmd", candidate_cmd);
+    if (suite.reference != "baked") repro("--reference", suite.reference);
     if (candidate_dir.empty() == candidate_cmd.empty()) {
       std::fprintf(stderr,
                    "error: verify needs exactly one of --candidate-dir or --candidate-cmd\n");
@@ -391,11 +414,12 @@ int main(int argc, char** argv) {
                    "{id}\n");
       return hdrc::kExitBadInput;
     }
+    auto declined = std::make_shared<hdrc::DeclinedStages>();  // shared by every worker
     return finish(hdrc::run_suite(
         cases, limits,
         [&] {
           return std::make_unique<hdrc::CandidateCommandEngine>(*argv_template, out_dir,
-                                                                cmd_timeout);
+                                                                cmd_timeout, declined);
         },
         suite));
   }
