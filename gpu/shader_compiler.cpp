@@ -131,7 +131,7 @@ Result<std::vector<uint32_t>> compile_compute(const std::string& shader_dir,
     shader.setTextureSamplerTransformMode(EShTexSampTransUpgradeTextureRemoveSampler);
   }
   Includer includer(root);
-  const int hlsl_rules = hlsl ? EShMsgReadHlsl : 0;
+  const int hlsl_rules = hlsl ? static_cast<int>(EShMsgReadHlsl) : 0;
   const auto messages = static_cast<EShMessages>(EShMsgSpvRules | EShMsgVulkanRules | hlsl_rules);
   if (!shader.parse(GetDefaultResources(), hlsl ? 100 : 450, false, messages, includer)) {
     return Error{

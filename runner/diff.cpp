@@ -316,6 +316,11 @@ std::string nonfinite_rule(StageId stage, int device, const PixelRef& p) {
     if (stage == StageId::kTonemap && any_input_nan)
       return "another channel of the pixel is NaN: the LUT lookup of a NaN coordinate is NaN in "
              "every channel (docs/ue55-decisions.md D-NF)";
+    if ((stage == StageId::kTonemap || stage == StageId::kVisualizeHdr) &&
+        (device == 3 || device == 4) && in >= 0)
+      return "LinearToST2084 of a negative value of the ACES output in the output gamut (this "
+             "colour maps outside it): pow of a negative base is NaN (spec 4.12, devices 3/4; a "
+             "baked 10-bit LUT stores such a texel as 0)";
     if (stage == StageId::kLinearDevice && device == 7)
       return "LinearToST2084 of a negative output-gamut value: AP1_2_Output * ToAP1 turns this "
              "out-of-gamut colour negative, and pow of a negative base is NaN (spec 4.12, row 7)";

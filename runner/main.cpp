@@ -99,6 +99,12 @@ int main(int argc, char** argv) {
                   "golden directory the reference is checked against (default: the repository's "
                   "goldens/ with the default --cases; no check with another --cases)");
   run->add_flag("--no-goldens", no_goldens, "skip the golden check");
+  std::string run_reference = "baked";
+  run->add_option("--reference", run_reference,
+                  "baked (UE's LUT) or analytic (per-pixel CombineLUTs: a port without a LUT; no "
+                  "golden check)")
+      ->check(CLI::IsMember({"baked", "analytic"}))
+      ->capture_default_str();
 
   CLI::App* coverage = app.add_subcommand(
       "coverage",
@@ -380,6 +386,10 @@ int main(int argc, char** argv) {
   if (!default_cases) repro("--cases", cases_dir);
   if (*run && engine != "vulkan") repro("--engine", engine);
   if (*run && !vk.shader_dir.empty()) repro("--shader-dir", vk.shader_dir);
+  if (*run && run_reference != "baked") {
+    suite.reference = run_reference;
+    repro("--reference", run_reference);
+  }
   if (*verify) {
     suite.command = "verify";
     suite.candidate_engine = candidate_dir.empty() ? "candidate-cmd" : "candidate-dir";
@@ -434,8 +444,9 @@ int main(int argc, char** argv) {
   // The reference against the goldens: a regression of the reference, or a missing or stale
   // golden, fails the run (exit 1) unless the run already failed worse.
   if (code == hdrc::kExitBadInput || code == hdrc::kExitInterrupted) return finish(code);
-  if (no_goldens) {
-    std::printf("goldens: not checked (--no-goldens)\n");
+  if (no_goldens || suite.reference != "baked") {
+    std::printf("goldens: not checked (%s)\n",
+                no_goldens ? "--no-goldens" : "the goldens hold the baked reference");
   } else if (goldens_dir.empty()) {
     std::printf("goldens: not checked (--cases %s has no golden directory; pass --goldens DIR)\n",
                 cases_dir.c_str());

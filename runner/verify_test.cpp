@@ -302,3 +302,50 @@ TEST(HlslPort, ShaperStageInHlslPassesItsCases) {
 }
 
 }  // namespace
+
+namespace {
+
+// --reference analytic: a port that evaluates the pipeline per pixel without a LUT
+// (examples/per_pixel_shaders: the project's shaders with the LUT lookup replaced by CombineLUTs
+// at the pixel's coordinate) passes the tonemap cases against the analytic reference, and fails
+// them against the baked reference by the LUT's interpolation error alone, as before.
+TEST(AnalyticReference, PerPixelPortPassesAnalyticAndFailsBaked) {
+  const std::string src = HDRC_SOURCE_DIR;
+  const fs::path out = temp_dir("analytic");
+  const std::string filter = " --filter 'tonemap/tonemap/*' -j 2 ";
+  const Ran a = hdrconform(
+      "verify --reference analytic --candidate-limits " + src +
+      "/examples/per_pixel_shaders/candidate_limits.json" + filter + "--out " +
+      (out / "analytic").string() + " --candidate-cmd '" + HDRC_EXAMPLE_CANDIDATE +
+      " --params {params} --output {output} --shader-dir " + src + "/examples/per_pixel_shaders'");
+  EXPECT_EQ(a.code, 0) << a.out;
+  const auto ja = results(out / "analytic");
+  const int n = static_cast<int>(ja["cases"].size());
+  EXPECT_EQ(n, 20);
+  EXPECT_EQ(ja["reference_mode"], "analytic");
+  // The two declared limits: 4 values each where the double reference is NaN (PQ of a value a few
+  // ulps below zero) and float32 lands a few ulps above it (candidate_limits.json).
+  EXPECT_EQ(count_verdict(ja, "PASS"), n - 2);
+  EXPECT_EQ(count_verdict(ja, "KNOWN_LIMIT"), 2);
+  double worst_pq = 0;
+  for (const auto& c : ja["cases"])
+    if (c["verdict"] == "PASS")
+      worst_pq = std::max(worst_pq, c["stats"]["overall"]["pq_code10"]["max"].get<double>());
+  RecordProperty("analytic_max_pq_code10", std::to_string(worst_pq));
+
+  // The same shaders against the baked reference (in process: the same engine and shaders).
+  const Ran b = hdrconform("run --no-goldens --shader-dir " + src + "/examples/per_pixel_shaders" +
+                           filter + "--out " + (out / "baked").string());
+  EXPECT_EQ(b.code, 1) << b.out;
+  const auto jb = results(out / "baked");
+  // Measured: 17 of the 20 fail (up to 131 10-bit PQ codes on device 0, 35 on scRGB); the three
+  // special_ramp cases of devices 5-7 hold too few values in range to show the LUT's error.
+  // Every log ramp (1024 values from 1e-4 to 1e4 nits) fails.
+  EXPECT_GE(count_verdict(jb, "FAIL"), 17) << b.out;
+  for (const auto& c : jb["cases"])
+    if (c["id"].get<std::string>().find("log_ramp") != std::string::npos)
+      EXPECT_EQ(c["verdict"], "FAIL") << c["id"];
+  fs::remove_all(out);
+}
+
+}  // namespace
