@@ -156,7 +156,11 @@ int main(int argc, char** argv) {
           "TEMPLATE is split into words like a shell would (quotes, backslash) but run without\n"
           "one; {input}, {params}, {output} and {id} are replaced inside each word. Example:\n"
           "  hdrconform verify --candidate-cmd 'my_port --params {params} --in {input} --out "
-          "{output}'\n") +
+          "{output}'\n"
+          "The command exits 0 after writing {output}, 77 to decline the case, 78 to decline its\n"
+          "whole stage (UNSUPPORTED: never a pass; fails the run only with --require-all).\n"
+          "Contract: docs/candidate-protocol.md, params.json schema: "
+          "runner/params.schema.json.\n") +
       kExitCodes);
   verify->add_option("--cases", cases_dir, "case directory")->capture_default_str();
   verify->add_option("--filter", filter, "only cases whose id matches this glob");
