@@ -33,6 +33,11 @@ class Engine {
   virtual Status init() = 0;
   virtual DeviceInfo device() const = 0;
   virtual Result<Image> run(const ResolvedCase& c) = 0;
+  // verify's candidate protocol (README, "Verifying a port"): a candidate may decline what it
+  // does not implement. Non-empty: the candidate declines `c` (UNSUPPORTED, never a pass), with
+  // the reason. Asked before the case runs (a stage declined earlier: run() is never called) and
+  // after run() returned an error (the case itself was declined).
+  virtual std::string unsupported(const ResolvedCase& /*c*/) const { return ""; }
 };
 
 }  // namespace hdrc

@@ -49,6 +49,11 @@ const std::vector<StageInfo>& stage_table();
 // GPU implementation there).
 std::vector<std::string> missing_shaders(const StageInfo& stage, const std::string& shader_dir);
 
+// The file under `shader_dir` that implements pass shader `shader` ("stages/X.comp"): the shader
+// itself, or, when it is absent and "stages/X.hlsl" exists, that HLSL port of it
+// (docs/gpu-interface.md, "HLSL"). Relative to `shader_dir`.
+std::string pass_shader_file(const std::string& shader_dir, std::string_view shader);
+
 const StageInfo* find_stage(std::string_view name);
 std::string stage_names();  // "shaper, linear_device"
 

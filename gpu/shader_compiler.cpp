@@ -10,6 +10,8 @@
 #include <sstream>
 
 #include "core/shader_interface.h"
+#include "core/stage.h"
+#include "gpu/hlsl_interface.h"
 #include "gpu/shader_constants.h"
 
 namespace hdrc::gpu {
@@ -33,6 +35,7 @@ std::string generated_interface_glsl() {
 namespace {
 
 constexpr const char* kGeneratedInclude = "hdrc/interface.glsl";
+constexpr const char* kGeneratedIncludeHlsl = "hdrc/interface.hlsl";
 
 bool read_text(const fs::path& p, std::string* out) {
   std::ifstream f(p, std::ios::binary);
@@ -50,6 +53,7 @@ class Includer final : public glslang::TShader::Includer {
 
   IncludeResult* includeLocal(const char* name, const char* includer, size_t depth) override {
     if (std::string(name) == kGeneratedInclude) return make(name, generated_interface_glsl());
+    if (std::string(name) == kGeneratedIncludeHlsl) return make(name, generated_interface_hlsl());
     const fs::path from = fs::path(includer).parent_path();
     for (const fs::path& candidate : {root_ / from / name, root_ / name}) {
       std::string text;
@@ -103,29 +107,43 @@ Result<std::vector<uint32_t>> compile_compute(const std::string& shader_dir,
                                               const std::string& relative_path) {
   GlslangProcess::ensure();
   const fs::path root(shader_dir);
+  // An HLSL port: stages/X.hlsl in place of stages/X.comp (docs/gpu-interface.md, "HLSL").
+  const std::string path = pass_shader_file(shader_dir, relative_path);
+  const bool hlsl = path != relative_path;
+  const char* language = hlsl ? "HLSL" : "GLSL";
   std::string source;
-  if (!read_text(root / relative_path, &source)) {
-    return Error{(root / relative_path).generic_string(), "", "cannot read shader source", ""};
+  if (!read_text(root / path, &source)) {
+    return Error{(root / path).generic_string(), "", "cannot read shader source", ""};
   }
   glslang::TShader shader(EShLangCompute);
   const char* strings[] = {source.c_str()};
   const int lengths[] = {static_cast<int>(source.size())};
-  const char* names[] = {relative_path.c_str()};
+  const char* names[] = {path.c_str()};
   shader.setStringsWithLengthsAndNames(strings, lengths, names, 1);
-  shader.setEnvInput(glslang::EShSourceGlsl, EShLangCompute, glslang::EShClientVulkan, 100);
+  shader.setEnvInput(hlsl ? glslang::EShSourceHlsl : glslang::EShSourceGlsl, EShLangCompute,
+                     glslang::EShClientVulkan, 100);
   shader.setEnvClient(glslang::EShClientVulkan, glslang::EShTargetVulkan_1_1);
   shader.setEnvTarget(glslang::EShTargetSpv, glslang::EShTargetSpv_1_3);
+  if (hlsl) {
+    shader.setEntryPoint("main");
+    shader.setSourceEntryPoint("main");
+    // Texture + SamplerState pairs become the interface's combined image samplers.
+    shader.setTextureSamplerTransformMode(EShTexSampTransUpgradeTextureRemoveSampler);
+  }
   Includer includer(root);
-  const auto messages = static_cast<EShMessages>(EShMsgSpvRules | EShMsgVulkanRules);
-  if (!shader.parse(GetDefaultResources(), 450, false, messages, includer)) {
-    return Error{(root / relative_path).generic_string(), "",
-                 "GLSL compile failed:\n" + format_log(shader.getInfoLog(), root), ""};
+  const int hlsl_rules = hlsl ? static_cast<int>(EShMsgReadHlsl) : 0;
+  const auto messages = static_cast<EShMessages>(EShMsgSpvRules | EShMsgVulkanRules | hlsl_rules);
+  if (!shader.parse(GetDefaultResources(), hlsl ? 100 : 450, false, messages, includer)) {
+    return Error{
+        (root / path).generic_string(), "",
+        std::string(language) + " compile failed:\n" + format_log(shader.getInfoLog(), root), ""};
   }
   glslang::TProgram program;
   program.addShader(&shader);
   if (!program.link(messages)) {
-    return Error{(root / relative_path).generic_string(), "",
-                 "GLSL link failed:\n" + format_log(program.getInfoLog(), root), ""};
+    return Error{(root / path).generic_string(), "",
+                 std::string(language) + " link failed:\n" + format_log(program.getInfoLog(), root),
+                 ""};
   }
   std::vector<uint32_t> spirv;
   glslang::SpvOptions options;

@@ -98,11 +98,12 @@ Result<Image> ui_composite_stage(const ParamBlock& p, const Image& back_buffer,
   return ui::composite_ui(back_buffer, ui_layer, u);
 }
 
-Result<Image> visualize_hdr_stage(const ParamBlock& p, const Image& hdr_scene) {
+Result<Image> visualize_hdr_stage(const ParamBlock& p, const Image& hdr_scene, bool analytic_lut) {
   visualize::VisualizeHdrInputs in;
   in.params = eye_adaptation_parameters(p);
-  const BakedLut lut = bake_lut(p);
-  const Image tonemapped = tonemap_image(p, hdr_scene, nullptr, nullptr, &lut);
+  const BakedLut lut = analytic_lut ? BakedLut{} : bake_lut(p);
+  const Image tonemapped =
+      tonemap_image(p, hdr_scene, nullptr, nullptr, analytic_lut ? nullptr : &lut);
   in.scene_color = &tonemapped;
   in.hdr_scene_color = &hdr_scene;
   in.one_over_pre_exposure = 1.0 / p.pre_exposure;
@@ -133,7 +134,8 @@ Result<Image> visualize_hdr_stage(const ParamBlock& p, const Image& hdr_scene) {
 }
 
 DeviceInfo ReferenceEngine::device() const {
-  return {"reference", "cpu (IEEE double)", "hdrconform reference", "-"};
+  return {"reference", analytic_lut_ ? "cpu (IEEE double), analytic LUT" : "cpu (IEEE double)",
+          "hdrconform reference", "-"};
 }
 
 Result<Image> ReferenceEngine::run(const ResolvedCase& c) {
@@ -141,16 +143,17 @@ Result<Image> ReferenceEngine::run(const ResolvedCase& c) {
     case StageId::kCombineLuts:
       return lut_image(bake_lut(c.params));
     case StageId::kTonemap: {
-      const BakedLut lut = bake_lut(c.params);
+      const BakedLut lut = analytic_lut_ ? BakedLut{} : bake_lut(c.params);
       return tonemap_image(c.params, c.input, c.bloom.data.empty() ? nullptr : &c.bloom,
-                           c.bloom_dirt.data.empty() ? nullptr : &c.bloom_dirt, &lut);
+                           c.bloom_dirt.data.empty() ? nullptr : &c.bloom_dirt,
+                           analytic_lut_ ? nullptr : &lut);
     }
     case StageId::kDither:
       return dither_image(c.params, c.input);
     case StageId::kUiComposite:
       return ui_composite_stage(c.params, c.input, c.ui);
     case StageId::kVisualizeHdr:
-      return visualize_hdr_stage(c.params, c.input);
+      return visualize_hdr_stage(c.params, c.input, analytic_lut_);
     default:
       break;
   }

@@ -10,10 +10,17 @@ namespace hdrc::ref {
 
 class ReferenceEngine final : public Engine {
  public:
+  // analytic_lut: the tonemapper (tonemap and visualize_hdr stages) evaluates CombineLUTs at each
+  // pixel's encoded coordinate instead of sampling the baked LUT (`verify --reference analytic`:
+  // ports that do not bake a LUT). Every other stage is the same in both modes.
+  explicit ReferenceEngine(bool analytic_lut = false) : analytic_lut_(analytic_lut) {}
   std::string name() const override { return "reference"; }
   Status init() override { return {}; }
   DeviceInfo device() const override;
   Result<Image> run(const ResolvedCase& c) override;
+
+ private:
+  bool analytic_lut_ = false;
 };
 
 // One pixel of a per-pixel stage (shaper, linear_device), for tests: rgb in, rgb out.

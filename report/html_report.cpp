@@ -492,6 +492,18 @@ std::string metadata_table(const json& doc) {
   if (truthy(get(doc, {"interrupted"}))) row("interrupted", "yes: cases not started are NOT_RUN");
   if (truthy(get(doc, {"candidate_unavailable"})))
     row("candidate unavailable", text(get(doc, {"candidate_unavailable"})));
+  // verify's candidate protocol (runner/verify.h): the reference mode, declined cases and the
+  // deviations the candidate declared.
+  if (text(get(doc, {"reference_mode"})) == "analytic")
+    row("reference mode", "analytic: CombineLUTs per pixel, no baked LUT (verify --reference)");
+  if (const auto n = num(get(doc, {"summary", "unsupported"})); n && *n > 0)
+    row("UNSUPPORTED",
+        fmt(*n, "%.0f") + " case(s) declined by the candidate: never a pass" +
+            (truthy(get(doc, {"require_all"})) ? "; --require-all fails the run" : ""));
+  if (const json* limits = get(doc, {"candidate_limits", "limits"}); limits && limits->is_array())
+    for (const json& l : *limits)
+      row("declared by the candidate (" + text(get(doc, {"candidate_limits", "file"})) + ")",
+          text(get(l, {"cases"})) + ": " + text(get(l, {"reason"})));
   return h + "</tbody></table>\n";
 }
 

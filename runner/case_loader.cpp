@@ -33,8 +33,9 @@ bool matches_filter(const std::string& id, const std::string& glob) {
 }
 
 bool is_suite_config_file(const std::string& cases_dir, const std::string& path) {
-  static const std::set<std::string> kConfig = {"schema.json", "defaults.json", "coverage.json",
-                                                "known_limits.json", "tolerance_overlays.json"};
+  static const std::set<std::string> kConfig = {
+      "schema.json",       "defaults.json",           "coverage.json",
+      "known_limits.json", "tolerance_overlays.json", "tolerance_overlays_analytic.json"};
   std::error_code ec;
   const fs::path rel = fs::relative(path, cases_dir, ec);
   return !ec && !rel.has_parent_path() && kConfig.count(rel.filename().string()) != 0;

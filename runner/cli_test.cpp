@@ -606,7 +606,7 @@ TEST(Cli, PlantedAcesMatrixEntryFailsTheAcesDevices) {
                                          "lut/devices/dev4_gamut0", "lut/devices/dev4_gamut1"};
   EXPECT_EQ(failing, want) << out;
   EXPECT_NE(out.find("FAIL  lut/devices/dev3_gamut0  linear_abs 0.00293 over its hard cap 0.00098 "
-                     "at (213, 0) G"),
+                     "at lattice (r 5, g 0, b 13) = pixel (213, 0) G"),
             std::string::npos)
       << out;
 }

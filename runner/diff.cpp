@@ -281,12 +281,61 @@ double delta_e_itp(const ref::Vec3& a, const ref::Vec3& b) {
 }
 
 std::string describe_pixel(const PixelRef& p) {
-  char buf[320];
   const std::string band =
       p.band >= 0 ? std::string(", ") + band_name(p.band) + " nits" : std::string();
-  std::snprintf(buf, sizeof buf, "(%d, %d) %s%s: input %.9g reference %.9g candidate %.9g", p.x,
-                p.y, channel_name(p.channel), band.c_str(), p.input, p.reference, p.candidate);
-  return buf;
+  char where[96];
+  if (p.lut_size > 0)
+    std::snprintf(where, sizeof where, "lattice (r %d, g %d, b %d) = pixel (%d, %d)",
+                  p.x % p.lut_size, p.y, p.x / p.lut_size, p.x, p.y);
+  else
+    std::snprintf(where, sizeof where, "(%d, %d)", p.x, p.y);
+  std::string out = std::string(where) + " " + channel_name(p.channel) + band + ": input " +
+                    format_number(p.input) + " reference " + format_number(p.reference) +
+                    " candidate " + format_number(p.candidate);
+  auto rgb = [](const std::array<double, 3>& v) {
+    return "(" + format_number(v[0]) + ", " + format_number(v[1]) + ", " + format_number(v[2]) +
+           ")";
+  };
+  out += "; pixel RGB input " + rgb(p.input_rgb) + " reference " + rgb(p.reference_rgb) +
+         " candidate " + rgb(p.candidate_rgb);
+  if (std::isfinite(p.delta_e_itp)) out += ", pixel ΔE_ITP " + fmt(p.delta_e_itp);
+  return out;
+}
+
+std::string nonfinite_rule(StageId stage, int device, const PixelRef& p) {
+  if (!p.valid() || std::isfinite(p.reference)) return "";
+  const double in = p.input;
+  const bool pq_shaper = device >= 3;
+  const bool shaped = stage == StageId::kShaper || stage == StageId::kLinearDevice ||
+                      stage == StageId::kTonemap || stage == StageId::kVisualizeHdr;
+  const bool any_input_nan =
+      std::isnan(p.input_rgb[0]) || std::isnan(p.input_rgb[1]) || std::isnan(p.input_rgb[2]);
+  if (stage != StageId::kCombineLuts && std::isnan(in))
+    return "the input is NaN: NaN propagates through every step";
+  if (shaped && pq_shaper) {
+    if (in < 0)
+      return "LinearToST2084 of a negative value (" + format_number(in) +
+             " x 100 nits): pow of a negative base is NaN; UE 5.5 has no max(0, x) there "
+             "(spec 3.1, docs/ue55-decisions.md D-NF)";
+    if (std::isinf(in) && in > 0)
+      return "LinearToST2084(+Inf): (c1 + c2 Inf) * rcp(1 + c3 Inf) = Inf * 0 = NaN (spec 3.1)";
+    if (stage == StageId::kTonemap && any_input_nan)
+      return "another channel of the pixel is NaN: the LUT lookup of a NaN coordinate is NaN in "
+             "every channel (docs/ue55-decisions.md D-NF)";
+    if ((stage == StageId::kTonemap || stage == StageId::kVisualizeHdr) &&
+        (device == 3 || device == 4) && in >= 0)
+      return "LinearToST2084 of a negative value of the ACES output in the output gamut (this "
+             "colour maps outside it): pow of a negative base is NaN (spec 4.12, devices 3/4; a "
+             "baked 10-bit LUT stores such a texel as 0)";
+    if (stage == StageId::kLinearDevice && device == 7)
+      return "LinearToST2084 of a negative output-gamut value: AP1_2_Output * ToAP1 turns this "
+             "out-of-gamut colour negative, and pow of a negative base is NaN (spec 4.12, row 7)";
+  }
+  if (stage == StageId::kCombineLuts)
+    return "the device encode (PQ / gamma) of a negative output-gamut value at this lattice "
+           "point: pow of a negative base is NaN, stored as NaN by the half and float formats "
+           "(spec 4.12)";
+  return "";
 }
 
 DiffStats diff_images(const Image& input, const Image& reference, const Image& candidate,
@@ -297,6 +346,11 @@ DiffStats diff_images(const Image& input, const Image& reference, const Image& c
   const ref::Vec3 y_row{rec2020_to_xyz(1, 0), rec2020_to_xyz(1, 1), rec2020_to_xyz(1, 2)};
   std::array<std::array<Accumulator, kMetricCount>, kBandCount> acc;
   const bool has_input = input.width == reference.width && input.height == reference.height;
+  // combine_luts outputs the N² × N unwrapped LUT: messages name lattice points.
+  const int lut_size = enc.stage == StageId::kCombineLuts && reference.height > 0 &&
+                               reference.width == reference.height * reference.height
+                           ? reference.height
+                           : 0;
   for (int y = 0; y < reference.height; ++y) {
     for (int x = 0; x < reference.width; ++x) {
       const double* r = reference.px(x, y);
@@ -312,6 +366,25 @@ DiffStats diff_images(const Image& input, const Image& reference, const Image& c
         if (std::isfinite(c[ch]))
           pixel_scale = std::fmax(pixel_scale, std::fabs(enc.to_nits(c[ch])));
       }
+      // The whole pixel, for the messages of whichever value turns out worst.
+      PixelRef whole;
+      whole.x = x;
+      whole.y = y;
+      whole.lut_size = lut_size;
+      for (int ch = 0; ch < 3; ++ch) {
+        whole.input_rgb[ch] = in ? in[ch] : 0.0;
+        whole.reference_rgb[ch] = r[ch];
+        whole.candidate_rgb[ch] = c[ch];
+      }
+      auto at_channel = [&](int ch, int band) {
+        PixelRef p = whole;
+        p.channel = ch;
+        p.input = in ? in[ch] : 0.0;
+        p.reference = r[ch];
+        p.candidate = c[ch];
+        p.band = band;
+        return p;
+      };
       bool rgb_finite = true;
       for (int ch = 0; ch < 4; ++ch) {
         census(r[ch], &s.nonfinite.reference);
@@ -325,11 +398,10 @@ DiffStats diff_images(const Image& input, const Image& reference, const Image& c
                    (rf || cf) &&
                    std::fabs(enc.to_nits(rf ? r[ch] : c[ch])) < kSignBoundaryNoise * pixel_scale) {
           if (s.nonfinite.sign_boundary == 0)
-            s.nonfinite.first_sign_boundary = {x, y, ch, in ? in[ch] : 0.0, r[ch], c[ch], -1};
+            s.nonfinite.first_sign_boundary = at_channel(ch, -1);
           ++s.nonfinite.sign_boundary;
         } else {
-          if (s.nonfinite.mismatch == 0)
-            s.nonfinite.first_mismatch = {x, y, ch, in ? in[ch] : 0.0, r[ch], c[ch], -1};
+          if (s.nonfinite.mismatch == 0) s.nonfinite.first_mismatch = at_channel(ch, -1);
           ++s.nonfinite.mismatch;
         }
       }
@@ -342,10 +414,18 @@ DiffStats diff_images(const Image& input, const Image& reference, const Image& c
       const ref::Vec3 ref2020 = enc.to_rec2020 * ref_nits;
       const int band = band_of_nits(ref::dot(y_row, ref2020));
       if (rgb_finite) ++s.band_pixels[band];
+      const double de = rgb_finite
+                            ? delta_e_itp(ictcp_from_rec2020_nits(enc.to_rec2020 * cand_nits),
+                                          ictcp_from_rec2020_nits(ref2020))
+                            : std::numeric_limits<double>::quiet_NaN();
+      whole.delta_e_itp = de;
+      if (s.nonfinite.mismatch > 0 && s.nonfinite.first_mismatch.x == x &&
+          s.nonfinite.first_mismatch.y == y)
+        s.nonfinite.first_mismatch.delta_e_itp = de;
       for (int ch = 0; ch < 3; ++ch) {
         if (!std::isfinite(r[ch]) || !std::isfinite(c[ch])) continue;
         ++s.values;
-        const PixelRef at{x, y, ch, in ? in[ch] : 0.0, r[ch], c[ch], band};
+        const PixelRef at = at_channel(ch, band);
         const double abs = std::fabs(c[ch] - r[ch]);
         // abs > 0 over a zero denominator (rel_floor 0, reference 0) is an infinite relative
         // error.
@@ -358,16 +438,14 @@ DiffStats diff_images(const Image& input, const Image& reference, const Image& c
         a[static_cast<int>(Metric::kPqCode12)].add(pq * 4095.0, at);
       }
       if (rgb_finite) {
-        const double de = delta_e_itp(ictcp_from_rec2020_nits(enc.to_rec2020 * cand_nits),
-                                      ictcp_from_rec2020_nits(ref2020));
         int worst_ch = 0;
         for (int ch = 1; ch < 3; ++ch)
           if (std::fabs(c[ch] - r[ch]) > std::fabs(c[worst_ch] - r[worst_ch])) worst_ch = ch;
-        acc[band][static_cast<int>(Metric::kDeltaEItp)].add(
-            de, {x, y, worst_ch, in ? in[worst_ch] : 0.0, r[worst_ch], c[worst_ch], band});
+        acc[band][static_cast<int>(Metric::kDeltaEItp)].add(de, at_channel(worst_ch, band));
       }
     }
   }
+  s.nonfinite.rule = nonfinite_rule(enc.stage, enc.device, s.nonfinite.first_mismatch);
   // Per band, then overall from the union of the bands.
   for (int m = 0; m < kMetricCount; ++m) {
     const Metric metric = static_cast<Metric>(m);
@@ -411,6 +489,8 @@ Verdict judge(const DiffStats& s, const Tolerance& tol, bool pins_nonfinite) {
   if (s.nonfinite.mismatch > 0) {
     v.reason = std::to_string(s.nonfinite.mismatch) + " non-finite mismatch(es); first at " +
                describe_pixel(s.nonfinite.first_mismatch);
+    if (!s.nonfinite.rule.empty())
+      v.reason += "; the reference's value comes from " + s.nonfinite.rule;
     return v;
   }
   // A case that compares nothing cannot fail: not a PASS (docs/diff-metrics.md).

@@ -18,6 +18,7 @@
 
 #include <array>
 #include <cstddef>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -58,6 +59,12 @@ struct PixelRef {
   double input = 0, reference = 0, candidate = 0;
   int band = -1;  // the reference pixel's luminance band
   bool valid() const { return x >= 0; }
+  // The whole pixel, for messages (describe_pixel): RGB of each image, the pixel's ΔE_ITP (NaN
+  // when not finite on both sides), and for a LUT (combine_luts: N² × N, texel (r, g, b) at
+  // (r + N·b, g)) its edge N, so the message names the lattice point (0: not a LUT).
+  std::array<double, 3> input_rgb{}, reference_rgb{}, candidate_rgb{};
+  double delta_e_itp = std::numeric_limits<double>::quiet_NaN();
+  int lut_size = 0;
 };
 
 // Statistics of one metric over a set of values (all, or one band).
@@ -87,6 +94,9 @@ struct NonFiniteCensus {
   // here, never in the numeric metrics.
   size_t sign_boundary = 0;
   PixelRef first_sign_boundary;
+  // The rule that made the reference's value non-finite at first_mismatch, where the reference
+  // knows it ("LinearToST2084 of a negative value: pow of a negative base is NaN"); "" otherwise.
+  std::string rule;
 };
 
 // The sign-boundary rule's bound: 2^-20, 16 float32 ulps (2^-24) of the pixel's largest channel.
@@ -132,8 +142,14 @@ struct Verdict {
 // census judges it, and it needs at least one non-finite value to pin.
 Verdict judge(const DiffStats& s, const Tolerance& tol, bool pins_nonfinite = false);
 
-// "(517, 0) G, 10-100 nits: input 0.5 reference 0.49 candidate 0.48"
+// "(517, 0) G, 10-100 nits: input 0.5 reference 0.49 candidate 0.48; pixel RGB input (…)
+// reference (…) candidate (…), ΔE_ITP 0.31". A LUT texel is named by its lattice point:
+// "lattice (r 6, g 0, b 1) = pixel (22, 0) G, …".
 std::string describe_pixel(const PixelRef& p);
+
+// Why the reference is non-finite at `p` for `stage`/`device`, where UE's rule is known from the
+// input (NaN in, PQ of a negative or +Inf, a device encode of a negative); "" when not known.
+std::string nonfinite_rule(StageId stage, int device, const PixelRef& p);
 
 // BT.2100 ICtCp of a BT.2020 RGB colour in nits (PQ variant), and BT.2124's ΔE_ITP.
 ref::Vec3 ictcp_from_rec2020_nits(const ref::Vec3& rgb_nits);

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "core/atomic_file.h"
+#include "reference/color/ue_matrices.h"
 #include "runner/case_loader.h"
 #include "runner/diff.h"
 #include "runner/run.h"
@@ -149,9 +150,15 @@ json explicit_cvars(const Case& c) {
   return j;
 }
 
+// Settings that say how the LUT is stored, not how colours are graded (params.json "storage").
+bool is_storage_setting(const std::string& name) {
+  return name == "LUTFormat" || name == "LUTLayout";
+}
+
 json explicit_settings(const Case& c) {
   json j = json::object();
   for (const auto& [k, v] : c.settings.explicit_values()) {
+    if (is_storage_setting(k)) continue;
     const SettingInfo* info = find_setting(k);
     if (info && info->components == 1)
       j[k] = v[0];
@@ -159,6 +166,192 @@ json explicit_settings(const Case& c) {
       j[k] = v;
   }
   return j;
+}
+
+const char* device_name(int d) {
+  // EDisplayOutputFormat's names (the spec's OutputDevice table, /work/shared/spec).
+  static const char* names[] = {"SDR_sRGB",
+                                "SDR_Rec709",
+                                "SDR_ExplicitGammaMapping",
+                                "HDR_ACES_1000nit_ST2084",
+                                "HDR_ACES_2000nit_ST2084",
+                                "HDR_ACES_1000nit_ScRGB",
+                                "HDR_ACES_2000nit_ScRGB",
+                                "HDR_LinearEXR",
+                                "HDR_LinearNoToneCurve",
+                                "HDR_LinearWithToneCurve"};
+  return d >= 0 && d <= 9 ? names[d] : "?";
+}
+
+bool aces_device(int d) {
+  return d >= 3 && d <= 6;
+}
+
+// The formula that turns the stage's result into the stored value (its name, to look up in
+// docs/candidate-*.md and the spec).
+std::string formula_name(StageId stage, int device) {
+  switch (stage) {
+    case StageId::kShaper:
+      return device >= 3 ? "ST2084ToLinear(LinearToST2084(x * 100)) / 100 (PQ shaper round trip)"
+                         : "LogToLin(LinToLog(x + LogToLin(0))) - LogToLin(0) (log shaper round "
+                           "trip)";
+    case StageId::kLinearDevice:
+      return device == 7 ? "ST2084ToLinear(LinearToST2084(AP1_2_Output * ToAP1 * x)) (nits)"
+                         : "x (HDR_LinearNoToneCurve: working colour space as is)";
+    case StageId::kCombineLuts:
+      return "OutDeviceColor / 1.05, rounded to the LUT format";
+    case StageId::kUiComposite:
+      return (device == 5 || device == 6) ? "scRGB (Rec.709 linear / 80 nits)"
+                                          : "LinearToST2084 (SMPTE ST 2084 inverse EOTF)";
+    case StageId::kDither:
+      return "x + (triangular grain) * BackbufferQuantizationDithering";
+    case StageId::kTonemap:
+    case StageId::kVisualizeHdr:
+      break;
+  }
+  switch (device) {
+    case 0:
+      return "LinearToSrgb (sRGB inverse EOTF)";
+    case 1:
+      return "LinearTo709Branchless (Rec.709 OETF)";
+    case 2:
+      return "pow(x, InverseGamma.z) (explicit display gamma)";
+    case 3:
+    case 4:
+      return "LinearToST2084 (SMPTE ST 2084 inverse EOTF) of ACES output nits";
+    case 5:
+    case 6:
+      return "ST2084ToScRGB (scRGB: Rec.709 linear, 1.0 = 80 nits)";
+    case 7:
+      return "ST2084ToLinear(LinearToST2084(nits)): nits";
+    case 8:
+      return "x (scene-linear working colour space)";
+    default:
+      return "AP1_2_Output * ToAP1 * FilmColorNoGamma (scene-linear, tone curve applied)";
+  }
+}
+
+std::string output_value(StageId stage) {
+  switch (stage) {
+    case StageId::kShaper:
+      return "each input colour after the LUT shaper's encode, the sampler's clamp to [0, 1] and "
+             "CombineLUTs' decode (scene-linear, working colour space)";
+    case StageId::kLinearDevice:
+      return "each input colour through the shaper round trip, then the device 7/8 encode and the "
+             "tonemapper's decode";
+    case StageId::kCombineLuts:
+      return "the LUT CombineLUTs bakes: the stored texel of each lattice point (r, g, b)";
+    case StageId::kTonemap:
+      return "the Tonemap pass's colour for each input pixel before the dither (steps 1-9)";
+    case StageId::kDither:
+      return "each input colour plus the quantisation dither";
+    case StageId::kUiComposite:
+      return "the back buffer (the input) with the UI layer (ui.exr) composited over it";
+    case StageId::kVisualizeHdr:
+      return "VisualizeHDR's image of the input scene (panel, histogram, meters)";
+  }
+  return "";
+}
+
+std::string output_alpha(StageId stage) {
+  switch (stage) {
+    case StageId::kCombineLuts:
+      return "0 (CombineLUTs writes alpha 0)";
+    case StageId::kTonemap:
+      return "OutLuminance = dot(OutDevice, (0.299, 0.587, 0.114))";
+    default:
+      return "what the stage writes (judged only for NaN/Inf consistency)";
+  }
+}
+
+const char* lut_format_name(int f) {
+  static const char* names[] = {"A2B10G10R10 UNORM", "RGBA16F", "RGBA32F"};
+  return f >= 0 && f <= 2 ? names[f] : "?";
+}
+
+json quantisation(StageId stage, const ParamBlock& p) {
+  if (stage != StageId::kCombineLuts)
+    return {{"name", "none"}, {"rule", "float32 as computed; no rounding"}};
+  switch (p.lut_format) {
+    case 0:
+      return {{"name", lut_format_name(0)},
+              {"rule", "round(saturate(v) * 1023) / 1023 per channel; NaN stores 0 (D3D)"}};
+    case 1:
+      return {{"name", lut_format_name(1)},
+              {"rule", "v rounded to the nearest IEEE half (10-bit mantissa)"}};
+    default:
+      return {{"name", lut_format_name(2)}, {"rule", "v rounded to float32"}};
+  }
+}
+
+json layout(StageId stage, const ResolvedCase& rc) {
+  if (stage != StageId::kCombineLuts)
+    return {
+        {"name", "pixels"},
+        {"rule", "the input's pixels, row-major, (0, 0) top-left: output (x, y) is input (x, y)"}};
+  const int n = rc.params.lut_size;
+  return {{"name", "lut_unwrapped"},
+          {"lut_size", n},
+          {"rule", "an N^2 x N image (N = " + std::to_string(n) +
+                       "): lattice point (r, g, b) at pixel (r + N * b, g); input.exr holds each "
+                       "point's lattice coordinate"}};
+}
+
+// What a renderer needs that the raw cvars do not say directly (docs/candidate-protocol.md).
+json resolved_values(const ResolvedCase& rc, const OutputEncoding& enc) {
+  const Case& c = rc.spec;
+  const ParamBlock& p = rc.params;
+  const int d = p.output_device;
+  const int requested = c.cvars.get_int("r.HDR.Display.OutputDevice");
+  const bool hdr = c.cvars.get_int("r.HDR.EnableHDROutput") != 0;
+  const double cvar_max = c.cvars.get("r.HDR.Display.MaxLuminance");
+  std::string lum_source = "r.HDR.Display.MaxLuminance = " + format_number(cvar_max);
+  if (cvar_max == 0 && hdr)
+    lum_source =
+        "r.HDR.Display.MaxLuminance is 0 (unset) with HDR output on: UE falls back to "
+        "1000 nits (HDRSettingChangedSinkCallback), whatever the device's name says";
+  else if (cvar_max == 0)
+    lum_source = "r.HDR.Display.MaxLuminance is 0 with HDR output off: left at 0";
+  json tone_scale = nullptr;
+  if (aces_device(d)) {
+    // ConfigureACESTonemapParams' inputs, as float32 (RenderCore.cpp), in nits.
+    const float min_nits =
+        std::pow(10.0f, static_cast<float>(c.cvars.get("r.HDR.Display.MinLuminanceLog10")));
+    tone_scale = {
+        {"min_nits", number(min_nits)},
+        {"mid_nits", number(static_cast<float>(c.cvars.get("r.HDR.Display.MidLuminance")))},
+        {"max_nits", number(static_cast<float>(p.output_max_luminance))},
+        {"from",
+         "10^r.HDR.Display.MinLuminanceLog10, r.HDR.Display.MidLuminance, the effective "
+         "max luminance (float32, as ConfigureACESTonemapParams takes them)"}};
+  }
+  std::string device_note = "r.HDR.Display.OutputDevice = " + std::to_string(requested);
+  if (requested != d)
+    device_note += ", resolved to " + std::to_string(d) +
+                   " by r.TonemapperGamma (GetTonemapperOutputDeviceParameters)";
+  return {
+      {"output_device", {{"value", d}, {"name", device_name(d)}, {"from", device_note}}},
+      {"output_gamut",
+       {{"value", p.output_gamut}, {"name", ref::output_gamut_name(p.output_gamut)}}},
+      {"max_luminance_nits", {{"value", number(p.output_max_luminance)}, {"from", lum_source}}},
+      {"aces_tone_scale", tone_scale},
+      {"shaper", d >= 3 ? "PQ (LinearToST2084 of x * 100)" : "log (LinToLog)"},
+      {"output_encoding", {{"name", enc.describe()}, {"formula", formula_name(c.stage->id, d)}}},
+  };
+}
+
+json storage_json(const ResolvedCase& rc) {
+  const ParamBlock& p = rc.params;
+  const bool uses_lut = rc.spec.stage->id == StageId::kCombineLuts ||
+                        rc.spec.stage->id == StageId::kTonemap ||
+                        rc.spec.stage->id == StageId::kVisualizeHdr;
+  return {{"lut_size", p.lut_size},
+          {"lut_format", {{"value", p.lut_format}, {"name", lut_format_name(p.lut_format)}}},
+          {"lut_layout",
+           {{"value", p.lut_layout},
+            {"name", p.lut_layout == 0 ? "volume N^3" : "2-D unwrapped N^2 x N"}}},
+          {"used_by_stage", uses_lut},
+          {"from", "r.LUT.Size, the LUTFormat and LUTLayout settings"}};
 }
 
 }  // namespace
@@ -173,21 +366,32 @@ json case_export_json(const ResolvedCase& rc) {
                       {"width", a.image->width},
                       {"height", a.image->height}};
   const OutputEncoding enc = OutputEncoding::of(c.stage->id, rc.params);
+  const StageId stage = c.stage->id;
   json doc = {
-      {"format", "hdrconform case export 1"},
+      {"format_version", kExportFormatVersion},
+      {"format", "hdrconform case export " + std::to_string(kExportFormatVersion)},
+      {"schema", "runner/params.schema.json"},
       {"id", c.id},
       {"case_file", c.file},
       {"stage", std::string(c.stage->name)},
       {"passes", passes},
       {"cvars", explicit_cvars(c)},
       {"settings", explicit_settings(c)},
+      {"storage", storage_json(rc)},
+      {"resolved", resolved_values(rc, enc)},
       {"images", images},
       {"output",
        {{"width", rc.input.width},
         {"height", rc.input.height},
+        {"channel_count", 4},
         {"channels", "RGBA"},
-        {"format", "OpenEXR, 32-bit float, channels R G B A"},
-        {"encoding", enc.describe()}}},
+        {"format", "OpenEXR, 32-bit float, channels R G B A (RGB alone is accepted)"},
+        {"value", output_value(stage)},
+        {"alpha", output_alpha(stage)},
+        {"encoding", enc.describe()},
+        {"formula", formula_name(stage, rc.params.output_device)},
+        {"quantisation", quantisation(stage, rc.params)},
+        {"layout", layout(stage, rc)}}},
       {"degenerate", rc.degenerate.empty() ? json(nullptr) : json(rc.degenerate)},
       {"params", params_json(rc.params)},
   };
@@ -267,7 +471,10 @@ ExportSummary export_cases(const std::vector<Case>& cases, const std::string& ou
                     {"degenerate", !rc->degenerate.empty()}});
   }
   const json manifest = {
-      {"tool", "hdrconform"}, {"format", "hdrconform case export 1"}, {"cases", list}};
+      {"tool", "hdrconform"},
+      {"format_version", kExportFormatVersion},
+      {"format", "hdrconform case export " + std::to_string(kExportFormatVersion)},
+      {"cases", list}};
   if (Status st = write_file_atomic(out_dir + "/manifest.json", manifest.dump(2) + "\n"); !st)
     summary.errors.push_back(st.error());
   return summary;

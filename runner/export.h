@@ -19,6 +19,7 @@
 #include "core/case.h"
 #include "core/result.h"
 #include "core/shader_interface.h"
+#include "runner/diff.h"
 
 namespace hdrc {
 
@@ -28,6 +29,10 @@ nlohmann::ordered_json params_json(const ParamBlock& p);
 // The inverse; every field must be present. Errors name `file` and the JSON pointer.
 Result<ParamBlock> params_from_json(const nlohmann::ordered_json& j, const std::string& file,
                                     const std::string& pointer);
+
+// params.json's format version: a port checks it (2: "storage", "resolved" and the full
+// "output" block; runner/params.schema.json describes it, docs/candidate-protocol.md explains it).
+inline constexpr int kExportFormatVersion = 2;
 
 // The params.json document of a resolved case (image file names relative to its folder).
 nlohmann::ordered_json case_export_json(const ResolvedCase& rc);

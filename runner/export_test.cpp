@@ -6,7 +6,9 @@
 
 #include <cmath>
 #include <cstring>
+#include <fstream>
 #include <limits>
+#include <set>
 
 #include "runner/verify.h"
 
@@ -80,6 +82,152 @@ TEST(Verify, RunCommandReportsExitSignalAndTimeout) {
   EXPECT_TRUE(r.timed_out);
   r = hdrc::run_command({"/nonexistent/program"}, log, 10);
   EXPECT_EQ(r.exit_status, 127);
+}
+
+}  // namespace
+
+// ---- params.json as a versioned contract (runner/params.schema.json) ----------------------------
+
+#include "runner/case_loader.h"
+#include "runner/json_schema.h"
+
+#ifndef HDRC_SOURCE_DIR
+#error "HDRC_SOURCE_DIR must be defined"
+#endif
+
+namespace {
+
+nlohmann::ordered_json read_json(const std::string& path) {
+  std::ifstream f(path);
+  return nlohmann::ordered_json::parse(f);
+}
+
+const nlohmann::ordered_json& params_schema() {
+  static const auto s = read_json(std::string(HDRC_SOURCE_DIR) + "/runner/params.schema.json");
+  return s;
+}
+
+hdrc::ResolvedCase resolved(const std::string& id) {
+  auto loaded = hdrc::load_cases(std::string(HDRC_SOURCE_DIR) + "/cases");
+  for (const auto& c : loaded.cases)
+    if (c.id == id) {
+      auto rc = hdrc::resolve_case(c);
+      if (rc) return *rc;
+      ADD_FAILURE() << rc.error().to_string();
+    }
+  ADD_FAILURE() << "no case " << id;
+  return {};
+}
+
+// Every case of the suite, exported as `export` writes it, is valid under the schema.
+TEST(ParamsContract, EveryExportedParamsJsonMatchesTheSchema) {
+  auto loaded = hdrc::load_cases(std::string(HDRC_SOURCE_DIR) + "/cases");
+  ASSERT_TRUE(loaded.errors.empty());
+  ASSERT_GT(loaded.cases.size(), 500u);
+  size_t checked = 0;
+  std::set<std::string> stages;
+  for (const auto& c : loaded.cases) {
+    auto rc = hdrc::resolve_case(c);
+    ASSERT_TRUE(rc.ok()) << rc.error().to_string();
+    // Through text, as a port reads it.
+    const auto doc = nlohmann::ordered_json::parse(hdrc::case_export_json(*rc).dump());
+    const auto errors = hdrc::validate_json(doc, params_schema(), c.id + "/params.json");
+    for (const auto& e : errors) ADD_FAILURE() << e.to_string();
+    if (!errors.empty()) break;
+    ++checked;
+    stages.insert(doc["stage"].get<std::string>());
+  }
+  EXPECT_EQ(checked, loaded.cases.size());
+  EXPECT_EQ(stages.size(), hdrc::stage_table().size()) << "every stage exported";
+  RecordProperty("params_json_validated", std::to_string(checked));
+}
+
+// The schema's parameter list is the parameter block's (one source: core/shader_interface.h).
+TEST(ParamsContract, SchemaListsEveryParameterBlockField) {
+  std::vector<std::string> fields;
+  const auto block = hdrc::params_json(hdrc::ParamBlock{});
+  for (auto it = block.begin(); it != block.end(); ++it) fields.push_back(it.key());
+  EXPECT_EQ(params_schema()["properties"]["params"]["required"].get<std::vector<std::string>>(),
+            fields);
+}
+
+// The validator catches what a port would trip on: a wrong version, a missing block, a wrong
+// type, an unknown key, each located by JSON pointer.
+TEST(ParamsContract, ValidatorLocatesViolations) {
+  auto doc = nlohmann::ordered_json::parse(
+      hdrc::case_export_json(resolved("tonemap/linear_dev7/gamut2_log_ramp")).dump());
+  ASSERT_TRUE(hdrc::validate_json(doc, params_schema(), "p.json").empty());
+  auto bad = doc;
+  bad["format_version"] = 1;
+  auto e = hdrc::validate_json(bad, params_schema(), "p.json");
+  ASSERT_FALSE(e.empty());
+  EXPECT_EQ(e[0].to_string(), "p.json: /format_version: expected 2, got 1");
+  bad = doc;
+  bad["output"].erase("quantisation");
+  e = hdrc::validate_json(bad, params_schema(), "p.json");
+  ASSERT_FALSE(e.empty());
+  EXPECT_EQ(e[0].pointer, "/output/quantisation");
+  bad = doc;
+  bad["params"]["ap1_to_output"][1] = {1, 2};
+  e = hdrc::validate_json(bad, params_schema(), "p.json");
+  ASSERT_FALSE(e.empty());
+  EXPECT_EQ(e[0].pointer, "/params/ap1_to_output/1");
+  bad = doc;
+  bad["resolved"]["max_nits"] = 1000;
+  e = hdrc::validate_json(bad, params_schema(), "p.json");
+  ASSERT_FALSE(e.empty());
+  EXPECT_EQ(e[0].to_string(),
+            "p.json: /resolved/max_nits: unknown key \"max_nits\"; valid choices: output_device, "
+            "output_gamut, max_luminance_nits, aces_tone_scale, shaper, output_encoding");
+  bad = doc;
+  bad["params"]["output_device"] = "NaN";
+  EXPECT_FALSE(hdrc::validate_json(bad, params_schema(), "p.json").empty());
+}
+
+// The resolved values a renderer needs: device 4 with MaxLuminance unset runs at 1000 nits (UE's
+// HDRSettingChangedSinkCallback fallback), its tone scale is 1e-4 / 15 / 1000 nits (the cvars'
+// defaults MinLuminanceLog10 = -4 and MidLuminance = 15), and a combine_luts output says it is
+// OutDeviceColor / 1.05 quantised to the LUT format, laid out N² × N.
+TEST(ParamsContract, ResolvedValuesAndOutputBlock) {
+  auto loaded = hdrc::load_cases(std::string(HDRC_SOURCE_DIR) + "/cases");
+  const hdrc::Case* dev4 = nullptr;
+  const hdrc::Case* lut = nullptr;
+  for (const auto& c : loaded.cases) {
+    if (!dev4 && c.stage->id == hdrc::StageId::kTonemap &&
+        c.cvars.get_int("r.HDR.Display.OutputDevice") == 4 &&
+        c.cvars.get("r.HDR.Display.MaxLuminance") == 0 &&
+        c.cvars.get("r.HDR.Display.MidLuminance") == 15 &&
+        c.cvars.get("r.HDR.Display.MinLuminanceLog10") == -4 &&
+        c.cvars.get_int("r.HDR.Display.ColorGamut") == 2 &&
+        c.cvars.get_int("r.HDR.EnableHDROutput") == 1)
+      dev4 = &c;
+    if (!lut && c.stage->id == hdrc::StageId::kCombineLuts && c.settings.get("LUTFormat") == 0 &&
+        c.settings.get("LUTLayout") == 0)
+      lut = &c;
+  }
+  ASSERT_TRUE(dev4 && lut);
+  auto doc = hdrc::case_export_json(*hdrc::resolve_case(*dev4));
+  const auto& r = doc["resolved"];
+  EXPECT_EQ(r["output_device"]["value"], 4);
+  EXPECT_EQ(r["output_device"]["name"], "HDR_ACES_2000nit_ST2084");
+  EXPECT_EQ(r["max_luminance_nits"]["value"], 1000.0);
+  EXPECT_NE(r["max_luminance_nits"]["from"].get<std::string>().find("falls back to 1000 nits"),
+            std::string::npos);
+  EXPECT_EQ(r["aces_tone_scale"]["mid_nits"], 15.0);
+  EXPECT_EQ(r["aces_tone_scale"]["max_nits"], 1000.0);
+  EXPECT_EQ(static_cast<float>(r["aces_tone_scale"]["min_nits"].get<double>()), 1e-4f);
+  EXPECT_EQ(r["output_encoding"]["name"], "PQ EOTF, Rec2020_D65");
+  EXPECT_FALSE(doc["settings"].contains("LUTFormat"));
+
+  doc = hdrc::case_export_json(*hdrc::resolve_case(*lut));
+  const int n = doc["storage"]["lut_size"];
+  EXPECT_EQ(doc["output"]["width"], n * n);
+  EXPECT_EQ(doc["output"]["height"], n);
+  EXPECT_EQ(doc["output"]["layout"]["name"], "lut_unwrapped");
+  EXPECT_EQ(doc["output"]["quantisation"]["name"], "A2B10G10R10 UNORM");
+  EXPECT_EQ(doc["output"]["formula"], "OutDeviceColor / 1.05, rounded to the LUT format");
+  EXPECT_TRUE(doc["resolved"]["output_encoding"]["name"].get<std::string>().rfind("texel x 1.05, ",
+                                                                                  0) == 0);
 }
 
 }  // namespace

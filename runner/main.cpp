@@ -27,7 +27,8 @@ namespace {
 constexpr const char* kExitCodes =
     "Exit codes:\n"
     "  0  pass: every case passed\n"
-    "  1  fail: at least one case failed or errored, or (verify) had no candidate image\n"
+    "  1  fail: at least one case failed or errored, or (verify) had no candidate image, or\n"
+    "     (verify --require-all) was declined by the candidate (UNSUPPORTED)\n"
     "  2  bad input: usage error or invalid case files (nothing was run or written)\n"
     "  3  engine unavailable: nothing failed, but the candidate engine could not start and its\n"
     "     cases were skipped (never counted as passed)\n"
@@ -98,6 +99,12 @@ int main(int argc, char** argv) {
                   "golden directory the reference is checked against (default: the repository's "
                   "goldens/ with the default --cases; no check with another --cases)");
   run->add_flag("--no-goldens", no_goldens, "skip the golden check");
+  std::string run_reference = "baked";
+  run->add_option("--reference", run_reference,
+                  "baked (UE's LUT) or analytic (per-pixel CombineLUTs: a port without a LUT; no "
+                  "golden check)")
+      ->check(CLI::IsMember({"baked", "analytic"}))
+      ->capture_default_str();
 
   CLI::App* coverage = app.add_subcommand(
       "coverage",
@@ -149,7 +156,11 @@ int main(int argc, char** argv) {
           "TEMPLATE is split into words like a shell would (quotes, backslash) but run without\n"
           "one; {input}, {params}, {output} and {id} are replaced inside each word. Example:\n"
           "  hdrconform verify --candidate-cmd 'my_port --params {params} --in {input} --out "
-          "{output}'\n") +
+          "{output}'\n"
+          "The command exits 0 after writing {output}, 77 to decline the case, 78 to decline its\n"
+          "whole stage (UNSUPPORTED: never a pass; fails the run only with --require-all).\n"
+          "Contract: docs/candidate-protocol.md, params.json schema: "
+          "runner/params.schema.json.\n") +
       kExitCodes);
   verify->add_option("--cases", cases_dir, "case directory")->capture_default_str();
   verify->add_option("--filter", filter, "only cases whose id matches this glob");
@@ -164,6 +175,17 @@ int main(int argc, char** argv) {
   dir_opt->excludes(cmd_opt);
   verify->add_option("--timeout", cmd_timeout, "seconds a candidate command may take per case")
       ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  hdrc::SuiteOptions suite;  // verify's candidate protocol options (runner/verify.h)
+  verify->add_flag("--require-all", suite.require_all,
+                   "fail the run when the candidate declines a case (UNSUPPORTED)");
+  verify->add_option("--candidate-limits", suite.candidate_limits,
+                     "the candidate's declared deviations (known_limits.json's form)");
+  verify
+      ->add_option("--reference", suite.reference,
+                   "baked (UE's LUT) or analytic (per-pixel CombineLUTs, for ports without a "
+                   "LUT)")
+      ->check(CLI::IsMember({"baked", "analytic"}))
       ->capture_default_str();
 
   CLI::App* devices = app.add_subcommand("devices", "list the Vulkan physical devices");
@@ -346,7 +368,6 @@ int main(int argc, char** argv) {
     return sum.errors.empty() ? hdrc::kExitPass : hdrc::kExitFail;
   }
 
-  hdrc::SuiteOptions suite;
   suite.cases_dir = cases_dir;
   suite.out_dir = out_dir;
   // The run's last line names the report (README: the main job ends with the report's path).
@@ -361,8 +382,24 @@ int main(int argc, char** argv) {
   };
   suite.jobs = jobs;
   suite.shard = shard;
+  // What a failing case's reproduce command repeats (runner/verify.h: reproduce_command).
+  auto repro = [&](const std::string& option, const std::string& value) {
+    suite.reproduce_args +=
+        (suite.reproduce_args.empty() ? "" : " ") + option + " " + hdrc::shell_quote(value);
+  };
+  if (!default_cases) repro("--cases", cases_dir);
+  if (*run && engine != "vulkan") repro("--engine", engine);
+  if (*run && !vk.shader_dir.empty()) repro("--shader-dir", vk.shader_dir);
+  if (*run && run_reference != "baked") {
+    suite.reference = run_reference;
+    repro("--reference", run_reference);
+  }
   if (*verify) {
     suite.command = "verify";
+    suite.candidate_engine = candidate_dir.empty() ? "candidate-cmd" : "candidate-dir";
+    if (!candidate_dir.empty()) repro("--candidate-dir", candidate_dir);
+    if (!candidate_cmd.empty()) repro("--candidate-cmd", candidate_cmd);
+    if (suite.reference != "baked") repro("--reference", suite.reference);
     if (candidate_dir.empty() == candidate_cmd.empty()) {
       std::fprintf(stderr,
                    "error: verify needs exactly one of --candidate-dir or --candidate-cmd\n");
@@ -391,11 +428,12 @@ int main(int argc, char** argv) {
                    "{id}\n");
       return hdrc::kExitBadInput;
     }
+    auto declined = std::make_shared<hdrc::DeclinedStages>();  // shared by every worker
     return finish(hdrc::run_suite(
         cases, limits,
         [&] {
           return std::make_unique<hdrc::CandidateCommandEngine>(*argv_template, out_dir,
-                                                                cmd_timeout);
+                                                                cmd_timeout, declined);
         },
         suite));
   }
@@ -410,8 +448,9 @@ int main(int argc, char** argv) {
   // The reference against the goldens: a regression of the reference, or a missing or stale
   // golden, fails the run (exit 1) unless the run already failed worse.
   if (code == hdrc::kExitBadInput || code == hdrc::kExitInterrupted) return finish(code);
-  if (no_goldens) {
-    std::printf("goldens: not checked (--no-goldens)\n");
+  if (no_goldens || suite.reference != "baked") {
+    std::printf("goldens: not checked (%s)\n",
+                no_goldens ? "--no-goldens" : "the goldens hold the baked reference");
   } else if (goldens_dir.empty()) {
     std::printf("goldens: not checked (--cases %s has no golden directory; pass --goldens DIR)\n",
                 cases_dir.c_str());

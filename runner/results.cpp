@@ -6,6 +6,7 @@
 #include "core/atomic_file.h"
 #include "report/html_report.h"
 #include "runner/export.h"
+#include "runner/verify.h"
 
 namespace hdrc {
 
@@ -170,6 +171,19 @@ std::string xml_escape(const std::string& s) {
   return out;
 }
 
+// verify's candidate protocol (runner/verify.h): which reference the candidate was judged
+// against, whether UNSUPPORTED fails the run, and the deviations the candidate declared.
+void add_candidate_protocol(json& doc, const RunReport& r) {
+  json limits = json::array();
+  for (const KnownLimit& k : r.candidate_limits)
+    limits.push_back({{"cases", k.cases}, {"engine", k.engine}, {"reason", k.reason}});
+  doc["reference_mode"] = r.reference_mode;
+  doc["require_all"] = r.require_all;
+  doc["candidate_limits"] = {
+      {"file", r.candidate_limits_file.empty() ? json(nullptr) : json(r.candidate_limits_file)},
+      {"limits", limits}};
+}
+
 }  // namespace
 
 std::string results_json(const RunReport& r) {
@@ -206,11 +220,13 @@ std::string results_json(const RunReport& r) {
         {"degenerate", r.count(CaseVerdict::kDegenerate)},
         {"missing", r.count(CaseVerdict::kMissing)},
         {"not_run", r.count(CaseVerdict::kNotRun)},
+        {"unsupported", r.count(CaseVerdict::kUnsupported)},
         {"warned", r.warned()},
         {"could_be_tightened", tighten},
         {"exit_code", r.exit_code()}}},
       {"cases", cases},
   };
+  add_candidate_protocol(doc, r);
   return doc.dump(2) + "\n";
 }
 
@@ -219,7 +235,8 @@ std::string junit_xml(const RunReport& r) {
   const int failures = r.count(CaseVerdict::kFail) + r.count(CaseVerdict::kMissing);
   const int errors = r.count(CaseVerdict::kError);
   const int skipped = r.count(CaseVerdict::kSkipped) + r.count(CaseVerdict::kKnownLimit) +
-                      r.count(CaseVerdict::kDegenerate) + r.count(CaseVerdict::kNotRun);
+                      r.count(CaseVerdict::kDegenerate) + r.count(CaseVerdict::kNotRun) +
+                      r.count(CaseVerdict::kUnsupported);
   x += "<testsuites>\n<testsuite name=\"hdrconform\" tests=\"" + std::to_string(r.cases.size()) +
        "\" failures=\"" + std::to_string(failures) + "\" errors=\"" + std::to_string(errors) +
        "\" skipped=\"" + std::to_string(skipped) + "\" time=\"" + std::to_string(r.wall_seconds) +
@@ -240,16 +257,19 @@ std::string junit_xml(const RunReport& r) {
         // The reason names the worst pixel (or the first non-finite mismatch).
         const std::string msg = (c.verdict == CaseVerdict::kMissing ? "MISSING: " : "") + c.reason;
         body = "    <failure message=\"" + xml_escape(msg) + "\">" + xml_escape(msg) +
-               "&#10;tolerance: " + xml_escape(c.tolerance.source) + "</failure>\n";
+               "&#10;tolerance: " + xml_escape(c.tolerance.source) +
+               "&#10;reproduce: " + xml_escape(reproduce_command(r, c.spec.id)) + "</failure>\n";
         break;
       }
       case CaseVerdict::kError:
-        body = "    <error message=\"" + xml_escape(c.reason) + "\"/>\n";
+        body = "    <error message=\"" + xml_escape(c.reason) +
+               "\">reproduce: " + xml_escape(reproduce_command(r, c.spec.id)) + "</error>\n";
         break;
       case CaseVerdict::kSkipped:
       case CaseVerdict::kKnownLimit:
       case CaseVerdict::kDegenerate:
       case CaseVerdict::kNotRun:
+      case CaseVerdict::kUnsupported:
         body = "    <skipped message=\"" + std::string(verdict_name(c.verdict)) + ": " +
                xml_escape(c.reason) + "\"/>\n";
         break;

@@ -27,6 +27,8 @@ const char* verdict_name(CaseVerdict v) {
       return "MISSING";
     case CaseVerdict::kNotRun:
       return "NOT_RUN";
+    case CaseVerdict::kUnsupported:
+      return "UNSUPPORTED";
   }
   return "?";
 }
@@ -47,6 +49,7 @@ int RunReport::exit_code() const {
   if (interrupted) return kExitInterrupted;
   if (count(CaseVerdict::kFail) + count(CaseVerdict::kError) + count(CaseVerdict::kMissing) > 0)
     return kExitFail;
+  if (require_all && count(CaseVerdict::kUnsupported) > 0) return kExitFail;
   if (count(CaseVerdict::kSkipped) > 0) return kExitEngineUnavailable;
   if (warned() > 0) return kExitPassWithWarnings;
   return kExitPass;
@@ -123,6 +126,11 @@ class Executor {
       r.reason = report_.candidate_unavailable;
       return r;
     }
+    // A stage the candidate declined earlier: its later cases are not even started.
+    if (!limit) {
+      if (std::string why = w.candidate->unsupported(*resolved); !why.empty())
+        return unsupported(std::move(r), std::move(why));
+    }
     // The reference runs for every evaluated case, known limits and missing candidates included,
     // so its outputs (and any error of its own) are part of every run.
     auto t0 = std::chrono::steady_clock::now();
@@ -146,8 +154,11 @@ class Executor {
     t0 = std::chrono::steady_clock::now();
     auto cand_img = w.candidate->run(*resolved);
     r.candidate_seconds = seconds_since(t0);
-    if (!cand_img)
+    if (!cand_img) {
+      if (std::string why = w.candidate->unsupported(*resolved); !why.empty())
+        return unsupported(std::move(r), std::move(why));
       return error(std::move(r), w.candidate->name() + ": " + cand_img.error().to_string());
+    }
     if (cand_img->width != ref_img->width || cand_img->height != ref_img->height)
       return error(std::move(r), w.candidate->name() + ": the candidate image is " +
                                      std::to_string(cand_img->width) + "x" +
@@ -171,6 +182,12 @@ class Executor {
  private:
   static CaseResult error(CaseResult r, std::string reason) {
     r.verdict = CaseVerdict::kError;
+    r.reason = std::move(reason);
+    return r;
+  }
+
+  static CaseResult unsupported(CaseResult r, std::string reason) {
+    r.verdict = CaseVerdict::kUnsupported;
     r.reason = std::move(reason);
     return r;
   }

@@ -13,6 +13,7 @@
 
 #include "core/case.h"
 #include "core/engine.h"
+#include "runner/case_loader.h"
 #include "runner/diff.h"
 #include "runner/tolerance.h"
 
@@ -33,7 +34,9 @@ enum ExitCode : int {
 // PASS/FAIL: judged. ERROR: could not be evaluated. SKIP: the candidate engine was unavailable.
 // KNOWN_LIMIT: listed in cases/known_limits.json for this engine. DEGENERATE: UE itself computes
 // degenerate parameters for this combination; not evaluated. MISSING: `verify` found no candidate
-// image. NOT_RUN: the run was interrupted first. FAIL, ERROR and MISSING fail a run.
+// image. NOT_RUN: the run was interrupted first. UNSUPPORTED: the candidate declined the case or
+// its stage (verify's candidate protocol); never a pass, fails the run only under
+// `verify --require-all`. FAIL, ERROR and MISSING fail a run.
 enum class CaseVerdict {
   kPass,
   kFail,
@@ -42,7 +45,8 @@ enum class CaseVerdict {
   kKnownLimit,
   kDegenerate,
   kMissing,
-  kNotRun
+  kNotRun,
+  kUnsupported
 };
 const char* verdict_name(CaseVerdict v);
 
@@ -76,6 +80,12 @@ struct RunReport {
   int jobs = 1;
   std::string shard;  // "K/N", or "" when unsharded
   bool interrupted = false;
+  bool require_all = false;  // verify --require-all: UNSUPPORTED cases fail the run
+  // verify --candidate-limits FILE: the port's declared deviations (shown by the report).
+  std::string candidate_limits_file;
+  std::vector<KnownLimit> candidate_limits;
+  std::string reference_mode = "baked";  // verify --reference: "baked" or "analytic"
+  std::string reproduce_args;            // options a case's reproduce command repeats (verify.h)
   int exit_code() const;
   int count(CaseVerdict v) const;
   int warned() const;  // passing cases with warnings

@@ -12,6 +12,9 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <map>
+#include <nlohmann/json.hpp>
 #include <thread>
 
 #include "reference/reference_engine.h"
@@ -183,6 +186,18 @@ DeviceInfo CandidateCommandEngine::device() const {
 }
 
 namespace {
+// The first non-empty line of the candidate's log, at most 200 characters: its reason.
+std::string first_line_of(const std::string& path) {
+  std::ifstream f(path);
+  std::string line;
+  for (int i = 0; i < 100 && std::getline(f, line); ++i) {
+    while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
+    if (line.empty()) continue;
+    return line.size() > 200 ? line.substr(0, 200) + "..." : line;
+  }
+  return "";
+}
+
 std::string tail_of(const std::string& path, size_t max_chars) {
   std::ifstream f(path);
   std::string s((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
@@ -194,7 +209,43 @@ std::string tail_of(const std::string& path, size_t max_chars) {
 }
 }  // namespace
 
+// ---- the candidate protocol ------------------------------------------------------------------
+
+void DeclinedStages::add(const std::string& stage, const std::string& reason) {
+  std::lock_guard<std::mutex> lock(mu_);
+  stages_.emplace(stage, reason);  // the first case to decline names the reason
+}
+
+std::string DeclinedStages::reason(const std::string& stage) const {
+  std::lock_guard<std::mutex> lock(mu_);
+  auto it = stages_.find(stage);
+  return it == stages_.end() ? "" : it->second;
+}
+
+std::string CandidateCommandEngine::unsupported(const ResolvedCase& c) const {
+  if (!c.spec.stage) return "";
+  if (std::string why = declined_->reason(std::string(c.spec.stage->name)); !why.empty())
+    return why;
+  return c.spec.id == declined_case_ ? declined_reason_ : "";
+}
+
+Error CandidateCommandEngine::decline(const ResolvedCase& c, int status, const std::string& said) {
+  const std::string stage = c.spec.stage ? std::string(c.spec.stage->name) : "?";
+  const std::string what = said.empty() ? "" : ": " + said;
+  if (status == kCandidateDeclinesStage) {
+    declined_->add(stage, "the candidate declined stage " + stage + " (exit " +
+                              std::to_string(status) + " on " + c.spec.id + ")" + what);
+  } else {
+    declined_case_ = c.spec.id;
+    declined_reason_ =
+        "the candidate declined this case (exit " + std::to_string(status) + ")" + what;
+  }
+  return Error{argv_[0], "", unsupported(c), ""};
+}
+
 Result<Image> CandidateCommandEngine::run(const ResolvedCase& c) {
+  declined_case_.clear();
+  declined_reason_.clear();
   const std::string dir = out_dir_ + "/" + case_image_dir(c.spec.id);
   if (Status st = export_case(c, dir); !st) return st.error();
   const std::string output = dir + "/candidate_output.exr";
@@ -205,6 +256,9 @@ Result<Image> CandidateCommandEngine::run(const ResolvedCase& c) {
   const auto argv =
       expand_placeholders(argv_, dir + "/input.exr", dir + "/params.json", output, c.spec.id);
   const CommandResult r = run_command(argv, log, timeout_s_);
+  if (r.error.empty() && !r.timed_out && r.signal == 0 &&
+      (r.exit_status == kCandidateDeclinesCase || r.exit_status == kCandidateDeclinesStage))
+    return decline(c, r.exit_status, first_line_of(log));
   std::string why;
   if (!r.error.empty())
     why = r.error;
@@ -231,6 +285,84 @@ Result<Image> CandidateCommandEngine::run(const ResolvedCase& c) {
   return img;
 }
 
+std::vector<KnownLimit> load_candidate_limits(const std::string& path, std::vector<Error>* errors) {
+  using json = nlohmann::ordered_json;
+  std::vector<KnownLimit> out;
+  std::ifstream f(path);
+  if (!f) {
+    errors->push_back(Error{path, "", "cannot open the candidate limits file", ""});
+    return out;
+  }
+  const std::string text((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  json doc;
+  try {
+    doc = json::parse(text);
+  } catch (const json::parse_error& e) {
+    errors->push_back(Error{path, "", std::string("malformed JSON: ") + e.what(), ""});
+    return out;
+  }
+  const char* form = "{\"limits\": [{\"cases\", \"engine\", \"reason\"}, ...]}";
+  if (!doc.is_object() || !doc.contains("limits") || !doc["limits"].is_array()) {
+    errors->push_back(Error{path, "/limits", "expected an array of limits", form});
+    return out;
+  }
+  for (auto it = doc.begin(); it != doc.end(); ++it)
+    if (it.key() != "limits" && it.key() != "description" && it.key() != "$schema")
+      errors->push_back(Error{path, "/" + it.key(), "unknown key \"" + it.key() + "\"",
+                              "limits, description, $schema"});
+  const json& limits = doc["limits"];
+  if (limits.size() > 10000) {
+    errors->push_back(Error{path, "/limits", "more than 10000 limits", ""});
+    return out;
+  }
+  for (size_t i = 0; i < limits.size(); ++i) {
+    const json& l = limits[i];
+    const std::string ptr = "/limits/" + std::to_string(i);
+    if (!l.is_object()) {
+      errors->push_back(Error{path, ptr, "expected an object, got " + l.dump(), form});
+      continue;
+    }
+    for (auto it = l.begin(); it != l.end(); ++it)
+      if (it.key() != "cases" && it.key() != "engine" && it.key() != "reason")
+        errors->push_back(Error{path, ptr + "/" + it.key(), "unknown key \"" + it.key() + "\"",
+                                "cases, engine, reason"});
+    KnownLimit k;
+    bool ok = true;
+    for (const char* key : {"cases", "engine", "reason"}) {
+      if (!l.contains(key) || !l[key].is_string() || l[key].get<std::string>().empty()) {
+        errors->push_back(Error{path, ptr + "/" + key,
+                                std::string("missing ") + key +
+                                    (l.contains(key) ? ", got " + l[key].dump() : std::string()),
+                                "a non-empty string"});
+        ok = false;
+        continue;
+      }
+      const std::string v = l[key].get<std::string>();
+      if (std::string(key) == "cases") k.cases = v;
+      if (std::string(key) == "engine") k.engine = v;
+      if (std::string(key) == "reason") k.reason = v;
+    }
+    if (!k.engine.empty() && k.engine != "candidate-cmd" && k.engine != "candidate-dir") {
+      errors->push_back(Error{path, ptr + "/engine", "unknown engine \"" + k.engine + "\"",
+                              "candidate-cmd, candidate-dir"});
+      ok = false;
+    }
+    if (ok) out.push_back(k);
+  }
+  return out;
+}
+
+std::string shell_quote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+std::string reproduce_command(const RunReport& r, const std::string& case_id) {
+  return "hdrconform " + r.command + " --filter " + shell_quote(case_id) + " --out out/repro" +
+         (r.reproduce_args.empty() ? "" : " " + r.reproduce_args);
+}
+
 // ---- the run/verify driver -------------------------------------------------------------------
 
 namespace {
@@ -247,7 +379,8 @@ void on_sigint(int) {
 
 class Progress {
  public:
-  explicit Progress(bool tty) : tty_(tty) {}
+  Progress(bool tty, std::function<std::string(const std::string&)> reproduce)
+      : tty_(tty), reproduce(std::move(reproduce)) {}
   void operator()(const CaseResult& r, size_t index, size_t total) {
     if (r.verdict == CaseVerdict::kFail || r.verdict == CaseVerdict::kError ||
         r.verdict == CaseVerdict::kMissing)
@@ -259,6 +392,8 @@ class Progress {
                   r.spec.id.c_str(), r.reason.c_str());
       if (r.verdict == CaseVerdict::kFail)
         std::printf("        tolerance from %s\n", r.tolerance.source.c_str());
+      if (r.verdict == CaseVerdict::kFail || r.verdict == CaseVerdict::kError)
+        std::printf("        reproduce: %s\n", reproduce(r.spec.id).c_str());
       for (const auto& w : r.warnings) std::printf("        warning: %s\n", w.c_str());
     }
     if (tty_) {
@@ -273,17 +408,36 @@ class Progress {
 
  private:
   bool tty_;
+  std::function<std::string(const std::string&)> reproduce;
   int bad_ = 0;
 };
 
+// UNSUPPORTED cases, grouped by reason (a declined stage gives one line for all its cases).
+void print_unsupported(const RunReport& report) {
+  std::map<std::string, std::vector<const CaseResult*>> by_reason;
+  for (const auto& c : report.cases)
+    if (c.verdict == CaseVerdict::kUnsupported) by_reason[c.reason].push_back(&c);
+  if (!report.candidate_limits_file.empty())
+    std::printf("  %zu deviation(s) declared by the candidate in %s\n",
+                report.candidate_limits.size(), report.candidate_limits_file.c_str());
+  if (by_reason.empty()) return;
+  std::printf("  UNSUPPORTED (never a pass%s):\n",
+              report.require_all ? "; --require-all: they fail the run" : "");
+  for (const auto& [reason, list] : by_reason) {
+    std::printf("    %zu case(s): %s (e.g. %s)\n", list.size(), reason.c_str(),
+                list.front()->spec.id.c_str());
+  }
+}
+
 void print_summary(const RunReport& report) {
   std::printf(
-      "hdrconform: %zu cases: %d passed, %d failed, %d errors, %d skipped, %d known limits, %d "
-      "degenerate, %d missing, %d not run in %.1f s on %s (%s), -j %d%s%s\n",
+      "hdrconform: %zu cases: %d passed, %d failed, %d errors, %d unsupported, %d skipped, %d "
+      "known limits, %d degenerate, %d missing, %d not run in %.1f s on %s (%s), -j %d%s%s\n",
       report.cases.size(), report.count(CaseVerdict::kPass), report.count(CaseVerdict::kFail),
-      report.count(CaseVerdict::kError), report.count(CaseVerdict::kSkipped),
-      report.count(CaseVerdict::kKnownLimit), report.count(CaseVerdict::kDegenerate),
-      report.count(CaseVerdict::kMissing), report.count(CaseVerdict::kNotRun), report.wall_seconds,
+      report.count(CaseVerdict::kError), report.count(CaseVerdict::kUnsupported),
+      report.count(CaseVerdict::kSkipped), report.count(CaseVerdict::kKnownLimit),
+      report.count(CaseVerdict::kDegenerate), report.count(CaseVerdict::kMissing),
+      report.count(CaseVerdict::kNotRun), report.wall_seconds,
       report.candidate_device.device.c_str(), report.candidate_device.driver.c_str(), report.jobs,
       report.shard.empty() ? "" : ", shard ", report.shard.c_str());
   if (report.warned() > 0) std::printf("  %d passed with warnings\n", report.warned());
@@ -307,6 +461,7 @@ void print_summary(const RunReport& report) {
   for (const auto& c : report.cases)
     if (c.verdict == CaseVerdict::kFail)
       std::printf("  FAIL %s: %s\n", c.spec.id.c_str(), c.reason.c_str());
+  print_unsupported(report);
   if (!by_budget.empty()) {
     std::printf("  closest to their tolerance:");
     for (size_t i = 0; i < std::min<size_t>(3, by_budget.size()); ++i)
@@ -325,9 +480,33 @@ int run_suite(std::vector<Case> cases, const std::vector<KnownLimit>& limits,
   std::vector<Error> errors;
   RunOptions ro;
   ro.overlays = load_tolerance_overlays(options.cases_dir, &errors);
+  const bool analytic = options.reference == "analytic";
+  if (!analytic && options.reference != "baked")
+    errors.push_back(Error{"", "--reference", "unknown reference mode '" + options.reference + "'",
+                           kReferenceModes});
+  if (analytic) {
+    // Tolerances measured for a per-pixel (no LUT) candidate against the analytic reference.
+    const std::string path = options.cases_dir + "/tolerance_overlays_analytic.json";
+    std::ifstream f(path);
+    if (f) {
+      const std::string text((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+      for (auto& o : parse_tolerance_overlays(path, text, &errors)) ro.overlays.push_back(o);
+    }
+  }
+  std::vector<KnownLimit> all_limits = limits;
+  std::vector<KnownLimit> candidate_limits;
+  if (!options.candidate_limits.empty()) {
+    candidate_limits = load_candidate_limits(options.candidate_limits, &errors);
+    for (KnownLimit k : candidate_limits) {
+      if (k.engine != options.candidate_engine) continue;  // declared for the other mode
+      k.reason = "declared by the candidate (" + options.candidate_limits + "): " + k.reason;
+      all_limits.push_back(k);
+    }
+  }
   if (!errors.empty()) {
     for (const auto& e : errors) std::fprintf(stderr, "error: %s\n", e.to_string().c_str());
-    std::fprintf(stderr, "%zu error(s) in tolerance overlays; nothing was run\n", errors.size());
+    std::fprintf(stderr, "%zu error(s) in tolerance overlays or options; nothing was run\n",
+                 errors.size());
     return kExitBadInput;
   }
   if (!options.shard.empty()) {
@@ -339,10 +518,14 @@ int run_suite(std::vector<Case> cases, const std::vector<KnownLimit>& limits,
     cases = select_shard(cases, *shard);
   }
   ro.jobs = options.jobs;
-  ro.known_limits = limits;
+  ro.known_limits = all_limits;
   ro.image_dir = options.out_dir;
   ro.interrupt = &g_interrupt;
-  Progress progress(isatty(STDOUT_FILENO));
+  RunReport proto;  // what a reproduce command needs before the report exists
+  proto.command = options.command;
+  proto.reproduce_args = options.reproduce_args;
+  Progress progress(isatty(STDOUT_FILENO),
+                    [proto](const std::string& id) { return reproduce_command(proto, id); });
   ro.on_case = [&](const CaseResult& r, size_t i, size_t n) { progress(r, i, n); };
   if (options.candidate_dir) {
     const CandidateDirEngine* dir = options.candidate_dir;
@@ -355,10 +538,16 @@ int run_suite(std::vector<Case> cases, const std::vector<KnownLimit>& limits,
   sigaction(SIGINT, &sa, &old);
 
   RunReport report = run_cases(
-      cases, [] { return std::make_unique<ref::ReferenceEngine>(); }, candidate, ro);
+      cases, [analytic] { return std::make_unique<ref::ReferenceEngine>(analytic); }, candidate,
+      ro);
   sigaction(SIGINT, &old, nullptr);
   report.command = options.command;
   report.shard = options.shard;
+  report.require_all = options.require_all;
+  report.candidate_limits_file = options.candidate_limits;
+  report.candidate_limits = candidate_limits;
+  report.reference_mode = options.reference;
+  report.reproduce_args = options.reproduce_args;
   if (!report.candidate_unavailable.empty())
     std::printf("candidate unavailable: %s\n", report.candidate_unavailable.c_str());
   if (Status st = write_run_outputs(report, options.out_dir); !st) {

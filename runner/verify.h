@@ -4,6 +4,9 @@
 #pragma once
 
 #include <atomic>
+#include <map>
+#include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -52,24 +55,65 @@ struct CommandResult {
 CommandResult run_command(const std::vector<std::string>& argv, const std::string& log_path,
                           double timeout_s);
 
+// The candidate protocol's exit statuses (README, "Verifying a port"): besides 0 (image written)
+// a candidate command may decline. Declined cases are UNSUPPORTED: never a pass, counted apart,
+// and they fail the run only under `verify --require-all`. The first line the command printed is
+// the reason shown.
+inline constexpr int kCandidateDeclinesCase = 77;   // "unsupported: skip this case"
+inline constexpr int kCandidateDeclinesStage = 78;  // "unsupported: this whole stage"; the stage's
+                                                    // later cases are not even started
+
+// The stages a candidate declined, shared by every worker's engine of one run.
+class DeclinedStages {
+ public:
+  void add(const std::string& stage, const std::string& reason);
+  std::string reason(const std::string& stage) const;  // "" when not declined
+
+ private:
+  mutable std::mutex mu_;
+  std::map<std::string, std::string> stages_;
+};
+
 // verify --candidate-cmd TEMPLATE: for each case, exports it into OUT/cases/ID/ (params.json,
 // input.exr and the stage's other images, runner/export.h), runs the command with {input},
 // {params}, {output} = OUT/cases/ID/candidate_output.exr and {id}, and reads what it wrote. A
 // command that fails, times out or writes no image is an error for that case only.
 class CandidateCommandEngine final : public Engine {
  public:
-  CandidateCommandEngine(std::vector<std::string> argv, std::string out_dir, double timeout_s)
-      : argv_(std::move(argv)), out_dir_(std::move(out_dir)), timeout_s_(timeout_s) {}
+  CandidateCommandEngine(std::vector<std::string> argv, std::string out_dir, double timeout_s,
+                         std::shared_ptr<DeclinedStages> declined = nullptr)
+      : argv_(std::move(argv)),
+        out_dir_(std::move(out_dir)),
+        timeout_s_(timeout_s),
+        declined_(declined ? std::move(declined) : std::make_shared<DeclinedStages>()) {}
   std::string name() const override { return "candidate-cmd"; }
   Status init() override;
   DeviceInfo device() const override;
   Result<Image> run(const ResolvedCase& c) override;
+  std::string unsupported(const ResolvedCase& c) const override;
 
  private:
+  Error decline(const ResolvedCase& c, int status, const std::string& said);
   std::vector<std::string> argv_;
   std::string out_dir_;
   double timeout_s_;
+  std::shared_ptr<DeclinedStages> declined_;
+  std::string declined_case_, declined_reason_;  // the last case this engine's command declined
 };
+
+// verify --candidate-limits FILE: a port's declared deviations, in known_limits.json's form
+// ({"limits": [{"cases": GLOB, "engine": "candidate-cmd" | "candidate-dir", "reason": TEXT}]}).
+// Every problem is appended to `errors`, naming the file, the JSON pointer, the value and the
+// valid choices. Each reason is prefixed so the verdict says who declared it.
+std::vector<KnownLimit> load_candidate_limits(const std::string& path, std::vector<Error>* errors);
+
+// A word quoted for a POSIX shell: 'it'\''s'.
+std::string shell_quote(const std::string& s);
+
+// The command that reruns one case as this run ran it, printed with every failing case (console
+// and JUnit): "hdrconform run --filter 'ID' --out out/repro" plus the run's options that matter
+// (RunReport::reproduce_args: --cases, --engine, --candidate-cmd ...).
+std::string reproduce_command(const RunReport& r, const std::string& case_id);
 
 struct SuiteOptions {
   std::string command = "run";  // "run" or "verify"
@@ -79,7 +123,17 @@ struct SuiteOptions {
   std::string shard;  // "K/N" or ""
   // verify --candidate-dir: report absent images as MISSING.
   const CandidateDirEngine* candidate_dir = nullptr;
+  bool require_all = false;         // verify --require-all: UNSUPPORTED fails the run
+  std::string candidate_limits;     // verify --candidate-limits FILE ("": none)
+  std::string candidate_engine;     // "candidate-cmd" / "candidate-dir" (which limits apply)
+  std::string reference = "baked";  // verify --reference: "baked" (UE's LUT) or "analytic"
+  std::string reproduce_args;       // the options a reproduce command repeats (shell-quoted)
 };
+
+// The reference engine a suite run compares against: "baked" samples the LUT UE bakes (the
+// default); "analytic" evaluates CombineLUTs per pixel, for ports that do not bake a LUT, judged
+// with cases/tolerance_overlays_analytic.json applied over the usual tolerances.
+inline constexpr const char* kReferenceModes = "baked, analytic";
 
 // The part of `run`/`verify` after the cases are loaded: loads the tolerance overlays, applies
 // --shard, runs with -j workers (Ctrl-C stops starting cases; the rest are NOT_RUN), prints a
