@@ -100,6 +100,9 @@ struct Case {
   InputSpec bloom;       // tonemap: the bloom texture (stimulus "" and file "": no bloom)
   InputSpec bloom_dirt;  // tonemap: the bloom dirt mask texture (empty: none)
   Tolerance tolerance;
+  // The suite tier the case belongs to: "quick" (the default suite) or "exhaustive" (only in
+  // `--suite exhaustive`, which runs both tiers; docs/cases.md).
+  std::string tier = "quick";
 };
 
 // A case with everything an engine needs: the host-derived parameters and the input pixels.
