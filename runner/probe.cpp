@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <cctype>
 #include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <istream>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <ostream>
@@ -57,6 +59,8 @@ bool parse_rgb_fast(const std::string& line, double out[3]) {
     if (n == 3) return false;
     const auto r = std::from_chars(p, q, out[n]);
     if (r.ec != std::errc() || r.ptr != q) return false;
+    // std::stod rejects a result that underflows to a subnormal (ERANGE); so does this path.
+    if (out[n] != 0.0 && std::fabs(out[n]) < std::numeric_limits<double>::min()) return false;
     ++n;
     p = q;
   }
