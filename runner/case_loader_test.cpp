@@ -369,7 +369,7 @@ TEST(CaseLoader, SchemaMatchesTheLoader) {
   for (const auto& s : hdrc::stimulus_table()) table.emplace_back(s.name);
   EXPECT_EQ(stimuli, table);
   EXPECT_EQ(schema["$defs"]["matrix"]["properties"]["mode"]["enum"],
-            nlohmann::ordered_json::array({"full", "pairwise"}));
+            nlohmann::ordered_json::array({"full", "pairwise", "covering"}));
   std::vector<hdrc::Error> errors;
   hdrc::parse_case_file("t.json", R"({"stage": "shaper", "zzz": 1})", kCasesDir, "t", &errors);
   ASSERT_FALSE(errors.empty());

@@ -11,6 +11,10 @@
 
 namespace {
 
+using hdrc::covering_rows;
+using hdrc::full_rows;
+using hdrc::pairwise_rows;
+
 using Rows = std::vector<std::vector<int>>;
 
 // Counts the t-tuples (dimension subset × values) no row holds.
@@ -92,6 +96,57 @@ TEST(Covering, StrengthTwoIsPairwiseAndFullStrengthIsTheCrossProduct) {
   const std::vector<int> sizes{3, 2, 4, 2};
   EXPECT_EQ(covering_rows(sizes, 2), pairwise_rows(sizes));
   EXPECT_EQ(covering_rows(sizes, 4), full_rows(sizes));
+}
+
+}  // namespace
+
+// The loader: a covering matrix needs a strength in 2..4; "tier" is quick or exhaustive; the
+// quick suite leaves exhaustive cases out and the exhaustive suite keeps both tiers.
+#include "runner/case_loader.h"
+
+namespace {
+
+std::string errors_of(const std::string& text) {
+  std::vector<hdrc::Error> errors;
+  hdrc::parse_case_file("t.json", text, HDRC_SOURCE_DIR "/cases", "t", &errors);
+  std::string all;
+  for (const auto& e : errors) all += e.to_string() + "\n";
+  return all;
+}
+
+TEST(CoveringLoader, StrengthAndTierAreChecked) {
+  const std::string m = R"("matrix": {"mode": "covering", %s "cvars": {"r.LUT.Size": [16, 32]}})";
+  auto file = [&](const std::string& strength, const std::string& tier) {
+    std::string mm = m;
+    mm.replace(mm.find("%s"), 2, strength);
+    return R"({"stage": "combine_luts", )" + tier + mm + "}";
+  };
+  EXPECT_NE(
+      errors_of(file("", "")).find("t.json: /matrix/strength: a covering matrix needs a strength"),
+      std::string::npos);
+  EXPECT_NE(errors_of(file(R"("strength": 5,)", "")).find("invalid strength 5"), std::string::npos);
+  EXPECT_EQ(errors_of(file(R"("strength": 3,)", R"("tier": "exhaustive", )")), "");
+  EXPECT_NE(errors_of(file(R"("strength": 3,)", R"("tier": "exhaustiv", )"))
+                .find("/tier: unknown tier \"exhaustiv\", did you mean 'exhaustive'?"),
+            std::string::npos);
+  EXPECT_NE(
+      errors_of(
+          R"({"stage": "combine_luts", "matrix": {"strength": 3, "cvars": {"r.LUT.Size": [16]}}})")
+          .find("\"strength\" applies to covering matrices only"),
+      std::string::npos);
+}
+
+TEST(CoveringLoader, SuitesSelectTiers) {
+  const auto quick = hdrc::load_cases(HDRC_SOURCE_DIR "/cases");
+  const auto all = hdrc::load_cases(HDRC_SOURCE_DIR "/cases", "exhaustive");
+  ASSERT_TRUE(quick.errors.empty());
+  ASSERT_TRUE(all.errors.empty());
+  size_t exhaustive = 0;
+  for (const auto& c : quick.cases) EXPECT_EQ(c.tier, "quick") << c.id;
+  for (const auto& c : all.cases) exhaustive += c.tier == "exhaustive";
+  EXPECT_EQ(all.cases.size(), quick.cases.size() + exhaustive);
+  EXPECT_GE(exhaustive, 5000u);
+  EXPECT_FALSE(hdrc::load_cases(HDRC_SOURCE_DIR "/cases", "fast").errors.empty());
 }
 
 }  // namespace
