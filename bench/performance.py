@@ -204,6 +204,24 @@ def main():
                  f"{exhaustive['wall']:.0f} s wall, {exhaustive['cpu']:.0f} s CPU, exit code "
                  f"{exhaustive['code']}; last lines: `{' / '.join(exhaustive['tail'])}`.")
     L.append("")
+    L.append("## What the figures rest on")
+    L.append("")
+    L.append("* Reference: `TexelEvaluator` (reference/combine_luts.h) unpacks the parameters once per"
+             " LUT and evaluates only the device's own path (no SDR film path on HDR/linear"
+             " devices); colour-correction zones with identical parameters are evaluated once;"
+             " pow(x, 1) returns x; the film curve's match points and the SSTS logarithms are"
+             " computed once per parameter set. All bit-identical: reference/fast_paths_test.cpp"
+             " compares the fast and the plain path of the same build over 1e5 colours and every"
+             " device × gamut.")
+    L.append("* LUT cache (reference/lut_cache.h): each distinct LUT is baked once per process and"
+             " shared between cases and workers (the reference engine runs as reference and, with"
+             " `--engine reference`, as candidate; combine_luts and tonemap cases share bakes).")
+    L.append("* Vulkan engine: buffers, the LUT image, descriptors, command buffer and fence are kept"
+             " from case to case; SPIR-V is compiled once per process; pipelines once per device;"
+             " a VkPipelineCache is read from and written to `build/vk_pipeline_cache.bin`.")
+    L.append("* Diff percentiles by selection (`std::nth_element`), not a full sort; `probe` parses"
+             " with `std::from_chars` and prints with `std::to_chars` (%.9g, identical output).")
+    L.append("")
     with open(a.out, "w") as f:
         f.write("\n".join(L))
     print("\n".join(L))
