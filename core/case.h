@@ -104,6 +104,9 @@ struct Case {
   // finite value and is judged by the non-finite census (docs/diff-metrics.md). Any other case
   // that compares no finite value is an ERROR, never a PASS.
   std::string pins_nonfinite;
+  // The suite tier the case belongs to: "quick" (the default suite) or "exhaustive" (only in
+  // `--suite exhaustive`, which runs both tiers; docs/cases.md).
+  std::string tier = "quick";
 };
 
 // A case with everything an engine needs: the host-derived parameters and the input pixels.

@@ -25,7 +25,15 @@ struct VulkanOptions {
   // A submission taking longer marks that case as an ERROR; the engine then abandons the device
   // (the work may still be running on it) and creates a fresh one for the next case.
   double fence_timeout_s = 60;
+  // A VkPipelineCache kept on disk: read when a device is created, written back (atomically)
+  // when the engine ends, so a fresh process does not pay the driver's compile per pipeline.
+  // Default: vk_pipeline_cache.bin in the build folder; "" = default_pipeline_cache_path();
+  // "none" = no disk cache.
+  std::string pipeline_cache_path;
 };
+
+// The default on-disk VkPipelineCache: <build folder>/vk_pipeline_cache.bin.
+std::string default_pipeline_cache_path();
 
 // The shader directory of this build (the source tree's gpu/shaders).
 std::string default_shader_dir();
@@ -52,6 +60,11 @@ class VulkanEngine final : public Engine {
   // Pipelines on the current device (each pass shader is compiled to SPIR-V once per engine, and
   // made into a pipeline once per device).
   int compiled_pipeline_count() const;
+  // Pipelines created on the current device (vkCreateComputePipelines calls: one per pass
+  // shader per device, whatever the number of cases).
+  int pipeline_creations() const;
+  // Cases whose buffers, LUT image and descriptors were reused from an earlier case.
+  int reused_work_count() const;
   // Devices given up after a timeout whose work has not finished yet (freed once it has).
   int abandoned_device_count() const;
   // Logical devices created so far (1 after init; one more after each loss or timeout).

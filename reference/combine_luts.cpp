@@ -7,6 +7,7 @@
 
 #include "reference/aces/aces_output.h"
 #include "reference/color/d3d_math.h"
+#include "reference/color/fast_paths.h"
 #include "reference/color/gamma_correction.h"
 #include "reference/color/st2084.h"
 #include "reference/color/ue_matrices.h"
@@ -165,6 +166,65 @@ Vec3 combine_luts_texel(const ParamBlock& p, const Vec3& lattice, CombineLutsTra
   return t.stored;
 }
 
+TexelEvaluator::TexelEvaluator(const ParamBlock& p)
+    : p_(p),
+      cc_(color_correct_params(p)),
+      wcs_(working_color_space(p)),
+      fade_{{p.color_scale[0], p.color_scale[1], p.color_scale[2]},
+            {p.overlay_color[0], p.overlay_color[1], p.overlay_color[2], p.overlay_color[3]}},
+      polynomial_{p.mapping_polynomial[0], p.mapping_polynomial[1], p.mapping_polynomial[2]},
+      inverse_gamma_{p.inverse_gamma[0], p.inverse_gamma[1], p.inverse_gamma[2]},
+      aces_(aces_params(p)) {
+  film_.blue_correction = p.blue_correction;
+  film_.tone_curve_amount = p.tone_curve_amount;
+  film_.film = {p.film_slope, p.film_toe, p.film_shoulder, p.film_black_clip, p.film_white_clip};
+}
+
+// The same operations as combine_luts_texel, in the same order, for the device's path only.
+Vec3 TexelEvaluator::operator()(const Vec3& lattice) const {
+  const ParamBlock& p = p_;
+  if (!fast_paths()) return combine_luts_texel(p, lattice);
+  const int device = p.output_device;
+  Vec3 decoded;
+  for (int c = 0; c < 3; ++c) decoded[c] = lut_decode(device, lattice[c]);
+  const Vec3 balanced = p.white_balance_enabled ? p.white_balance * decoded : decoded;
+  const Vec3 expanded = grading::expand_gamut(p.wcs_to_ap1 * balanced, p.expand_gamut);
+  const Vec3 corrected = grading::color_correct_all(expanded, cc_);
+  const Mat3& to_output = p.ap1_to_output;
+  Vec3 out;
+  if (device >= 3 && device <= 8) {
+    const Vec3 graded = grading::apply_fade(p.wcs_from_ap1 * corrected, fade_);
+    if (device <= 6) {
+      const Vec3 nits = aces::aces_output_transforms_1000(graded, p.wcs_to_ap0, aces_);
+      out = pq_encode(device <= 4 ? to_output * nits : nits);
+    } else if (device == 7) {
+      out = pq_encode(to_output * (p.wcs_to_ap1 * graded));
+    } else {
+      out = graded;
+    }
+  } else {
+    const Vec3 film_color =
+        grading::apply_mapping_polynomial(grading::film_color(corrected, film_, wcs_), polynomial_);
+    const Vec3 film = grading::apply_fade(film_color, fade_);
+    if (device == 9) {
+      out = to_output * (p.wcs_to_ap1 * film);
+    } else {
+      const Vec3 film_gamma = grading::apply_film_gamma(film, inverse_gamma_);
+      if (device == 0) {
+        out = linear_to_srgb(p.wcs_is_srgb ? film_gamma : to_output * (p.wcs_to_ap1 * film_gamma));
+      } else if (device == 1) {
+        out = linear_to_rec709_branchless(to_output * (p.wcs_to_ap1 * film_gamma));
+      } else {
+        const Vec3 x = to_output * (p.wcs_to_ap1 * film_gamma);
+        const double g = p.inverse_gamma[2];
+        out = {d3d::pow(x[0], g), d3d::pow(x[1], g), d3d::pow(x[2], g)};
+      }
+    }
+  }
+  for (int c = 0; c < 3; ++c) out[c] /= kLutScale;
+  return out;
+}
+
 double quantize_lut_value(int lut_format, double v) {
   switch (lut_format) {
     case 0: {  // A2B10G10R10 UNORM: D3D float→UNORM converts NaN to 0 and clamps.
@@ -198,10 +258,11 @@ BakedLut bake_lut(const ParamBlock& p) {
   lut.layout = p.lut_layout;
   const int n = p.lut_size;
   lut.texels.resize(static_cast<size_t>(n) * n * n);
+  const TexelEvaluator texel(p);
   for (int b = 0; b < n; ++b)
     for (int g = 0; g < n; ++g)
       for (int r = 0; r < n; ++r) {
-        const Vec3 v = combine_luts_texel(p, lattice_coordinate(p.lut_layout, n, r, g, b));
+        const Vec3 v = texel(lattice_coordinate(p.lut_layout, n, r, g, b));
         Vec3& out = lut.texels[(static_cast<size_t>(b) * n + g) * n + r];
         for (int c = 0; c < 3; ++c) out[c] = quantize_lut_value(p.lut_format, v[c]);
       }

@@ -7,7 +7,11 @@
 
 #include "core/shader_interface.h"
 #include "reference/aces/aces_output.h"
+#include "reference/color/ue_matrices.h"
 #include "reference/color/vec.h"
+#include "reference/grading/color_correct.h"
+#include "reference/grading/color_polynomial.h"
+#include "reference/grading/film_tonemap.h"
 
 namespace hdrc::ref {
 
@@ -33,6 +37,28 @@ aces::AcesShaderParams aces_params(const ParamBlock& p);
 // The colour function at a lattice coordinate (each channel in [0, 1]).
 Vec3 combine_luts_texel(const ParamBlock& p, const Vec3& lattice,
                         CombineLutsTrace* trace = nullptr);
+
+// combine_luts_texel without a trace, with everything that depends on the parameters alone
+// (colour-correction zones, working colour space, fade, film and ACES parameters) unpacked once,
+// and only the device's own path evaluated (the SDR film path is skipped on HDR and linear
+// devices, GradedColor on the film devices). Results are bit-identical to combine_luts_texel;
+// with fast_paths() off (reference/color/fast_paths.h) it evaluates combine_luts_texel itself.
+// Used by the bake and the analytic tonemapper, once per parameter set.
+class TexelEvaluator {
+ public:
+  explicit TexelEvaluator(const ParamBlock& p);
+  Vec3 operator()(const Vec3& lattice) const;
+
+ private:
+  ParamBlock p_;
+  grading::ColorCorrectParams cc_;
+  WorkingColorSpace wcs_;
+  grading::Fade fade_;
+  grading::FilmPathParams film_;
+  grading::MappingPolynomial polynomial_;
+  grading::InverseGamma inverse_gamma_;
+  aces::AcesShaderParams aces_;
+};
 
 // Rounds a stored value to what the LUT's storage format holds (p.lut_format): 10-bit UNORM
 // (clamped to [0, 1], round to nearest k/1023, NaN → 0 as D3D's float→UNORM conversion), IEEE

@@ -2,6 +2,7 @@
 
 #include "reference/color/ue_matrices.h"
 #include "reference/grading/film_tonemap.h"
+#include "reference/lut_cache.h"
 #include "reference/lut_shaper.h"
 #include "reference/tonemap.h"
 #include "reference/ui/composite.h"
@@ -101,9 +102,8 @@ Result<Image> ui_composite_stage(const ParamBlock& p, const Image& back_buffer,
 Result<Image> visualize_hdr_stage(const ParamBlock& p, const Image& hdr_scene, bool analytic_lut) {
   visualize::VisualizeHdrInputs in;
   in.params = eye_adaptation_parameters(p);
-  const BakedLut lut = analytic_lut ? BakedLut{} : bake_lut(p);
-  const Image tonemapped =
-      tonemap_image(p, hdr_scene, nullptr, nullptr, analytic_lut ? nullptr : &lut);
+  const auto lut = analytic_lut ? decltype(cached_bake_lut(p)){} : cached_bake_lut(p);
+  const Image tonemapped = tonemap_image(p, hdr_scene, nullptr, nullptr, lut.get());
   in.scene_color = &tonemapped;
   in.hdr_scene_color = &hdr_scene;
   in.one_over_pre_exposure = 1.0 / p.pre_exposure;
@@ -141,12 +141,12 @@ DeviceInfo ReferenceEngine::device() const {
 Result<Image> ReferenceEngine::run(const ResolvedCase& c) {
   switch (c.spec.stage->id) {
     case StageId::kCombineLuts:
-      return lut_image(bake_lut(c.params));
+      return lut_image(*cached_bake_lut(c.params));
     case StageId::kTonemap: {
-      const BakedLut lut = analytic_lut_ ? BakedLut{} : bake_lut(c.params);
+      const auto lut =
+          analytic_lut_ ? decltype(cached_bake_lut(c.params)){} : cached_bake_lut(c.params);
       return tonemap_image(c.params, c.input, c.bloom.data.empty() ? nullptr : &c.bloom,
-                           c.bloom_dirt.data.empty() ? nullptr : &c.bloom_dirt,
-                           analytic_lut_ ? nullptr : &lut);
+                           c.bloom_dirt.data.empty() ? nullptr : &c.bloom_dirt, lut.get());
     }
     case StageId::kDither:
       return dither_image(c.params, c.input);

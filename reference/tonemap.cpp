@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "reference/color/d3d_math.h"
 #include "reference/color/st2084.h"
@@ -14,7 +15,8 @@ namespace {
 
 constexpr double kAcesHdrYMin = 0.0001;  // UE_ACES_HDR_Y_MIN (TonemapCommon.ush)
 
-Vec3 lookup(const ParamBlock& p, const Vec3& final_linear, const BakedLut* lut, Vec3* encoded) {
+Vec3 lookup(const ParamBlock& p, const Vec3& final_linear, const BakedLut* lut, Vec3* encoded,
+            const TexelEvaluator* texel) {
   Vec3 e;
   for (int c = 0; c < 3; ++c) e[c] = lut_encode(p.output_device, final_linear[c]);
   if (encoded) *encoded = e;
@@ -24,7 +26,7 @@ Vec3 lookup(const ParamBlock& p, const Vec3& final_linear, const BakedLut* lut, 
     clamped[c] = d3d::clamp_address(e[c]);
     if (std::isnan(clamped[c])) return {d3d::kNaN, d3d::kNaN, d3d::kNaN};
   }
-  const Vec3 stored = combine_luts_texel(p, clamped);
+  const Vec3 stored = texel ? (*texel)(clamped) : combine_luts_texel(p, clamped);
   return {stored[0] * 1.05, stored[1] * 1.05, stored[2] * 1.05};
 }
 
@@ -85,10 +87,15 @@ Vec3 st2084_to_scrgb(const Vec3& pq, double max_odt_nits) {
 
 Vec3 tonemap_centre_pixel(const ParamBlock& p, const Vec3& scene, const BakedLut* lut,
                           TonemapTrace* trace) {
+  return tonemap_centre_pixel(p, scene, lut, trace, nullptr);
+}
+
+Vec3 tonemap_centre_pixel(const ParamBlock& p, const Vec3& scene, const BakedLut* lut,
+                          TonemapTrace* trace, const TexelEvaluator* texel) {
   TonemapTrace t;
   t.scene = scene;
   for (int c = 0; c < 3; ++c) t.exposed[c] = scene[c] * p.scene_color_tint[c] * p.exposure;
-  t.lut = lookup(p, t.exposed, lut, &t.encoded);
+  t.lut = lookup(p, t.exposed, lut, &t.encoded, texel);
   t.luminance = t.lut[0] * 0.299 + t.lut[1] * 0.587 + t.lut[2] * 0.114;
   t.output = post_convert(p, t.lut);
   if (trace) *trace = t;
@@ -98,6 +105,8 @@ Vec3 tonemap_centre_pixel(const ParamBlock& p, const Vec3& scene, const BakedLut
 Image tonemap_image(const ParamBlock& p, const Image& scene, const Image* bloom, const Image* dirt,
                     const BakedLut* lut) {
   Image out(scene.width, scene.height);
+  std::optional<TexelEvaluator> texel;  // the analytic lookup's parameters, unpacked once
+  if (!lut) texel.emplace(p);
   const double w = scene.width, h = scene.height;
   const double aspect = h / w;  // ViewportHeight / ViewportWidth
   for (int y = 0; y < scene.height; ++y) {
@@ -157,7 +166,7 @@ Image tonemap_image(const ParamBlock& p, const Image& scene, const Image* bloom,
         for (int c = 0; c < 3; ++c) final_linear[c] += b[c] * (p.exposure * vignette);
       }
       // 7–9. LUT, luminance, per-device post conversion.
-      const Vec3 lut_out = lookup(p, final_linear, lut, nullptr);
+      const Vec3 lut_out = lookup(p, final_linear, lut, nullptr, texel ? &*texel : nullptr);
       const Vec3 o = post_convert(p, lut_out);
       double* dst = out.px(x, y);
       dst[0] = o[0];

@@ -24,6 +24,10 @@ struct TonemapTrace {
 // sampler addresses it); else the baked LUT sampled as UE samples it.
 Vec3 tonemap_centre_pixel(const ParamBlock& p, const Vec3& scene, const BakedLut* lut,
                           TonemapTrace* trace = nullptr);
+// The same with the analytic lookup's parameters unpacked once by the caller (`texel` built from
+// `p`; null: as above).
+Vec3 tonemap_centre_pixel(const ParamBlock& p, const Vec3& scene, const BakedLut* lut,
+                          TonemapTrace* trace, const TexelEvaluator* texel);
 
 // The whole pass over `scene` (the viewport is the image). `bloom` and `dirt` may be null (no
 // bloom, no dirt mask); Bloom = RawBloom · (1 + Dirt · BloomDirtMaskTint), both sampled bilinearly

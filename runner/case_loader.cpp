@@ -33,9 +33,13 @@ bool matches_filter(const std::string& id, const std::string& glob) {
 }
 
 bool is_suite_config_file(const std::string& cases_dir, const std::string& path) {
-  static const std::set<std::string> kConfig = {
-      "schema.json",       "defaults.json",           "coverage.json",
-      "known_limits.json", "tolerance_overlays.json", "tolerance_overlays_analytic.json"};
+  static const std::set<std::string> kConfig = {"schema.json",
+                                                "defaults.json",
+                                                "coverage.json",
+                                                "coverage_exhaustive.json",
+                                                "known_limits.json",
+                                                "tolerance_overlays.json",
+                                                "tolerance_overlays_analytic.json"};
   std::error_code ec;
   const fs::path rel = fs::relative(path, cases_dir, ec);
   return !ec && !rel.has_parent_path() && kConfig.count(rel.filename().string()) != 0;
@@ -525,11 +529,21 @@ std::vector<Case> parse_case_file(const std::string& file, const std::string& te
   }
   p.check_keys(doc, "",
                {"$schema", "description", "stage", "preset", "cvars", "settings", "input", "bloom",
-                "bloom_dirt", "matrix", "tolerance", "pins_nonfinite"});
+                "bloom_dirt", "matrix", "tolerance", "pins_nonfinite", "tier"});
 
   Case base;
   base.file = file;
   base.tolerance = default_tolerance();
+  if (doc.contains("tier")) {
+    const json& t = doc["tier"];
+    if (t != "quick" && t != "exhaustive")
+      p.fail("/tier",
+             "unknown tier " + show(t) +
+                 (t.is_string() ? did_you_mean(t.get<std::string>(), suite_names()) : ""),
+             "quick, exhaustive");
+    else
+      base.tier = t.get<std::string>();
+  }
   std::vector<std::string> stage_list;
   for (const auto& s : stage_table()) stage_list.emplace_back(s.name);
   if (!doc.contains("stage")) {
@@ -602,6 +616,7 @@ std::vector<Case> parse_case_file(const std::string& file, const std::string& te
   std::vector<Dim> dims;
   std::vector<InputSpec> inputs;
   std::string mode = "full";
+  int strength = 2;  // "covering" matrices: the t of the t-way covering array
   std::vector<std::string> full_names;
   std::string full_pointer = "/matrix/full";
   if (doc.contains("matrix")) {
@@ -609,18 +624,31 @@ std::vector<Case> parse_case_file(const std::string& file, const std::string& te
     if (!m.is_object()) {
       p.fail("/matrix", "expected an object, got " + show(m));
     } else {
-      p.check_keys(m, "/matrix", {"mode", "full", "cvars", "settings", "inputs"});
+      p.check_keys(m, "/matrix", {"mode", "full", "cvars", "settings", "inputs", "strength"});
       if (m.contains("mode")) {
         const json& md = m["mode"];
-        if (md != "full" && md != "pairwise") {
-          p.fail(
-              "/matrix/mode",
-              "unknown matrix mode " + show(md) +
-                  (md.is_string() ? did_you_mean(md.get<std::string>(), {"full", "pairwise"}) : ""),
-              "full, pairwise");
+        if (md != "full" && md != "pairwise" && md != "covering") {
+          p.fail("/matrix/mode",
+                 "unknown matrix mode " + show(md) +
+                     (md.is_string()
+                          ? did_you_mean(md.get<std::string>(), {"full", "pairwise", "covering"})
+                          : ""),
+                 "full, pairwise, covering");
         } else {
           mode = md.get<std::string>();
         }
+      }
+      if (mode == "covering") {
+        const json* st = m.contains("strength") ? &m["strength"] : nullptr;
+        if (!st || !st->is_number_integer() || st->get<int>() < 2 || st->get<int>() > 4)
+          p.fail("/matrix/strength",
+                 st ? "invalid strength " + show(*st) : "a covering matrix needs a strength",
+                 "an integer 2 to 4 (the t of the t-way covering array)");
+        else
+          strength = st->get<int>();
+      } else if (m.contains("strength")) {
+        p.fail("/matrix/strength", "\"strength\" applies to covering matrices only",
+               "\"mode\": \"covering\"");
       }
       for (const char* group : {"cvars", "settings"}) {
         if (!m.contains(group)) continue;
@@ -674,11 +702,11 @@ std::vector<Case> parse_case_file(const std::string& file, const std::string& te
       }
       if (m.contains("full")) {
         const json& f = m["full"];
-        if (mode != "pairwise") {
+        if (mode != "pairwise" && mode != "covering") {
           p.fail("/matrix/full",
                  "\"full\" names the dimensions a pairwise matrix crosses exhaustively; this "
                  "matrix is already full",
-                 "\"mode\": \"pairwise\"");
+                 "\"mode\": \"pairwise\" or \"covering\"");
         } else if (!f.is_array()) {
           p.fail("/matrix/full", "expected an array of dimension names, got " + show(f));
         } else {
@@ -728,8 +756,10 @@ std::vector<Case> parse_case_file(const std::string& file, const std::string& te
       if (dims[d].name == f) full_idx.push_back(static_cast<int>(d));
     if (f == "inputs" && input_dim) full_idx.push_back(static_cast<int>(dims.size()));
   }
-  const std::vector<std::vector<int>> rows =
-      mode == "pairwise" ? pairwise_rows(sizes, full_idx) : full_rows(sizes);
+  const std::vector<std::vector<int>> rows = mode == "pairwise" ? pairwise_rows(sizes, full_idx)
+                                             : mode == "covering"
+                                                 ? covering_rows(sizes, strength, full_idx)
+                                                 : full_rows(sizes);
 
   for (const auto& row : rows) {
     Case c = base;
@@ -787,8 +817,19 @@ std::vector<Case> parse_case_file(const std::string& file, const std::string& te
   return out;
 }
 
-LoadedCases load_cases(const std::string& cases_dir) {
+const std::vector<std::string>& suite_names() {
+  static const std::vector<std::string> names = {"quick", "exhaustive"};
+  return names;
+}
+
+LoadedCases load_cases(const std::string& cases_dir, const std::string& suite) {
   LoadedCases result;
+  if (std::find(suite_names().begin(), suite_names().end(), suite) == suite_names().end()) {
+    result.errors.push_back(
+        Error{"", "--suite", "unknown suite '" + suite + "'" + did_you_mean(suite, suite_names()),
+              "quick, exhaustive"});
+    return result;
+  }
   std::error_code ec;
   if (!fs::is_directory(cases_dir, ec)) {
     result.errors.push_back(Error{cases_dir, "", "cases directory does not exist", ""});
@@ -809,6 +850,7 @@ LoadedCases load_cases(const std::string& cases_dir) {
     auto cases = parse_case_file(f.generic_string(), read_text(f), cases_dir, name, result.defaults,
                                  &result.errors);
     for (auto& c : cases) {
+      if (suite == "quick" && c.tier != "quick") continue;  // validated, not run
       auto [it, inserted] = seen.emplace(c.id, c.file);
       if (!inserted) {
         result.errors.push_back(

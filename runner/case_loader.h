@@ -41,7 +41,12 @@ struct LoadedCases {
 };
 
 // Loads every case file under `cases_dir` (every *.json except the suite configuration files).
-LoadedCases load_cases(const std::string& cases_dir);
+// `suite` "quick" (the default suite) keeps the cases of tier "quick"; "exhaustive" keeps every
+// case (both tiers). Every file is validated whatever the suite.
+LoadedCases load_cases(const std::string& cases_dir, const std::string& suite = "quick");
+
+// The suite names `load_cases` accepts: quick, exhaustive.
+const std::vector<std::string>& suite_names();
 
 // Parses one case file's text (exposed for tests). `cases_dir` bounds input file paths; named
 // tolerance sets and presets come from `defaults`.

@@ -45,7 +45,7 @@ const BadCase kBadCases[] = {
     {"unknown_key", R"({"stage": "shaper", "inptu": 1, "input": {"stimulus": "log_ramp"}})",
      "t.json: /inptu: unknown key 'inptu', did you mean 'input'?; valid choices: $schema, "
      "description, stage, preset, cvars, settings, input, bloom, bloom_dirt, matrix, tolerance, "
-     "pins_nonfinite"},
+     "pins_nonfinite, tier"},
     {"unknown_cvar",
      R"({"stage": "shaper", "cvars": {"r.HDR.Display.OutputDevise": 3}, "input": {"stimulus": "log_ramp"}})",
      "t.json: /cvars/r.HDR.Display.OutputDevise: unknown cvar 'r.HDR.Display.OutputDevise'; valid "
@@ -73,7 +73,7 @@ const BadCase kBadCases[] = {
     {"unknown_matrix_mode",
      R"({"stage": "shaper", "matrix": {"mode": "pairwize", "cvars": {"r.LUT.Size": [16]}}, "input": {"stimulus": "log_ramp"}})",
      "t.json: /matrix/mode: unknown matrix mode \"pairwize\", did you mean 'pairwise'?; valid "
-     "choices: full, pairwise"},
+     "choices: full, pairwise, covering"},
     {"unknown_stimulus", R"({"stage": "shaper", "input": {"stimulus": "log_rmap"}})",
      "t.json: /input/stimulus: unknown stimulus \"log_rmap\", did you mean 'log_ramp'?; valid "
      "choices: log_ramp, special_ramp, pq_codes, hue_sweep, colorchecker, primaries, near_black, "
@@ -133,7 +133,7 @@ const BadCase kBadCases[] = {
     {"full_needs_pairwise",
      R"({"stage": "shaper", "matrix": {"full": ["r.LUT.Size"], "cvars": {"r.LUT.Size": [16, 32]}}, "input": {"stimulus": "log_ramp"}})",
      "t.json: /matrix/full: \"full\" names the dimensions a pairwise matrix crosses exhaustively; "
-     "this matrix is already full; valid choices: \"mode\": \"pairwise\""},
+     "this matrix is already full; valid choices: \"mode\": \"pairwise\" or \"covering\""},
     {"matrix_value_twice",
      R"({"stage": "shaper", "matrix": {"cvars": {"r.LUT.Size": [16, 32, 16]}}, "input": {"stimulus": "log_ramp"}})",
      "t.json: /matrix/cvars/r.LUT.Size/2: value 16 is listed twice"},
@@ -363,7 +363,7 @@ TEST(CaseLoader, SchemaMatchesTheLoader) {
   for (const auto& s : hdrc::stimulus_table()) table.emplace_back(s.name);
   EXPECT_EQ(stimuli, table);
   EXPECT_EQ(schema["$defs"]["matrix"]["properties"]["mode"]["enum"],
-            nlohmann::ordered_json::array({"full", "pairwise"}));
+            nlohmann::ordered_json::array({"full", "pairwise", "covering"}));
   std::vector<hdrc::Error> errors;
   hdrc::parse_case_file("t.json", R"({"stage": "shaper", "zzz": 1})", kCasesDir, "t", &errors);
   ASSERT_FALSE(errors.empty());

@@ -66,9 +66,10 @@ std::vector<double> domain(const CoverageSpec& spec, const std::string& name,
 
 }  // namespace
 
-CoverageSpec load_coverage_spec(const std::string& cases_dir, std::vector<Error>* errors) {
+CoverageSpec load_coverage_spec(const std::string& cases_dir, std::vector<Error>* errors,
+                                const std::string& file_name) {
   CoverageSpec spec;
-  const fs::path path = fs::path(cases_dir) / "coverage.json";
+  const fs::path path = fs::path(cases_dir) / file_name;
   spec.file = path.generic_string();
   auto fail = [&](const std::string& ptr, const std::string& msg, const std::string& choices = "") {
     errors->push_back(Error{spec.file, ptr, msg, choices});

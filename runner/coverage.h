@@ -32,8 +32,11 @@ struct CoverageSpec {
   std::vector<CoverageRequirement> requirements;
 };
 
-// Reads `cases_dir`/coverage.json; errors name file, pointer, value and valid choices.
-CoverageSpec load_coverage_spec(const std::string& cases_dir, std::vector<Error>* errors);
+// Reads `cases_dir`/coverage.json (or another declaration beside it, e.g.
+// coverage_exhaustive.json for `coverage --suite exhaustive`); errors name file, pointer, value
+// and valid choices.
+CoverageSpec load_coverage_spec(const std::string& cases_dir, std::vector<Error>* errors,
+                                const std::string& file_name = "coverage.json");
 
 struct ValueCoverage {
   double value;

@@ -84,13 +84,33 @@ void census(double v, NonFiniteCensus::Side* s) {
     ++s->negative;
 }
 
-// Nearest-rank percentile of sorted values: the smallest value with at least q of the values at
-// or below it.
-double nearest_rank(const std::vector<double>& sorted, double q) {
-  if (sorted.empty()) return 0;
-  const double rank = std::ceil(q * static_cast<double>(sorted.size()));
+// Nearest-rank percentile: the index, in sorted order, of the smallest value with at least q of
+// the n values at or below it.
+size_t nearest_rank_index(size_t n, double q) {
+  const double rank = std::ceil(q * static_cast<double>(n));
   const size_t i = rank < 1 ? 0 : static_cast<size_t>(rank) - 1;
-  return sorted[std::min(i, sorted.size() - 1)];
+  return std::min(i, n - 1);
+}
+
+// The values at the nearest ranks `qs` (NaN-free values): selection (std::nth_element) instead of
+// a full sort, O(n) per rank. Ranks are selected in increasing order, each within the part above
+// the previous one, so every answer is the value a sort would put at that index.
+std::vector<double> nearest_ranks(std::vector<double>& values, const std::vector<double>& qs) {
+  std::vector<std::pair<size_t, size_t>> order;  // (index in sorted order, which q)
+  for (size_t k = 0; k < qs.size(); ++k)
+    order.push_back({nearest_rank_index(values.size(), qs[k]), k});
+  std::sort(order.begin(), order.end());
+  std::vector<double> out(qs.size());
+  auto from = values.begin();
+  for (const auto& [index, k] : order) {
+    const auto at = values.begin() + static_cast<std::ptrdiff_t>(index);
+    if (at >= from) {
+      std::nth_element(from, at, values.end());
+      from = at + 1;
+    }
+    out[k] = *at;
+  }
+  return out;
 }
 
 struct Accumulator {
@@ -110,20 +130,19 @@ struct Accumulator {
     MetricStats m;
     m.count = values.size();
     if (values.empty()) return m;
-    std::sort(values.begin(), values.end());
     const double n = static_cast<double>(values.size());
-    m.max = values.back();
+    m.max = *std::max_element(values.begin(), values.end());
     m.mean = sum / n;
     m.rms = std::sqrt(sum_sq / n);
-    m.p99 = nearest_rank(values, 0.99);
-    m.p999 = nearest_rank(values, 0.999);
-    m.at_allowed_fraction = nearest_rank(values, 1.0 - allowed_fraction);
-    // Values over the max: everything after the last value <= max (sorted; NaN-free).
-    // (A NaN limit puts every value over it.)
+    // Values over the max (NaN-free values; a NaN limit puts every value over it).
     m.over = std::isnan(max_limit)
                  ? values.size()
-                 : static_cast<size_t>(values.end() -
-                                       std::upper_bound(values.begin(), values.end(), max_limit));
+                 : static_cast<size_t>(std::count_if(values.begin(), values.end(),
+                                                     [&](double v) { return v > max_limit; }));
+    const auto ranks = nearest_ranks(values, {0.99, 0.999, 1.0 - allowed_fraction});
+    m.p99 = ranks[0];
+    m.p999 = ranks[1];
+    m.at_allowed_fraction = ranks[2];
     m.fraction_over = static_cast<double>(m.over) / n;
     m.worst = worst;
     return m;
@@ -397,8 +416,7 @@ DiffStats diff_images(const Image& input, const Image& reference, const Image& c
         } else if (ch < 3 && enc.nan_marks_negative() && (std::isnan(r[ch]) || std::isnan(c[ch])) &&
                    (rf || cf) &&
                    std::fabs(enc.to_nits(rf ? r[ch] : c[ch])) < kSignBoundaryNoise * pixel_scale) {
-          if (s.nonfinite.sign_boundary == 0)
-            s.nonfinite.first_sign_boundary = at_channel(ch, -1);
+          if (s.nonfinite.sign_boundary == 0) s.nonfinite.first_sign_boundary = at_channel(ch, -1);
           ++s.nonfinite.sign_boundary;
         } else {
           if (s.nonfinite.mismatch == 0) s.nonfinite.first_mismatch = at_channel(ch, -1);

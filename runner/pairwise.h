@@ -25,6 +25,20 @@ namespace hdrc {
 std::vector<std::vector<int>> pairwise_rows(const std::vector<int>& sizes,
                                             const std::vector<int>& full = {});
 
+// Strength-t covering rows (IPOG generalised to t-way, same determinism rules): every
+// combination of values of every t dimensions appears in at least one row, and every combination
+// of the `full` dimensions. t = 2 is pairwise_rows; t >= the number of dimensions is full_rows.
+//   1. Seed: the cross product of the `full` dimensions, or of the first t dimensions in processing
+//      order when that is larger (processing order as pairwise_rows).
+//   2. Horizontal growth: each new dimension k gets, row by row, the value covering the most
+//      t-tuples (k with t−1 earlier dimensions) not yet covered; ties: the value listed first.
+//   3. Vertical growth: each t-tuple still uncovered (earlier dimensions in processing order,
+//      values in listed order) goes into the first row whose cells for it are free or already
+//      right, else into a new row.
+//   4. "Don't care" cells take the first listed value; duplicate rows are dropped.
+std::vector<std::vector<int>> covering_rows(const std::vector<int>& sizes, int strength,
+                                            const std::vector<int>& full = {});
+
 // The cross product, last dimension fastest.
 std::vector<std::vector<int>> full_rows(const std::vector<int>& sizes);
 

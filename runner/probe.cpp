@@ -1,8 +1,12 @@
 #include "runner/probe.h"
 
 #include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <istream>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <ostream>
@@ -37,6 +41,43 @@ std::optional<double> parse_number(const std::string& s) {
   } catch (...) {
     return std::nullopt;
   }
+}
+
+// The three numbers of an "R G B" line, quickly: whitespace-separated tokens, each parsed whole
+// by std::from_chars (correctly rounded, as strtod). Anything else — another token count, a sign
+// or hex form from_chars does not take, a value out of range — returns false and the line goes
+// through the general parser below, which gives every answer and error message as before.
+bool parse_rgb_fast(const std::string& line, double out[3]) {
+  const char* p = line.data();
+  const char* const end = p + line.size();
+  int n = 0;
+  while (p < end) {
+    while (p < end && std::isspace(static_cast<unsigned char>(*p))) ++p;
+    if (p == end) break;
+    const char* q = p;
+    while (q < end && !std::isspace(static_cast<unsigned char>(*q))) ++q;
+    if (n == 3) return false;
+    const auto r = std::from_chars(p, q, out[n]);
+    if (r.ec != std::errc() || r.ptr != q) return false;
+    // std::stod rejects a result that underflows to a subnormal (ERANGE); so does this path.
+    if (out[n] != 0.0 && std::fabs(out[n]) < std::numeric_limits<double>::min()) return false;
+    ++n;
+    p = q;
+  }
+  return n == 3;
+}
+
+// Appends "a b c\n" with format_number's %.9g: std::to_chars with a precision formats as printf
+// does in the "C" locale ([charconv.to.chars]), without a std::string per number.
+void append_line(std::string& buf, const ref::Vec3& v) {
+  char tmp[96];
+  char* p = tmp;
+  for (int k = 0; k < 3; ++k) {
+    if (k) *p++ = ' ';
+    p = std::to_chars(p, tmp + sizeof tmp, v[k], std::chars_format::general, 9).ptr;
+  }
+  *p++ = '\n';
+  buf.append(tmp, p);
 }
 
 ref::Vec3 pick(const std::string& stage, const ref::CombineLutsTrace& c,
@@ -121,21 +162,40 @@ Status run_probe(const ProbeOptions& o, std::istream& in, std::ostream& out) {
   const ref::visualize::EyeAdaptationParameters eye = ref::eye_adaptation_parameters(p);
   std::optional<ref::BakedLut> lut;
   if (o.lut == "baked") lut = ref::bake_lut(p);
+  const ref::TexelEvaluator texel(p);  // the analytic lookup, unpacked once
+
+  // Output is written in blocks, and whenever the input has nothing more buffered (so that a
+  // line typed at a terminal is answered at once).
+  std::string pending;
+  auto flush = [&](bool force) {
+    if (!pending.empty() && (force || pending.size() > (1u << 16) || in.rdbuf()->in_avail() <= 0)) {
+      out.write(pending.data(), static_cast<std::streamsize>(pending.size()));
+      out.flush();
+      pending.clear();
+    }
+  };
 
   nlohmann::json rows = nlohmann::json::array();
   std::string line;
   for (int number = 1; std::getline(in, line); ++number) {
     const size_t first = line.find_first_not_of(" \t\r");
     if (first == std::string::npos || line[first] == '#') continue;
-    std::istringstream fields(line);
-    std::string a, b, d, extra;
-    fields >> a >> b >> d;
-    const auto r = parse_number(a), g = parse_number(b), bl = parse_number(d);
-    if (!r || !g || !bl || (fields >> extra)) {
-      return Error{"<stdin>", "line " + std::to_string(number),
-                   "expected three numbers \"R G B\", got \"" + line + "\"", ""};
+    double fast[3];
+    ref::Vec3 rgb;
+    if (parse_rgb_fast(line, fast)) {
+      rgb = {fast[0], fast[1], fast[2]};
+    } else {
+      std::istringstream fields(line);
+      std::string a, b, d, extra;
+      fields >> a >> b >> d;
+      const auto r = parse_number(a), g = parse_number(b), bl = parse_number(d);
+      if (!r || !g || !bl || (fields >> extra)) {
+        flush(true);
+        return Error{"<stdin>", "line " + std::to_string(number),
+                     "expected three numbers \"R G B\", got \"" + line + "\"", ""};
+      }
+      rgb = {*r, *g, *bl};
     }
-    const ref::Vec3 rgb{*r, *g, *bl};
     if (o.stage == "ui_composite" || o.stage == "visualize_false_colour") {
       ref::Vec3 v;
       if (o.stage == "ui_composite") {
@@ -156,13 +216,13 @@ Status run_probe(const ProbeOptions& o, std::istream& in, std::ostream& out) {
         rows.push_back(
             {{"line", number}, {"input", {rgb[0], rgb[1], rgb[2]}}, {o.stage, {v[0], v[1], v[2]}}});
       } else {
-        out << format_number(v[0]) << ' ' << format_number(v[1]) << ' ' << format_number(v[2])
-            << '\n';
+        append_line(pending, v);
+        flush(false);
       }
       continue;
     }
     ref::TonemapTrace t;
-    ref::tonemap_centre_pixel(p, rgb, lut ? &*lut : nullptr, &t);
+    ref::tonemap_centre_pixel(p, rgb, lut ? &*lut : nullptr, &t, &texel);
     // The CombineLUTs intermediates at the coordinate the lookup reads (clamped as the sampler
     // addresses it); with --lut baked they are evaluated analytically there.
     ref::CombineLutsTrace ct;
@@ -176,10 +236,11 @@ Status run_probe(const ProbeOptions& o, std::istream& in, std::ostream& out) {
       rows.push_back(
           {{"line", number}, {"input", {rgb[0], rgb[1], rgb[2]}}, {o.stage, {v[0], v[1], v[2]}}});
     } else {
-      out << format_number(v[0]) << ' ' << format_number(v[1]) << ' ' << format_number(v[2])
-          << '\n';
+      append_line(pending, v);
+      flush(false);
     }
   }
+  flush(true);
   if (o.json) {
     nlohmann::json doc = {{"stage", o.stage},
                           {"lut", o.lut},

@@ -92,23 +92,45 @@ AcesShaderParams compute_aces_tonemap_params(const AcesTonemapParams& packed) {
   return out;
 }
 
-double ssts(double x, const TsParams& c) {
+namespace {
+
+// The logarithms of the SSTS knots: functions of the parameters only, computed once per
+// transform instead of once per channel (five log10 each).
+struct SstsLogs {
+  double min_x, mid_x, max_x;  // log10 of Min.x, Mid.x, Max.x
+  double min_icpt, max_icpt;   // log10(Min.y) − Min.slope·log10(Min.x), same for Max
+};
+
+SstsLogs ssts_logs(const TsParams& c) {
+  SstsLogs l;
+  l.min_x = std::log10(c.min.x);
+  l.mid_x = std::log10(c.mid.x);
+  l.max_x = std::log10(c.max.x);
+  l.min_icpt = std::log10(c.min.y) - c.min.slope * l.min_x;
+  l.max_icpt = std::log10(c.max.y) - c.max.slope * l.max_x;
+  return l;
+}
+
+double ssts_logged(double x, const TsParams& c, const SstsLogs& l) {
   // max(x, 1e-10) is maxNum: NaN → 1e-10, i.e. NaN maps to Min.y like any x ≤ Min.x.
   const double lx = std::log10(std::fmax(x, 1e-10));
-  const double log_min_x = std::log10(c.min.x);
-  const double log_mid_x = std::log10(c.mid.x);
-  const double log_max_x = std::log10(c.max.x);
   double ly;
-  if (lx <= log_min_x) {
-    ly = lx * c.min.slope + (std::log10(c.min.y) - c.min.slope * log_min_x);
-  } else if (lx > log_min_x && lx < log_mid_x) {
-    ly = spline_half(lx, log_min_x, log_mid_x, c.coefs_low);
-  } else if (lx >= log_mid_x && lx < log_max_x) {
-    ly = spline_half(lx, log_mid_x, log_max_x, c.coefs_high);
+  if (lx <= l.min_x) {
+    ly = lx * c.min.slope + l.min_icpt;
+  } else if (lx > l.min_x && lx < l.mid_x) {
+    ly = spline_half(lx, l.min_x, l.mid_x, c.coefs_low);
+  } else if (lx >= l.mid_x && lx < l.max_x) {
+    ly = spline_half(lx, l.mid_x, l.max_x, c.coefs_high);
   } else {
-    ly = lx * c.max.slope + (std::log10(c.max.y) - c.max.slope * log_max_x);
+    ly = lx * c.max.slope + l.max_icpt;
   }
   return d3d::pow(10.0, ly);  // ACES.ush: pow10(x) = pow(10, x)
+}
+
+}  // namespace
+
+double ssts(double x, const TsParams& c) {
+  return ssts_logged(x, c, ssts_logs(c));
 }
 
 Vec3 rrt_sweeteners(const Vec3& in_value) {
@@ -158,10 +180,11 @@ Vec3 output_transform(const Vec3& aces, const TsParams& params) {
   const double y_max = params.max.y;  // Y_MAX, nits
 
   const Vec3 rgb_pre = rrt_sweeteners(aces);
+  const SstsLogs logs = ssts_logs(params);
   Vec3 linear_cv;
   for (int i = 0; i < 3; ++i) {
-    const double rgb_post = ssts(rgb_pre[i], params);     // nits, AP1
-    linear_cv[i] = (rgb_post - y_min) / (y_max - y_min);  // Y_2_linCV
+    const double rgb_post = ssts_logged(rgb_pre[i], params, logs);  // nits, AP1
+    linear_cv[i] = (rgb_post - y_min) / (y_max - y_min);            // Y_2_linCV
   }
   // AP1 → XYZ; dark surround: no adjustment; limit to the AP1 primaries; the display white is D60
   // so no CAT; XYZ → display primaries (AP1).

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "reference/color/d3d_math.h"
+#include "reference/color/fast_paths.h"
 #include "reference/grading/hlsl_ops.h"
 
 namespace hdrc::ref::grading {
@@ -48,7 +49,7 @@ InverseGamma get_inverse_gamma(double display_gamma, double tonemapper_gamma) {
 
 Vec3 apply_film_gamma(const Vec3& film_color_no_gamma, const InverseGamma& g) {
   const Vec3 c = hlsl::max0(film_color_no_gamma);
-  return {d3d::pow(c[0], g.y), d3d::pow(c[1], g.y), d3d::pow(c[2], g.y)};
+  return {pow_exp1_shortcut(c[0], g.y), pow_exp1_shortcut(c[1], g.y), pow_exp1_shortcut(c[2], g.y)};
 }
 
 }  // namespace hdrc::ref::grading

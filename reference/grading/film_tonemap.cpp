@@ -44,8 +44,11 @@ FilmCurveMatch film_curve_match(const FilmParams& p) {
   return m;
 }
 
-double film_curve(double w, const FilmParams& p) {
-  const FilmCurveMatch m = film_curve_match(p);
+namespace {
+
+// film_curve with its match points computed once per parameter set (they depend on the
+// parameters only; computing them per channel cost three log10 and a log each).
+double film_curve_matched(double w, const FilmParams& p, const FilmCurveMatch& m) {
   const double log_color = std::log10(w);
   const double straight = p.slope * (log_color + m.straight_match);
   const double toe =
@@ -61,6 +64,12 @@ double film_curve(double w, const FilmParams& p) {
   if (m.shoulder_match < m.toe_match) t = 1.0 - t;
   t = (3.0 - 2.0 * t) * t * t;
   return hlsl::lerp(toe_color, shoulder_color, t);
+}
+
+}  // namespace
+
+double film_curve(double w, const FilmParams& p) {
+  return film_curve_matched(w, p, film_curve_match(p));
 }
 
 double red_modifier_hue_weight(double hue_deg) {
@@ -87,8 +96,9 @@ Vec3 film_tone_map(const Vec3& ap1, const FilmParams& p) {
   Vec3 working = hlsl::max0(kAp0ToAp1 * ap0);  // AP0_2_AP1_MAT literal
   working = desaturate(working, kPreDesaturate);
 
+  const FilmCurveMatch m = film_curve_match(p);
   Vec3 tone;
-  for (int i = 0; i < 3; ++i) tone[i] = film_curve(working[i], p);
+  for (int i = 0; i < 3; ++i) tone[i] = film_curve_matched(working[i], p, m);
   return hlsl::max0(desaturate(tone, kPostDesaturate));
 }
 

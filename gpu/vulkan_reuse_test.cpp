@@ -1,0 +1,126 @@
+// The Vulkan engine's reuse across cases (resources kept from case to case, pipelines created once
+// per device, the on-disk pipeline cache): the output of a case never depends on the cases run
+// before it, and the work really is shared.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+#include "gpu/vulkan_engine.h"
+#include "reference/ue_cpp/resolve.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+hdrc::Image ramp(int w, int h, uint64_t seed) {
+  hdrc::Image img(w, h);
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-5.0, 2.0);
+  for (size_t i = 0; i < img.pixel_count(); ++i) {
+    for (int c = 0; c < 3; ++c) img.data[i * 4 + c] = static_cast<float>(std::pow(10.0, u(rng)));
+    img.data[i * 4 + 3] = 1.0;
+  }
+  return img;
+}
+
+hdrc::ResolvedCase make_case(const char* stage, int device, int size, int format, int layout,
+                             hdrc::Image input) {
+  hdrc::ResolvedCase rc;
+  rc.spec.id = "reuse";
+  rc.spec.stage = hdrc::find_stage(stage);
+  rc.spec.cvars.set("r.HDR.EnableHDROutput", 1);
+  rc.spec.cvars.set("r.HDR.Display.OutputDevice", device);
+  rc.spec.cvars.set("r.LUT.Size", size);
+  rc.spec.settings.set("LUTFormat", {static_cast<double>(format), 0, 0, 0}, 1);
+  rc.spec.settings.set("LUTLayout", {static_cast<double>(layout), 0, 0, 0}, 1);
+  if (std::string(stage) == "combine_luts") input = hdrc::Image(size * size, size);
+  rc.params = *hdrc::ref::resolve_params(rc.spec, input.width, input.height);
+  rc.input = std::move(input);
+  return rc;
+}
+
+bool same(const hdrc::Image& a, const hdrc::Image& b) {
+  return a.width == b.width && a.height == b.height &&
+         std::memcmp(a.data.data(), b.data.data(), a.data.size() * sizeof(double)) == 0;
+}
+
+hdrc::gpu::VulkanOptions no_disk_cache() {
+  hdrc::gpu::VulkanOptions o;
+  o.pipeline_cache_path = "none";
+  return o;
+}
+
+// Each case alone on a fresh engine against the same cases run in sequence on one engine, big
+// before small and with LUT shapes changing: identical to the bit.
+TEST(VulkanReuse, OutputDoesNotDependOnTheCasesBefore) {
+  const std::vector<hdrc::ResolvedCase> cases = {
+      make_case("tonemap", 3, 32, 0, 0, ramp(64, 48, 1)),
+      make_case("tonemap", 0, 16, 1, 1, ramp(17, 5, 2)),
+      make_case("combine_luts", 5, 16, 2, 0, {}),
+      make_case("tonemap", 7, 33, 2, 1, ramp(9, 3, 3)),
+      make_case("visualize_hdr", 3, 32, 0, 0, ramp(192, 168, 4)),
+      make_case("shaper", 3, 32, 0, 0, ramp(5, 1, 5)),
+  };
+  hdrc::gpu::VulkanEngine shared(no_disk_cache());
+  ASSERT_TRUE(shared.init().ok());
+  std::vector<hdrc::Image> in_sequence;
+  for (const auto& c : cases) {
+    auto out = shared.run(c);
+    ASSERT_TRUE(out.ok()) << out.error().to_string();
+    in_sequence.push_back(*out);
+  }
+  EXPECT_EQ(shared.reused_work_count(), static_cast<int>(cases.size()) - 1);
+  for (size_t i = 0; i < cases.size(); ++i) {
+    hdrc::gpu::VulkanEngine fresh(no_disk_cache());
+    ASSERT_TRUE(fresh.init().ok());
+    auto alone = fresh.run(cases[i]);
+    ASSERT_TRUE(alone.ok()) << alone.error().to_string();
+    EXPECT_TRUE(same(*alone, in_sequence[i])) << "case " << i;
+  }
+}
+
+// One pipeline per pass shader per device, whatever the number of cases.
+TEST(VulkanReuse, PipelinesAreCreatedOncePerShader) {
+  hdrc::gpu::VulkanEngine engine(no_disk_cache());
+  ASSERT_TRUE(engine.init().ok());
+  for (int format : {0, 1, 2})
+    for (int device : {0, 3, 8})
+      ASSERT_TRUE(
+          engine.run(make_case("tonemap", device, 16, format, format % 2, ramp(8, 2, 9))).ok());
+  EXPECT_EQ(engine.pipeline_creations(), 2);  // combine_luts.comp and tonemap.comp
+  EXPECT_EQ(engine.compiled_pipeline_count(), 2);
+}
+
+// The pipeline cache is written to the path given when the engine ends, with Vulkan's header
+// (VK_PIPELINE_CACHE_HEADER_VERSION_ONE), and a second engine starts from it.
+TEST(VulkanReuse, PipelineCacheIsSavedAndReloaded) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("hdrc_pipeline_cache_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  hdrc::gpu::VulkanOptions o;
+  o.pipeline_cache_path = (dir / "cache.bin").string();
+  {
+    hdrc::gpu::VulkanEngine engine(o);
+    ASSERT_TRUE(engine.init().ok());
+    ASSERT_TRUE(engine.run(make_case("shaper", 3, 16, 0, 0, ramp(4, 1, 1))).ok());
+  }
+  ASSERT_TRUE(fs::exists(o.pipeline_cache_path));
+  std::ifstream in(o.pipeline_cache_path, std::ios::binary);
+  uint32_t header[2] = {0, 0};
+  in.read(reinterpret_cast<char*>(header), sizeof header);
+  EXPECT_GE(header[0], 16u + 16u);  // header length: 4 words + the UUID
+  EXPECT_EQ(header[1], 1u);         // VK_PIPELINE_CACHE_HEADER_VERSION_ONE
+  {
+    hdrc::gpu::VulkanEngine engine(o);
+    ASSERT_TRUE(engine.init().ok());
+    EXPECT_TRUE(engine.run(make_case("shaper", 3, 16, 0, 0, ramp(4, 1, 1))).ok());
+  }
+  fs::remove_all(dir);
+}
+
+}  // namespace
