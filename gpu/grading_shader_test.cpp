@@ -635,9 +635,19 @@ TEST(GradingShader, PlantedDefectsAreCaught) {
        {0, 1, 2},
        {0, 1, 2, 9}},
       // One entry of the fake-wide-gamut matrix: every device's path reads it.
-      {"expand_gamut.glsl", "vec3(1.37041271,", "vec3(1.37042271,", {0, 1, 2}, all},
+      // (The matrices come from the generated interface; the plant offsets the row where the
+      // library reads it.)
+      {"expand_gamut.glsl",
+       "dot(EXPAND_GAMUT_MAT[0], v)",
+       "dot(EXPAND_GAMUT_MAT[0] + vec3(1e-5, 0.0, 0.0), v)",
+       {0, 1, 2},
+       all},
       // One entry of the blue-correction matrix: the SDR film path only.
-      {"film_path.glsl", "vec3(0.938639402,", "vec3(0.938649402,", {0, 1, 2}, {0, 1, 2, 9}},
+      {"film_path.glsl",
+       "dot(BLUE_CORRECT_AP1[0], v)",
+       "dot(BLUE_CORRECT_AP1[0] + vec3(1e-5, 0.0, 0.0), v)",
+       {0, 1, 2},
+       {0, 1, 2, 9}},
   };
   for (const Plant& defect : plants) {
     const auto dir = probe_dir("planted", probe_source(kTexelProbeIncludes, kTexelProbeBody));

@@ -107,9 +107,9 @@ Image textured_image(int w, int h, uint32_t seed) {
 
 TEST(TonemapShader, PostDeviceConstantsEqualTheReference) {
   Probe probe("#include \"../lib/post_device.glsl\"\n",
-              "  if (i == 0u) out_px[0] = vec4(AP1_TO_SRGB_ROW0, ACES_HDR_Y_MIN);\n"
-              "  if (i == 1u) out_px[1] = vec4(AP1_TO_SRGB_ROW1, 0.0);\n"
-              "  if (i == 2u) out_px[2] = vec4(AP1_TO_SRGB_ROW2, 0.0);\n");
+              "  if (i == 0u) out_px[0] = vec4(AP1_TO_SRGB[0], ACES_HDR_Y_MIN);\n"
+              "  if (i == 1u) out_px[1] = vec4(AP1_TO_SRGB[1], 0.0);\n"
+              "  if (i == 2u) out_px[2] = vec4(AP1_TO_SRGB[2], 0.0);\n");
   auto out = probe.run(make_case("shaper", {}, Image(3, 1)));
   ASSERT_TRUE(out.ok()) << out.error().to_string();
   // TonemapCommon.ush ST2084ToScRGB's AP1_2_sRGB is UE's literal product for gamut 0.
