@@ -323,6 +323,8 @@ TEST(CaseLoader, TheDefaultSuiteLoads) {
                                                   {"lut/grading_film", 15},
                                                   {"lut/grading_white", 14},
                                                   {"lut/storage", 13},
+                                                  {"lut/working_color_space", 71},
+                                                  {"lut/working_color_space_custom", 50},
                                                   {"tonemap/cvars", 55},
                                                   {"tonemap/degenerate", 1},
                                                   {"tonemap/display", 100},
@@ -334,11 +336,19 @@ TEST(CaseLoader, TheDefaultSuiteLoads) {
                                                   {"tonemap/shaper_pq", 56},
                                                   {"tonemap/stimuli", 22},
                                                   {"tonemap/tonemap", 20},
+                                                  {"tonemap/working_color_space", 71},
+                                                  {"tonemap/working_color_space_dither", 35},
+                                                  {"tonemap/working_color_space_linear_dev7", 14},
+                                                  {"tonemap/working_color_space_linear_dev8", 14},
+                                                  {"tonemap/working_color_space_shaper", 21},
+                                                  {"tonemap/working_color_space_shaper_pq", 21},
                                                   {"ui/color_deficiency", 13},
                                                   {"ui/composite", 16},
-                                                  {"visualize/visualize_hdr", 30}};
+                                                  {"ui/working_color_space", 28},
+                                                  {"visualize/visualize_hdr", 30},
+                                                  {"visualize/working_color_space", 21}};
   EXPECT_EQ(per_file, expected);
-  EXPECT_EQ(loaded.cases.size(), 565u);
+  EXPECT_EQ(loaded.cases.size(), 911u);
   for (const auto& c : loaded.cases) EXPECT_NE(c.tolerance.source, "default") << c.id;
 }
 
