@@ -169,7 +169,8 @@ TEST(Cli, ProbePrintsNineDigitsPerLine) {
 
 // probe's UI composite and VisualizeHDR false colour, against hand-derived values: an opaque white
 // UI at r.HDR.UI.Luminance 300 is PQ(300 nits) = 0.6218628 up to the sRGB→Rec.2020 literal
-// product's row sums (8.6e-6); Colorize(0) is pure blue for a luminance below the histogram.
+// product's row sums (4e-10 with UE 5.5's 10-digit literals, 8.6e-6 with the pre-5.3 ones; the
+// probe prints 9 digits); Colorize(0) is pure blue for a luminance below the histogram.
 TEST(Cli, ProbeUiCompositeAndFalseColour) {
   const fs::path dir = temp_dir("probe_ui");
   std::ofstream(dir / "in.txt") << "0.5 0.5 0.5\n";
@@ -181,7 +182,7 @@ TEST(Cli, ProbeUiCompositeAndFalseColour) {
   std::istringstream l(ui.out);
   double r, g, b;
   ASSERT_TRUE(l >> r >> g >> b);
-  for (double v : {r, g, b}) EXPECT_NEAR(v, 0.621862837, 1e-5);
+  for (double v : {r, g, b}) EXPECT_NEAR(v, 0.621862837, 2e-9);
   const Ran sdr = run("probe --stage ui_composite < " + (dir / "in.txt").string());
   EXPECT_EQ(sdr.code, 2);
   EXPECT_NE(sdr.out.find("HDR back buffers only"), std::string::npos) << sdr.out;
