@@ -65,6 +65,24 @@ const std::vector<SettingInfo>& setting_table() {
         {"ColorVisionDeficiencyCorrect", 1, s(0), 0, 1, "1: daltonise instead of simulate"},
         {"ColorVisionDeficiencyShowCorrection", 1, s(0), 0, 1,
          "1: simulate the deficiency on the corrected colours"},
+        // The project's Working Color Space (RendererSettings.h: WorkingColorSpaceChoice,
+        // EWorkingColorSpace numbering; reference/color/ue_matrices.h). Custom reads the two
+        // chromaticity settings below (UE's Red/Green/Blue/WhiteChromaticityCoordinate).
+        {"WorkingColorSpace", 1, s(1), 1, 7,
+         "project Working Color Space: 1 sRGB, 2 Rec2020, 3 ACESAP0, 4 ACESAP1, 5 P3DCI, "
+         "6 P3D65, 7 Custom (a name or its number)"},
+        {"WorkingColorSpaceRedGreen",
+         4,
+         {0.64, 0.33, 0.30, 0.60},
+         -1,
+         2,
+         "Custom working colour space: red x, y and green x, y (CIE 1931)"},
+        {"WorkingColorSpaceBlueWhite",
+         4,
+         {0.15, 0.06, 0.3127, 0.3290},
+         -1,
+         2,
+         "Custom working colour space: blue x, y and white x, y (CIE 1931)"},
     };
     // ColorCorrectAll: global and per-zone Saturation/Contrast/Gamma/Gain/Offset (vec4).
     static const std::vector<std::string> cc_names = [] {
@@ -83,6 +101,24 @@ const std::vector<SettingInfo>& setting_table() {
     return t;
   }();
   return table;
+}
+
+const std::vector<SettingChoice>* setting_choices(std::string_view setting) {
+  // RendererSettings.h: EWorkingColorSpace enumerator names and values (UE 5.5).
+  static const std::vector<SettingChoice> wcs = {{"sRGB", 1},    {"Rec2020", 2}, {"ACESAP0", 3},
+                                                 {"ACESAP1", 4}, {"P3DCI", 5},   {"P3D65", 6},
+                                                 {"Custom", 7}};
+  if (setting == "WorkingColorSpace") return &wcs;
+  return nullptr;
+}
+
+std::string setting_choices_text(std::string_view setting) {
+  const auto* choices = setting_choices(setting);
+  if (!choices) return "";
+  std::ostringstream out;
+  for (const auto& c : *choices)
+    out << (out.tellp() > 0 ? ", " : "") << c.name << " (" << c.value << ")";
+  return out.str();
 }
 
 const SettingInfo* find_setting(std::string_view name) {
@@ -119,10 +155,40 @@ Status SettingValues::set(std::string_view name, const Vec4d& value, int compone
       return Error{"", "", msg.str(), range.str()};
     }
   }
+  if (const auto* choices = setting_choices(name)) {
+    const bool named = std::any_of(choices->begin(), choices->end(),
+                                   [&](const SettingChoice& c) { return c.value == value[0]; });
+    if (!named) {
+      std::ostringstream msg;
+      msg << "setting " << name << " = " << value[0] << " is not one of its values";
+      return Error{"", "", msg.str(), setting_choices_text(name)};
+    }
+  }
   Vec4d v = info->default_value;
   for (int c = 0; c < components; ++c) v[c] = value[c];
   values_[std::string(name)] = v;
   return {};
+}
+
+Status SettingValues::set_choice(std::string_view name, std::string_view choice) {
+  const auto* choices = setting_choices(name);
+  if (!choices) {
+    if (!find_setting(name)) return set(name, {0, 0, 0, 0}, 1);  // the unknown-setting error
+    return Error{"", "",
+                 "setting " + std::string(name) + " takes a number, not the name '" +
+                     std::string(choice) + "'",
+                 "a number"};
+  }
+  for (const auto& c : *choices)
+    if (c.name == choice) return set(name, {c.value, 0, 0, 0}, 1);
+  std::vector<std::string> names;
+  for (const auto& c : *choices) names.emplace_back(c.name);
+  std::string near;
+  for (const auto& n : nearest_names(choice, names, 1)) near = n;
+  return Error{"", "",
+               "unknown " + std::string(name) + " '" + std::string(choice) + "'" +
+                   (near.empty() ? "" : " (did you mean " + near + "?)"),
+               setting_choices_text(name)};
 }
 
 Vec4d SettingValues::get4(std::string_view name) const {

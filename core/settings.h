@@ -22,6 +22,16 @@ struct SettingInfo {
 };
 
 const std::vector<SettingInfo>& setting_table();
+
+// Settings whose values have names (an enum): the names in value order, e.g. WorkingColorSpace's
+// presets. nullptr for a setting without named values.
+struct SettingChoice {
+  std::string_view name;
+  double value;
+};
+const std::vector<SettingChoice>* setting_choices(std::string_view setting);
+// "sRGB (1), Rec2020 (2), ..." for error messages and `cvars`; "" without named values.
+std::string setting_choices_text(std::string_view setting);
 const SettingInfo* find_setting(std::string_view name);
 std::vector<std::string> nearest_setting_names(std::string_view name, size_t n = 3);
 
@@ -31,6 +41,9 @@ class SettingValues {
  public:
   // Scalars are given as {v, 0, 0, 0}. Validates name, arity (`components`) and range.
   Status set(std::string_view name, const Vec4d& value, int components);
+  // A named value of a setting with named values (setting_choices): "WorkingColorSpace" =
+  // "Rec2020". The error names the valid choices.
+  Status set_choice(std::string_view name, std::string_view choice);
   double get(std::string_view name) const { return get4(name)[0]; }
   Vec4d get4(std::string_view name) const;
   const std::map<std::string, Vec4d>& explicit_values() const { return values_; }

@@ -99,6 +99,8 @@ namespace hdrc {
   X(M3, wcs_to_ap1, "WorkingColorSpace.ToAP1, float as UE's CPU builds it")                       \
   X(M3, wcs_from_ap1, "WorkingColorSpace.FromAP1: inverse of the float ToAP1")                    \
   X(M3, wcs_to_ap0, "WorkingColorSpace.ToAP0")                                                    \
+  X(M3, wcs_to_xyz, "WorkingColorSpace.ToXYZ (white balance is built from it on the host)")       \
+  X(M3, wcs_from_xyz, "WorkingColorSpace.FromXYZ")                                                \
   X(M3, white_balance, "FromXYZ * CA(src, dst) * ToXYZ (identity when skipped)")                  \
   X(M3, ap1_to_output, "OuputGamutMappingMatrix(output_gamut), product of UE's literals")
 

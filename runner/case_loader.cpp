@@ -198,6 +198,13 @@ class Parser {
                SettingValues* sv) {
     Vec4d value{0, 0, 0, 0};
     int components = 0;
+    if (v.is_string() && setting_choices(name)) {  // a named value (WorkingColorSpace presets)
+      if (Status st = sv->set_choice(name, v.get<std::string>()); !st) {
+        fail(pointer, st.error().message, st.error().choices);
+        return false;
+      }
+      return true;
+    }
     if (v.is_number()) {
       value[0] = v.get<double>();
       components = 1;
@@ -679,6 +686,15 @@ std::vector<Case> parse_case_file(const std::string& file, const std::string& te
             const bool valid = is_cvar ? p.cvar(it.key(), val, vptr, &cprobe)
                                        : p.setting(it.key(), val, vptr, &sprobe);
             if (!valid) continue;
+            if (!is_cvar && val.is_string()) {  // a named value: expand with its number
+              const json number = sprobe.get(it.key());
+              if (!seen.insert(number.dump()).second) {
+                p.fail(vptr, "value " + show(val) + " is listed twice");
+                continue;
+              }
+              d.values.push_back(number);
+              continue;
+            }
             if (!seen.insert(val.dump()).second) {
               p.fail(vptr, "value " + show(val) + " is listed twice");
               continue;

@@ -319,20 +319,40 @@ TEST(CaseLoader, TheDefaultSuiteLoads) {
   // devices x 5 gamuts; dither 10 x 4; visualize 10 x 3; UI 4 devices x 4 levels).
   std::map<std::string, size_t> per_file;
   for (const auto& c : loaded.cases) ++per_file[c.id.substr(0, c.id.rfind('/'))];
-  const std::map<std::string, size_t> expected = {
-      {"lut/devices", 50},           {"lut/grading_cc", 14},
-      {"lut/grading_film", 15},      {"lut/grading_white", 14},
-      {"lut/storage", 13},           {"tonemap/cvars", 55},
-      {"tonemap/degenerate", 1},     {"tonemap/display", 100},
-      {"tonemap/dither", 40},        {"tonemap/effects", 2},
-      {"tonemap/linear_dev7", 40},   {"tonemap/linear_dev8", 40},
-      {"tonemap/nonfinite_pin", 1},  {"tonemap/out_of_gamut", 6},
-      {"tonemap/shaper_log", 24},    {"tonemap/shaper_pq", 56},
-      {"tonemap/stimuli", 18},       {"tonemap/tonemap", 20},
-      {"ui/color_deficiency", 13},   {"ui/composite", 16},
-      {"visualize/pre_exposure", 8}, {"visualize/visualize_hdr", 30}};
+  const std::map<std::string, size_t> expected = {{"lut/devices", 50},
+                                                  {"lut/grading_cc", 14},
+                                                  {"lut/grading_film", 15},
+                                                  {"lut/grading_white", 14},
+                                                  {"lut/storage", 13},
+                                                  {"lut/working_color_space", 71},
+                                                  {"lut/working_color_space_custom", 50},
+                                                  {"tonemap/cvars", 55},
+                                                  {"tonemap/degenerate", 1},
+                                                  {"tonemap/display", 100},
+                                                  {"tonemap/dither", 40},
+                                                  {"tonemap/effects", 2},
+                                                  {"tonemap/linear_dev7", 40},
+                                                  {"tonemap/linear_dev8", 40},
+                                                  {"tonemap/nonfinite_pin", 1},
+                                                  {"tonemap/out_of_gamut", 6},
+                                                  {"tonemap/shaper_log", 24},
+                                                  {"tonemap/shaper_pq", 56},
+                                                  {"tonemap/stimuli", 18},
+                                                  {"tonemap/tonemap", 20},
+                                                  {"tonemap/working_color_space", 71},
+                                                  {"tonemap/working_color_space_dither", 35},
+                                                  {"tonemap/working_color_space_linear_dev7", 14},
+                                                  {"tonemap/working_color_space_linear_dev8", 14},
+                                                  {"tonemap/working_color_space_shaper", 21},
+                                                  {"tonemap/working_color_space_shaper_pq", 21},
+                                                  {"ui/color_deficiency", 13},
+                                                  {"ui/composite", 16},
+                                                  {"ui/working_color_space", 28},
+                                                  {"visualize/pre_exposure", 8},
+                                                  {"visualize/visualize_hdr", 30},
+                                                  {"visualize/working_color_space", 21}};
   EXPECT_EQ(per_file, expected);
-  EXPECT_EQ(loaded.cases.size(), 576u);
+  EXPECT_EQ(loaded.cases.size(), 922u);
   for (const auto& c : loaded.cases) EXPECT_NE(c.tolerance.source, "default") << c.id;
 }
 

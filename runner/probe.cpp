@@ -121,6 +121,11 @@ Status run_probe(const ProbeOptions& o, std::istream& in, std::ostream& out) {
     if (eq == std::string::npos) return Error{"--setting", kv, "expected NAME=VALUE", ""};
     Vec4d v{0, 0, 0, 0};
     int n = 0;
+    if (setting_choices(kv.substr(0, eq)) && !parse_number(kv.substr(eq + 1))) {  // a name
+      if (Status st = c.settings.set_choice(kv.substr(0, eq), kv.substr(eq + 1)); !st)
+        return Error{"--setting", kv, st.error().message, st.error().choices};
+      continue;
+    }
     std::stringstream list(kv.substr(eq + 1));
     for (std::string part; std::getline(list, part, ',');) {
       const auto x = parse_number(part);

@@ -7,12 +7,15 @@
 //    white points differ), used to measure the gap to the literals and as independent checks.
 #pragma once
 
+#include <string>
+
 #include "reference/color/vec.h"
 
 namespace hdrc::ref {
 
 namespace ue_literal {
-// ACES.ush literals (spec §2.1).
+// ACES.ush literals as UE 5.3.2 and 5.5.1 write them (10 decimals; spec §2.1 erratum in
+// docs/ue55-decisions.md).
 extern const Mat3 kAp0ToXyz;      // AP0_2_XYZ_MAT
 extern const Mat3 kXyzToAp0;      // XYZ_2_AP0_MAT
 extern const Mat3 kAp1ToXyz;      // AP1_2_XYZ_MAT
@@ -55,23 +58,54 @@ extern const Chromaticities kRec2020;  // BT.2020, D65
 extern const Chromaticities kP3D65;    // SMPTE EG 432-1, D65
 extern const Chromaticities kAp0;      // SMPTE ST 2065-1, ACES white
 extern const Chromaticities kAp1;      // S-2014-004, ACES white
+extern const Chromaticities kP3Dci;    // SMPTE RP 431-2 primaries, DCI calibration white
 // RGB→XYZ from chromaticities (SMPTE RP 177 normalised primary matrix), in double.
 Mat3 rgb_to_xyz(const Chromaticities& c);
 // Bradford chromatic adaptation from white XYZ `src` to white XYZ `dst` (exact inverse cone
 // matrix).
 Mat3 bradford(const Vec3& src_white_xyz, const Vec3& dst_white_xyz);
-// Src RGB → Dst RGB with Bradford adaptation when the whites differ by more than 1e-7
-// (ColorSpace.cpp: FColorSpaceTransform, spec §2.3).
+// Src RGB → Dst RGB with Bradford adaptation unless the two white XYZ (RGB→XYZ · (1, 1, 1)) agree
+// within 1e-7 per component (ColorSpace.cpp: CalcColorSpaceTransformMatrix, spec §2.3).
 Mat3 rgb_to_rgb(const Chromaticities& src, const Chromaticities& dst);
 }  // namespace standard
 
-// The WorkingColorSpace uniform buffer as UE 5.5's CPU fills it (spec §2.3): built in double from
-// chromaticities, cast to float; FromAP1 is the inverse of the float ToAP1, cast to float.
+// The project's Working Color Space (Project Settings → Rendering; RendererSettings.h:
+// EWorkingColorSpace, UE's numbering): the presets build FColorSpace(EColorSpace) from
+// ColorSpace.cpp: FColorSpace::MakeChromaticities, Custom builds it from the four chromaticity
+// coordinates (RendererSettings.cpp: UpdateWorkingColorSpaceAndChromaticities).
+enum class WorkingColorSpacePreset : int {
+  kSrgb = 1,
+  kRec2020 = 2,
+  kAcesAp0 = 3,
+  kAcesAp1 = 4,
+  kP3Dci = 5,
+  kP3D65 = 6,
+  kCustom = 7
+};
+inline constexpr int kWorkingColorSpaceFirst = 1, kWorkingColorSpaceLast = 7;
+// UE's enumerator name ("sRGB", "Rec2020", "ACESAP0", "ACESAP1", "P3DCI", "P3D65", "Custom"), or
+// nullptr outside 1–7.
+const char* working_color_space_name(int preset);
+// The chromaticities of a preset (nullptr for Custom and values outside 1–6).
+const Chromaticities* working_color_space_chromaticities(int preset);
+
+// The WorkingColorSpace uniform buffer as UE 5.5's CPU fills it (SceneManagement.cpp:
+// FDefaultWorkingColorSpaceUniformBuffer::Update, spec §2.3): built in double from chromaticities,
+// cast to float; FromAP1 is the inverse of the float ToAP1, cast to float.
 struct WorkingColorSpace {
   Chromaticities chroma;
   Mat3 to_xyz, from_xyz, to_ap1, from_ap1, to_ap0;
   bool is_srgb = true;
 };
+// Custom chromaticities: bIsSRGB when they equal sRGB's within 1e-7 (ColorSpace.cpp:
+// IsSRGBChromaticities).
 WorkingColorSpace make_working_color_space(const Chromaticities& c);
+// A preset 1–6 (FColorSpace(EColorSpace) sets bIsSRGB for the sRGB preset only); Custom and
+// values outside 1–6 give sRGB.
+WorkingColorSpace make_working_color_space(WorkingColorSpacePreset preset);
+// Why custom chromaticities cannot make a colour space ("" when they can): a white with y <= 0,
+// collinear primaries, or a white that needs a non-positive amount of a primary. UE does not
+// check; its matrices would be singular or non-finite.
+std::string chromaticities_problem(const Chromaticities& c);
 
 }  // namespace hdrc::ref

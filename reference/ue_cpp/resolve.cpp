@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "reference/aces/aces_params.h"
 #include "reference/grading/color_polynomial.h"
@@ -20,6 +21,38 @@ double halton(int index, int base) {
     result += f * (i % base);
   }
   return result;
+}
+
+Result<WorkingColorSpace> working_color_space_of(const SettingValues& st) {
+  const int preset = static_cast<int>(st.get("WorkingColorSpace"));
+  const auto& explicit_values = st.explicit_values();
+  const bool custom = preset == static_cast<int>(WorkingColorSpacePreset::kCustom);
+  if (!custom) {
+    // UE ignores the chromaticity coordinates unless the choice is Custom (their EditCondition);
+    // a case that sets them with a preset is a mistake.
+    for (const char* name : {"WorkingColorSpaceRedGreen", "WorkingColorSpaceBlueWhite"})
+      if (explicit_values.count(name))
+        return Error{"", "/settings/" + std::string(name),
+                     std::string(name) +
+                         " applies only when WorkingColorSpace is Custom (7); "
+                         "it is " +
+                         (working_color_space_name(preset) ? working_color_space_name(preset)
+                                                           : std::to_string(preset)),
+                     "WorkingColorSpace Custom, or remove " + std::string(name)};
+    return make_working_color_space(static_cast<WorkingColorSpacePreset>(preset));
+  }
+  const Vec4d rg = st.get4("WorkingColorSpaceRedGreen");
+  const Vec4d bw = st.get4("WorkingColorSpaceBlueWhite");
+  const Chromaticities c{rg[0], rg[1], rg[2], rg[3], bw[0], bw[1], bw[2], bw[3]};
+  if (const std::string problem = chromaticities_problem(c); !problem.empty()) {
+    char values[160];
+    std::snprintf(values, sizeof values, "R (%g, %g) G (%g, %g) B (%g, %g) W (%g, %g)", c.rx, c.ry,
+                  c.gx, c.gy, c.bx, c.by, c.wx, c.wy);
+    return Error{"", "/settings/WorkingColorSpaceRedGreen",
+                 "custom working colour space " + std::string(values) + ": " + problem,
+                 "chromaticities of three independent primaries around a white with y > 0"};
+  }
+  return make_working_color_space(c);
 }
 
 namespace {
@@ -83,8 +116,13 @@ Result<Resolution> resolve(const Case& c, int width, int height) {
                    "): " + aces.status.error().message;
   }
 
-  // Working colour space and the output gamut.
-  const WorkingColorSpace wcs = make_working_color_space(default_working_chromaticities());
+  // Working colour space (the project setting, RendererSettings.cpp:
+  // UpdateWorkingColorSpaceAndChromaticities) and the output gamut.
+  auto wcs_result = working_color_space_of(st);
+  if (!wcs_result) return wcs_result.error();
+  const WorkingColorSpace& wcs = *wcs_result;
+  p.wcs_to_xyz = wcs.to_xyz;
+  p.wcs_from_xyz = wcs.from_xyz;
   p.wcs_to_ap1 = wcs.to_ap1;
   p.wcs_from_ap1 = wcs.from_ap1;
   p.wcs_to_ap0 = wcs.to_ap0;

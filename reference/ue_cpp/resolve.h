@@ -16,6 +16,11 @@ namespace hdrc::ref {
 // The working colour space of every case unless it names another (UE's default project setting).
 const Chromaticities& default_working_chromaticities();
 
+// The working colour space the settings choose: WorkingColorSpace (a preset 1–6, or 7 Custom with
+// WorkingColorSpaceRedGreen / WorkingColorSpaceBlueWhite), built as UE's CPU builds it. Errors:
+// chromaticities given with a preset, degenerate custom chromaticities.
+Result<WorkingColorSpace> working_color_space_of(const SettingValues& st);
+
 struct Resolution {
   ParamBlock params;
   std::string degenerate;  // why UE's parameters are degenerate here ("" when they are not)

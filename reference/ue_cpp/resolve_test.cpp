@@ -105,3 +105,71 @@ TEST(Resolve, ColorRemapPolynomial) {
 }
 
 }  // namespace
+
+namespace {
+
+// The project's Working Color Space reaches the parameter block as UE's CPU builds it
+// (RendererSettings.cpp: UpdateWorkingColorSpaceAndChromaticities → SceneManagement.cpp:
+// FDefaultWorkingColorSpaceUniformBuffer::Update).
+TEST(Resolve, WorkingColorSpacePresetsAndCustom) {
+  using hdrc::ref::WorkingColorSpacePreset;
+  for (int preset = 1; preset <= 6; ++preset) {
+    hdrc::Case c = make({});
+    ASSERT_TRUE(c.settings.set("WorkingColorSpace", {double(preset), 0, 0, 0}, 1).ok());
+    const auto r = hdrc::ref::resolve(c, 1, 1);
+    ASSERT_TRUE(r) << r.error().to_string();
+    const auto w =
+        hdrc::ref::make_working_color_space(static_cast<WorkingColorSpacePreset>(preset));
+    EXPECT_EQ(r->params.wcs_is_srgb, preset == 1 ? 1 : 0);
+    EXPECT_EQ(hdrc::ref::max_abs_diff(r->params.wcs_to_ap1, w.to_ap1), 0.0);
+    EXPECT_EQ(hdrc::ref::max_abs_diff(r->params.wcs_from_ap1, w.from_ap1), 0.0);
+    EXPECT_EQ(hdrc::ref::max_abs_diff(r->params.wcs_to_ap0, w.to_ap0), 0.0);
+    EXPECT_EQ(hdrc::ref::max_abs_diff(r->params.wcs_to_xyz, w.to_xyz), 0.0);
+  }
+  // Custom Rec.2020 chromaticities give the Rec2020 preset's matrices (bIsSRGB false).
+  hdrc::Case c = make({});
+  ASSERT_TRUE(c.settings.set_choice("WorkingColorSpace", "Custom").ok());
+  ASSERT_TRUE(c.settings.set("WorkingColorSpaceRedGreen", {0.708, 0.292, 0.170, 0.797}, 4).ok());
+  ASSERT_TRUE(c.settings.set("WorkingColorSpaceBlueWhite", {0.131, 0.046, 0.3127, 0.3290}, 4).ok());
+  const auto r = hdrc::ref::resolve(c, 1, 1);
+  ASSERT_TRUE(r) << r.error().to_string();
+  EXPECT_EQ(hdrc::ref::max_abs_diff(
+                r->params.wcs_to_ap1,
+                hdrc::ref::make_working_color_space(WorkingColorSpacePreset::kRec2020).to_ap1),
+            0.0);
+  EXPECT_EQ(r->params.wcs_is_srgb, 0);
+  // Custom with the defaults is sRGB, and bIsSRGB (IsSRGBChromaticities).
+  hdrc::Case d = make({});
+  ASSERT_TRUE(d.settings.set_choice("WorkingColorSpace", "Custom").ok());
+  EXPECT_EQ(hdrc::ref::resolve(d, 1, 1)->params.wcs_is_srgb, 1);
+}
+
+TEST(Resolve, WorkingColorSpaceErrors) {
+  hdrc::Case c = make({});
+  auto st = c.settings.set_choice("WorkingColorSpace", "Rec709");
+  ASSERT_FALSE(st.ok());
+  EXPECT_EQ(st.error().message, "unknown WorkingColorSpace 'Rec709' (did you mean Rec2020?)");
+  EXPECT_EQ(st.error().choices,
+            "sRGB (1), Rec2020 (2), ACESAP0 (3), ACESAP1 (4), P3DCI (5), P3D65 (6), Custom (7)");
+  EXPECT_FALSE(c.settings.set("WorkingColorSpace", {2.5, 0, 0, 0}, 1).ok());
+  EXPECT_FALSE(c.settings.set("WorkingColorSpace", {0, 0, 0, 0}, 1).ok());
+  EXPECT_FALSE(c.settings.set_choice("WhiteTemp", "D65").ok());
+  // Chromaticities with a preset: an error naming both.
+  ASSERT_TRUE(c.settings.set_choice("WorkingColorSpace", "Rec2020").ok());
+  ASSERT_TRUE(c.settings.set("WorkingColorSpaceRedGreen", {0.7, 0.3, 0.2, 0.7}, 4).ok());
+  auto r = hdrc::ref::resolve(c, 1, 1);
+  ASSERT_FALSE(r);
+  EXPECT_NE(r.error().message.find("applies only when WorkingColorSpace is Custom (7); it is "
+                                   "Rec2020"),
+            std::string::npos)
+      << r.error().message;
+  // Degenerate custom chromaticities: the values and the problem.
+  ASSERT_TRUE(c.settings.set_choice("WorkingColorSpace", "Custom").ok());
+  ASSERT_TRUE(c.settings.set("WorkingColorSpaceBlueWhite", {0.15, 0.06, 0.3, 0.0}, 4).ok());
+  r = hdrc::ref::resolve(c, 1, 1);
+  ASSERT_FALSE(r);
+  EXPECT_NE(r.error().message.find("W (0.3, 0): the white's y must be above 0"), std::string::npos)
+      << r.error().message;
+}
+
+}  // namespace

@@ -335,17 +335,18 @@ TEST(Composite, EncodingAndCvdActivationRules) {
   EXPECT_FALSE(p.use_709);
 }
 
-// Hand derivation (Python from the spec §2.1 literals): the literal product
-// XYZ_2_Rec2020 · sRGB_2_XYZ maps sRGB white (1, 1, 1) to its row sums
-// (1.000056572699, 0.999984881540, 0.999918920312), not exactly to Rec.2020 white.
-constexpr Vec3 kWhiteRowSums{1.000056572699, 0.999984881540, 0.999918920312};
+// Hand derivation (Python from UE 5.5's 10-digit ACES.ush literals, docs/ue55-decisions.md): the
+// literal product XYZ_2_Rec2020 · sRGB_2_XYZ maps sRGB white (1, 1, 1) to its row sums
+// (1.000000000038, 1.000000000109, 0.999999999816): Rec.2020 white to 2e-10. (The pre-5.3
+// 7-digit literals of spec §2.1 gave 1.0000566, 0.9999849, 0.9999189.)
+constexpr Vec3 kWhiteRowSums{1.000000000038, 1.000000000109, 0.999999999816};
 
 TEST(Composite, OpaqueWhiteUiIsPqOf300NitsWhateverTheScene) {
   // UI (1, 1, 1, 1): sRGBToLinear(1) = (1/1.055 + 0.0521327)^2.4 = 0.999999996588 (hand);
-  // × 300 × row sums = (300.016970786, 299.995463438, 299.975675070) nits; alpha 1 skips the
-  // Reinhard and scene · (1 − 1) = 0; PQ of those (hand): below. All three within 8.7e-6 of the
-  // spec §13 PQ(300) = 0.6218628370: the gap is the literal row sums, not the composite.
-  const Vec3 expected{0.621868847169, 0.621861230359, 0.621854221861};
+  // × 300 × row sums ≈ 300 nits; alpha 1 skips the Reinhard and scene · (1 − 1) = 0; PQ of those
+  // (hand): below, within 1e-9 of the spec §13 PQ(300) = 0.6218628370 (the 7-digit literals of
+  // UE <= 5.0 left a gap of 8.6e-6 here).
+  const Vec3 expected{0.621862836664, 0.621862836672, 0.621862836641};
   UiCompositeParams p;
   double worst = 0.0, worst_vs_spec = 0.0;
   for (const Vec4& scene :
@@ -361,9 +362,9 @@ TEST(Composite, OpaqueWhiteUiIsPqOf300NitsWhateverTheScene) {
           std::fmax(worst_vs_spec, max_err(rgb(out), {0.6218628370, 0.6218628370, 0.6218628370}));
     }
   }
-  EXPECT_LE(worst_vs_spec, 9e-6);
+  EXPECT_LE(worst_vs_spec, 2e-9);
   record("opaque_white_max_residual", worst);          // measured 5.0e-13
-  record("opaque_white_gap_to_pq300", worst_vs_spec);  // measured 8.6e-6 (literal row sums)
+  record("opaque_white_gap_to_pq300", worst_vs_spec);  // measured 4e-10 (literal row sums)
   // Opaque UI hides the scene only arithmetically: a NaN or Inf scene gives NaN · 0 = NaN,
   // as IEEE hardware does.
   const Vec4 nan_out = composite_pixel({kNaN, 0.5, 0.5, 1}, {1, 1, 1, 1}, p);
@@ -393,16 +394,15 @@ TEST(Composite, TransparentUiLeavesPqSceneUnchangedWithoutClamp) {
 
 TEST(Composite, TransparentUiWithClampLiftsBlack) {
   // D3 with the clamp (default): sRGBToLinear(0) = 6.10352e-5 / 12.92 = 4.72409e-6, × 300 ×
-  // row sums = (1.417306e-3, 1.417205e-3, 1.417111e-3) nits added to every pixel; over a black
-  // scene PQ gives (7.653080443e-3, 7.652777008e-3, 7.652497815e-3) (hand; D3: ≈ 7.65e-3, ≈ 7.8
-  // ten-bit codes).
+  // row sums = 1.417226e-3 nits added to every pixel; over a black scene PQ gives 7.652841e-3
+  // (hand; D3: ≈ 7.65e-3, ≈ 7.8 ten-bit codes).
   const UiCompositeParams p;
   UiCompositeTrace t;
   const Vec4 out = composite_pixel({0, 0, 0, 1}, {0, 0, 0, 0}, p, &t);
   const double err_nits =
-      max_err(rgb(t.ui), {1.417306182492e-3, 1.417204579917e-3, 1.417111097950e-3});
+      max_err(rgb(t.ui), {1.417226006245e-3, 1.417226006347e-3, 1.417226005932e-3});
   const double err_pq =
-      max_err(rgb(out), {7.653080443007e-3, 7.652777007536e-3, 7.652497814862e-3});
+      max_err(rgb(out), {7.652840998016e-3, 7.652840998319e-3, 7.652840997079e-3});
   EXPECT_LE(err_nits, 1e-15);
   EXPECT_LE(err_pq, 1e-13);
   record("transparent_clamp_black_residual", err_pq);
@@ -412,14 +412,14 @@ TEST(Composite, TransparentUiWithClampLiftsBlack) {
 TEST(Composite, ReinhardUnderHalfTransparentUiByHand) {
   // Scene PQ 0.5080784215 = 99.99999998267 nits grey (hand ST2084ToLinear). UI premultiplied
   // (0.5, 0.5, 0.5, 0.5): sRGBToLinear(0.5) = 0.214041139094 (UE constants) × 300 × row sums.
-  // L = 100 · (0.2627 + 0.678 + 0.0593) / 1 = 100; OutL = 1/101;
+  // L = 99.99999998267 · (0.2627 + 0.678 + 0.0593) / 1 ≈ 100; OutL = 1/(1 + L) ≈ 1/101;
   // scale = lerp(1, 1/101, 0.5) = 0.504950495050; out = 100 · scale · (1 − 0.5) + UI (hand):
   const UiCompositeParams p;
   UiCompositeTrace t;
   const double g = 0.5080784215;
   const Vec4 out = composite_pixel({g, g, g, 1}, {0.5, 0.5, 0.5, 0.5}, p, &t);
-  const double err_nits = max_err(t.composed, {89.463499141767, 89.458895684564, 89.454660159697});
-  const double err_pq = max_err(rgb(out), {0.496946702084, 0.496941577359, 0.496936862012});
+  const double err_nits = max_err(t.composed, {89.459866478756, 89.459866483359, 89.459866464545});
+  const double err_pq = max_err(rgb(out), {0.496942658100, 0.496942658105, 0.496942658084});
   EXPECT_LE(err_nits, 1e-9);
   EXPECT_LE(err_pq, 1e-11);
   record("reinhard_level1_nits_residual", err_nits);  // measured 3.6e-13
@@ -427,7 +427,7 @@ TEST(Composite, ReinhardUnderHalfTransparentUiByHand) {
   UiCompositeParams p2;
   p2.ui_level = 2.0;
   composite_pixel({g, g, g, 1}, {0.5, 0.5, 0.5, 0.5}, p2, &t);
-  const double err2 = max_err(t.composed, {154.412340939776, 154.403134025371, 154.394662975636});
+  const double err2 = max_err(t.composed, {154.405075613753, 154.405075622961, 154.405075585332});
   EXPECT_LE(err2, 1e-9);
   record("reinhard_level2_nits_residual", err2);
   // max(scene, 0) under translucent UI turns NaN and negatives into 0: the NaN scene gives the
@@ -439,23 +439,23 @@ TEST(Composite, ReinhardUnderHalfTransparentUiByHand) {
   EXPECT_TRUE(std::isnan(composite_pixel({kNaN, 0, 0, 1}, {0, 0, 0, 0}, p)[0]));
 }
 
-TEST(Composite, ScRgbRoundTripShowsUeLiteralMismatch) {
+TEST(Composite, ScRgbRoundTripOfUe55Literals) {
   // Devices 5/6, transparent UI, clamp off: out = Rec2020_2_sRGB · (sRGB_2_Rec2020 · s · 80) / 80.
-  // UE's XYZ_2_sRGB literal (10 digits) is not the inverse of its sRGB_2_XYZ literal (7 digits,
-  // IEC): the product's diagonal is (1.000158, 0.999977, 0.999760) (hand), so the scene comes
-  // back scaled by up to 2.4e-4 relative. Expected values (hand) for s = (0.25, 0.5, 1.0):
+  // UE 5.5's literals (all 10 digits) are inverses of each other to 1.6e-10 (hand), so the scene
+  // comes back to 2.4e-10 relative; UE <= 5.0's 7-digit sRGB_2_XYZ against the 10-digit
+  // XYZ_2_sRGB scaled it by up to 2.4e-4. Expected values (hand) for s = (0.25, 0.5, 1.0):
   UiCompositeParams p;
   p.output_device = 5;
   p.min_normal_clamp = kOff;
   const Vec4 out = composite_pixel({0.25, 0.5, 1.0, 1}, {0, 0, 0, 0}, p);
-  const double err = max_err(rgb(out), {0.250039176397, 0.499988470831, 0.999760115701});
+  const double err = max_err(rgb(out), {0.250000000051, 0.500000000055, 0.999999999765});
   EXPECT_LE(err, 1e-12);
   record("scrgb_roundtrip_residual", err);
-  EXPECT_GT(std::fabs(out[2] - 1.0), 2e-4);  // the mismatch is UE's, reproduced on purpose
+  EXPECT_LT(std::fabs(out[2] - 1.0), 1e-9);  // UE <= 5.0's literals: 2.4e-4
   // Opaque white on scRGB: 300 nits / 80 = 3.75 times the literal round-trip row sums (hand).
   p.output_device = 6;
   const Vec4 w = composite_pixel({0.1, 0.2, 0.3, 1}, {1, 1, 1, 1}, p);
-  const double errw = max_err(rgb(w), {3.750591294268, 3.749913948407, 3.749100485296});
+  const double errw = max_err(rgb(w), {3.749999987790, 3.749999987345, 3.749999985956});
   EXPECT_LE(errw, 1e-11);
   record("scrgb_opaque_white_residual", errw);
   // Negative scRGB (out of sRGB gamut) passes through the matrices without clamping.
@@ -487,15 +487,16 @@ TEST(Composite, CvdOffIsBitIdentical) {
 
 TEST(Composite, CvdSandwichByHand) {
   // Protanope severity 10, simulation, UI opaque sRGB red, clamp off: UI nits =
-  // 300 · sRGBToLinear(1) · column 0 of sRGB_2_Rec2020 = (188.246396900, 20.732464940,
-  // 4.918870006); after Rec2020→sRGB, Machado, sRGB→Rec2020 (hand, spec literals):
+  // 300 · sRGBToLinear(1) · column 0 of sRGB_2_Rec2020 = (188.221168156, 20.729186745,
+  // 4.917431633); after Rec2020→sRGB, Machado, sRGB→Rec2020 (hand, UE 5.5 literals; the spec's
+  // pre-5.3 literals gave 188.246396900, 20.732464940, 4.918870006):
   UiCompositeParams p;
   p.min_normal_clamp = kOff;
   p.cvd = {CvdType::kProtanope, 10, false, false};
   UiCompositeTrace t;
   const Vec4 out = composite_pixel({0.2, 0.2, 0.2, 1}, {1, 0, 0, 1}, p, &t);
-  EXPECT_LE(max_err(rgb(t.ui), {188.246396900427, 20.732464940343, 4.918870006432}), 1e-9);
-  const double err = max_err(t.after_cvd, {39.933841273474, 34.735805900363, 2.730280815252});
+  EXPECT_LE(max_err(rgb(t.ui), {188.221168155710, 20.729186745379, 4.917431632670}), 1e-9);
+  const double err = max_err(t.after_cvd, {39.924175106876, 34.730572432055, 2.729182075084});
   EXPECT_LE(err, 1e-9);
   record("cvd_sandwich_nits_residual", err);
   for (int c = 0; c < 3; ++c) EXPECT_EQ(out[c], st2084::pq_from_nits(t.after_cvd[c]));
@@ -556,7 +557,7 @@ TEST(Composite, ImageCompositeMatchesHandValues) {
   const Result<Image> out = composite_ui(scene, ui, p);
   ASSERT_TRUE(out.ok()) << out.error().to_string();
   const double* w = out->px(0, 0);
-  EXPECT_LE(max_err({w[0], w[1], w[2]}, {0.621868847169, 0.621861230359, 0.621854221861}), 1e-11);
+  EXPECT_LE(max_err({w[0], w[1], w[2]}, {0.621862836664, 0.621862836672, 0.621862836641}), 1e-11);
   const double* s = out->px(1, 0);
   EXPECT_LE(max_err({s[0], s[1], s[2]}, {0.5, 0.5, 0.5}), 1e-13);
   EXPECT_EQ(w[3], 1.0);

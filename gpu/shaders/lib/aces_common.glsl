@@ -2,8 +2,10 @@
 // (aces_output.glsl) and UE's SDR FilmToneMap, in float32 as UE's shaders evaluate them.
 //
 // Source: Engine/Shaders/Private/ACES.ush (UE 5.0-era copy, chenyong2github/UnrealEngine, commit
-// 09c29cbee980f5c5fbff6c93cf6132e5f4bcf97a; the 5.5 file is not public, docs/ue55-decisions.md D2),
-// which follows aces-dev v1.3 ACESlib.RRT_Common.ctl / ACESlib.Utilities_Color.ctl.
+// 09c29cbee980f5c5fbff6c93cf6132e5f4bcf97a; its matrices and functions as in the UE 5.3.2 and 5.5.1
+// copies, Mephisto1024/Toon_Engine and lakeone/UE5.51MagicM, whose ACES.ush files are identical;
+// docs/ue55-decisions.md D2 and "Colour matrix literals"), which follows aces-dev v1.3
+// ACESlib.RRT_Common.ctl / ACESlib.Utilities_Color.ctl.
 // Reference (double): reference/aces/aces_common.h, reference/color/ue_matrices.h (ue_literal).
 // gpu/aces_shader_test.cpp reads every constant here back from the GPU and compares it with
 // float(reference constant) exactly.
@@ -27,19 +29,9 @@ vec3 aces_mul(mat3 m, vec3 v) { return v * m; }
 const float HALF_POS_INF = 65535.0;
 const float HALF_MAX = 65504.0;
 
-// ACES.ush: AP1_2_XYZ_MAT, XYZ_2_AP1_MAT, AP0_2_AP1_MAT, AP1_2_AP0_MAT (UE's 10-digit literals).
-const mat3 AP1_2_XYZ_MAT = mat3(0.6624541811, 0.1340042065, 0.1561876870,   //
-                                0.2722287168, 0.6740817658, 0.0536895174,   //
-                                -0.0055746495, 0.0040607335, 1.0103391003);
-const mat3 XYZ_2_AP1_MAT = mat3(1.6410233797, -0.3248032942, -0.2364246952,  //
-                                -0.6636628587, 1.6153315917, 0.0167563477,   //
-                                0.0117218943, -0.0082844420, 0.9883948585);
-const mat3 AP0_2_AP1_MAT = mat3(1.4514393161, -0.2365107469, -0.2149285693,  //
-                                -0.0765537734, 1.1762296998, -0.0996759264,  //
-                                0.0083161484, -0.0060324498, 0.9977163014);
-const mat3 AP1_2_AP0_MAT = mat3(0.6954522414, 0.1406786965, 0.1638690622,   //
-                                0.0447945634, 0.8596711185, 0.0955343182,   //
-                                -0.0055258826, 0.0040252103, 1.0015006723);
+// ACES.ush: AP1_2_XYZ_MAT, XYZ_2_AP1_MAT, AP0_2_AP1_MAT, AP1_2_AP0_MAT (UE's 10-digit literals):
+// generated into hdrc/interface.glsl from the reference (gpu/shader_constants.cpp:
+// shared_matrices), declared as `const mat3` holding the HLSL row-major literal list (see above).
 // ACES.ush: AP1_RGB2Y, the Y row of AP1_2_XYZ_MAT.
 const vec3 AP1_RGB2Y = vec3(0.2722287168, 0.6740817658, 0.0536895174);
 

@@ -10,9 +10,8 @@
 // ExpandMat = (XYZ_2_AP1_MAT · Wide_2_XYZ_MAT) · (XYZ_2_sRGB_MAT · D60_2_D65_CAT · AP1_2_XYZ_MAT),
 // AP1 → AP1, the product of UE's shader literals evaluated in double and rounded to float
 // (reference grading::expand_gamut_matrix()). Rows.
-const vec3 EXPAND_GAMUT_MAT[3] = vec3[3](vec3(1.37041271, -0.329291314, -0.0636827648),
-                                         vec3(-0.0834341869, 1.09709096, -0.0108615728),
-                                         vec3(-0.0257932581, -0.0986256376, 1.20369434));
+// EXPAND_GAMUT_MAT: generated into hdrc/interface.glsl
+// from the reference (gpu/shader_constants.cpp: shared_matrices).
 
 vec3 mul_expand_gamut(vec3 v) {
   return vec3(dot(EXPAND_GAMUT_MAT[0], v), dot(EXPAND_GAMUT_MAT[1], v), dot(EXPAND_GAMUT_MAT[2], v));

@@ -1,6 +1,6 @@
 // The SDR film path of CombineLUTs (spec §4.8): blue correction, FilmToneMap, un-blue-correction,
 // all in AP1, then FromAP1 and max(0, ·). PostProcessCombineLUTs.usf: CombineLUTsCommon and its
-// BlueCorrect / BlueCorrectInv literals (Toon_Engine ~5.1/5.2 copy, commit 2dc09e82;
+// BlueCorrect / BlueCorrectInv literals (Toon_Engine, commit 2dc09e82;
 // docs/ue55-decisions.md D1). Reference: reference/grading/film_tonemap.h (film_path_ap1,
 // film_color). Needs the generated interface included first.
 #ifndef HDRC_FILM_PATH_GLSL
@@ -13,12 +13,8 @@
 // BlueCorrectAP1 = (XYZ_2_AP1 · AP0_2_XYZ) · BlueCorrect · (XYZ_2_AP0 · AP1_2_XYZ) and the same
 // with BlueCorrectInv, as the shader builds them from the literals: evaluated in double, rounded
 // to float (reference grading::blue_correct_ap1(), blue_correct_inv_ap1()). Rows.
-const vec3 BLUE_CORRECT_AP1[3] = vec3[3](vec3(0.938639402, 1.02359565e-10, 0.0613606237),
-                                         vec3(8.36008554e-11, 0.830794156, 0.169205874),
-                                         vec3(2.13187367e-12, -5.63307213e-12, 1.0));
-const vec3 BLUE_CORRECT_INV_AP1[3] = vec3[3](vec3(1.06537485, 1.44678506e-06, -0.0653710067),
-                                             vec3(-3.45525592e-07, 1.20366347, -0.203667715),
-                                             vec3(1.9865448e-08, 2.12079581e-08, 0.999999583));
+// BLUE_CORRECT_AP1, BLUE_CORRECT_INV_AP1: generated into hdrc/interface.glsl
+// from the reference (gpu/shader_constants.cpp: shared_matrices).
 
 vec3 mul_blue_correct(vec3 v) {
   return vec3(dot(BLUE_CORRECT_AP1[0], v), dot(BLUE_CORRECT_AP1[1], v), dot(BLUE_CORRECT_AP1[2], v));

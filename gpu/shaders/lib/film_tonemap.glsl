@@ -19,9 +19,8 @@ const float FILM_MATCH = 0.18;
 // FilmToneMap's local AP1_2_AP0 = mul(XYZ_2_AP0_MAT, AP1_2_XYZ_MAT): the product of the ACES.ush
 // literals evaluated in double and rounded to float (reference: film_tone_map's
 // kAp1ToAp0Product), not the AP1_2_AP0_MAT literal. Rows: out = M · v.
-const vec3 FILM_AP1_TO_AP0[3] = vec3[3](vec3(0.695452213, 0.140678704, 0.163869068),
-                                        vec3(0.0447945632, 0.859671116, 0.0955343172),
-                                        vec3(-0.00552588236, 0.00402521016, 1.00150073));
+// FILM_AP1_TO_AP0: generated into hdrc/interface.glsl
+// from the reference (gpu/shader_constants.cpp: shared_matrices).
 
 vec3 mul_film_ap1_to_ap0(vec3 v) {
   return vec3(dot(FILM_AP1_TO_AP0[0], v), dot(FILM_AP1_TO_AP0[1], v), dot(FILM_AP1_TO_AP0[2], v));

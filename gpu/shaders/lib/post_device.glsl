@@ -13,10 +13,9 @@ const float ACES_HDR_Y_MIN = 9.99999975e-05;  // float(0.0001)
 
 // TonemapCommon.ush ST2084ToScRGB: AP1_2_sRGB = XYZ_2_sRGB_MAT · D60_2_D65_CAT · AP1_2_XYZ_MAT,
 // UE's literal product (reference: ue_matrices ap1_to_output_gamut(0)), rows, float32.
-// gpu/tonemap_shader_test.cpp asserts float(reference) == these values.
-const vec3 AP1_TO_SRGB_ROW0 = vec3(1.70505154, -0.621790707, -0.0832583979);
-const vec3 AP1_TO_SRGB_ROW1 = vec3(-0.130257145, 1.14080286, -0.0105485283);
-const vec3 AP1_TO_SRGB_ROW2 = vec3(-0.0240032747, -0.128968775, 1.15297174);
+// gpu/tonemap_shader_test.cpp asserts float(reference) == the values the GPU holds.
+// AP1_TO_SRGB (rows): generated into hdrc/interface.glsl
+// from the reference (gpu/shader_constants.cpp: shared_matrices).
 
 vec3 nits_from_pq3(vec3 pq) { return vec3(nits_from_pq(pq.r), nits_from_pq(pq.g), nits_from_pq(pq.b)); }
 
@@ -32,8 +31,8 @@ vec3 st2084_to_scrgb(vec3 pq, float max_odt_nits) {
   if (isnan(pq.r)) lin_cv.r = pq.r;
   if (isnan(pq.g)) lin_cv.g = pq.g;
   if (isnan(pq.b)) lin_cv.b = pq.b;
-  vec3 s = vec3(dot(AP1_TO_SRGB_ROW0, lin_cv), dot(AP1_TO_SRGB_ROW1, lin_cv),
-                dot(AP1_TO_SRGB_ROW2, lin_cv));
+  vec3 s = vec3(dot(AP1_TO_SRGB[0], lin_cv), dot(AP1_TO_SRGB[1], lin_cv),
+                dot(AP1_TO_SRGB[2], lin_cv));
   return s * (max_odt_nits / 80.0);
 }
 
