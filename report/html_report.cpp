@@ -16,6 +16,7 @@
 #include "core/settings.h"
 #include "core/stage.h"
 #include "reference/ue_cpp/resolve.h"
+#include "reference/visualize/histogram.h"
 #include "report/assets.h"
 #include "report/images.h"
 #include "runner/diff.h"
@@ -191,29 +192,11 @@ const json* metric_stats(const json& c, const std::string& key) {
   return nullptr;
 }
 
-std::optional<double> metric_max(const json& c, const std::string& key) {
-  if (const json* m = metric_stats(c, key)) return num(get(*m, {"max"}));
-  // Older results.json: flat metrics.max_rel / max_pq10.
-  static const std::map<std::string, std::string> flat = {{"linear_rel", "max_rel"},
-                                                          {"pq_code10", "max_pq10"},
-                                                          {"pq_code12", "max_pq12"},
-                                                          {"linear_abs", "max_abs"}};
-  if (auto it = flat.find(key); it != flat.end()) return num(get(c, {"metrics", it->second}));
-  return std::nullopt;
-}
-
-// The share of the budget used: the largest max/limit over judged metrics, computed from the
-// statistics and the tolerance; results.json's own figure when it is larger.
-std::optional<double> budget_used(const json& c, const TolView& t) {
-  std::optional<double> worst;
-  for (const auto& [k, lim] : t.max) {
-    auto m = metric_max(c, k);
-    if (!m) continue;
-    const double r = lim > 0 ? *m / lim : (*m > 0 ? INFINITY : 0.0);
-    if (!worst || !(r <= *worst)) worst = r;
-  }
-  if (auto v = num(get(c, {"budget_used"})); v && (!worst || !(*v <= *worst))) worst = v;
-  return worst;
+// The share of the budget used, as the runner computed it (results.json's budget_used,
+// runner/diff.h: budget_used): the report only displays it, so allowed fractions and hard caps
+// count exactly as they did for the verdict. Absent (null) when the case was not diffed.
+std::optional<double> budget_used(const json& c) {
+  return num(get(c, {"budget_used"}));
 }
 
 // The warnings list; a bare `warn` flag or string when there is none.
@@ -473,12 +456,39 @@ std::string pixel_rows(const json& c) {
   return h;
 }
 
+std::string case_image_dir_of(const std::string& id) {
+  return "cases/" + id;
+}
+
+// A command that runs this one case again as the run did: the recorded command line without
+// the options that pick cases or outputs, then --filter '=<id>' (exact) and a fresh --out.
+std::string reproduce_command(const json& doc, const std::string& id) {
+  const json* prov = get(doc, {"provenance"});
+  std::string base = prov ? text(get(*prov, {"reproduce"})) : "—";
+  if (base == "—" || base.empty()) base = "hdrconform " + text(get(doc, {"command"}));
+  std::string q = "'";
+  for (char ch : "=" + id) q += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
+  return base + " --filter " + q + "' --out repro";
+}
+
 std::string metadata_table(const json& doc) {
   std::string h = "<table class=\"kv\" id=\"run-meta\"><tbody>\n";
   auto row = [&](const std::string& k, const std::string& v) {
     h += "<tr><th>" + html_escape(k) + "</th><td>" + html_escape(v) + "</td></tr>\n";
   };
-  row("commit", text(get(doc, {"commit"})));
+  const json* prov = get(doc, {"provenance"});
+  auto p = [&](const char* k) { return text(prov ? get(*prov, {k}) : nullptr); };
+  row("commit", p("commit"));
+  row("command line", p("command_line"));
+  row("working directory", p("cwd"));
+  row("shader directory",
+      p("shader_dir") + (p("shader_hash").size() > 12
+                             ? " (sha256 " + p("shader_hash").substr(0, 16) + "…)"
+                             : ""));
+  row("build", p("build_type") + ", " + p("compiler"));
+  row("suite", p("suite_cases") + " cases, fingerprint " + p("suite_fingerprint").substr(0, 16));
+  row("shard plan", p("shard_plan"));
+  row("images kept", p("images"));
   row("candidate engine", text(get(doc, {"candidate", "engine"})));
   row("candidate device", text(get(doc, {"candidate", "device"})));
   row("driver", text(get(doc, {"candidate", "driver"})));
@@ -489,10 +499,45 @@ std::string metadata_table(const json& doc) {
   row("command", text(get(doc, {"command"})));
   row("jobs", text(get(doc, {"jobs"})));
   row("shard", text(get(doc, {"shard"})));
+  if (const json* m = get(doc, {"merged_from"}); m && m->is_array()) {
+    std::string shards;
+    for (const auto& e : *m)
+      shards += (shards.empty() ? "" : "; ") + text(get(e, {"shard"})) + " " +
+                text(get(e, {"dir"})) + " (" + fmt(num(get(e, {"wall_seconds"})), "%.1f") + " s)";
+    row("merged from", shards);
+  }
   if (truthy(get(doc, {"interrupted"}))) row("interrupted", "yes: cases not started are NOT_RUN");
   if (truthy(get(doc, {"candidate_unavailable"})))
     row("candidate unavailable", text(get(doc, {"candidate_unavailable"})));
   return h + "</tbody></table>\n";
+}
+
+// The golden check of the reference (results.json "goldens", runner/results.h:
+// record_golden_results): counts, and every missing, stale or regressed golden with its message.
+std::string goldens_section(const json& doc) {
+  const json* g = get(doc, {"goldens"});
+  if (!g || !g->is_object()) return "";
+  const auto failed = num(get(*g, {"failed"})).value_or(0);
+  std::string h =
+      "<h2 id=\"goldens\">Goldens</h2>\n<p id=\"goldens-summary\" class=\"" +
+      std::string(failed > 0 ? "warning" : "muted") + "\">The reference's outputs against " +
+      esc_text(get(*g, {"dir"})) + " (reference " + esc_text(get(*g, {"reference_version"})) +
+      "): " + esc_text(get(*g, {"checked"})) + " checked, " + esc_text(get(*g, {"match"})) +
+      " match, " + esc_text(get(*g, {"missing"})) + " missing, " + esc_text(get(*g, {"stale"})) +
+      " stale, " + esc_text(get(*g, {"regression"})) + " regressions.</p>\n";
+  std::string rows;
+  if (const json* cs = get(*g, {"cases"}); cs && cs->is_array())
+    for (const auto& e : *cs) {
+      if (text(get(e, {"outcome"})) == "match") continue;
+      rows += "<tr><td><span class=\"badge v-fail\">GOLDEN " + esc_text(get(e, {"outcome"})) +
+              "</span></td><td><code>" + esc_text(get(e, {"id"})) +
+              "</code></td><td class=\"reason\">" + esc_text(get(e, {"message"})) + "</td></tr>\n";
+    }
+  if (!rows.empty())
+    h += "<table class=\"cases\" id=\"golden-failures\"><thead><tr><th>outcome</th><th>case</th>"
+         "<th>what differs, and the command if intended</th></tr></thead><tbody>\n" +
+         rows + "</tbody></table>\n";
+  return h;
 }
 
 }  // namespace
@@ -562,7 +607,10 @@ struct Builder {
     for (int i = 0; i < 3; ++i) {
       if (!c.has[i]) continue;
       const OutputEncoding& e = (i == 0 && input_scene_linear) ? scene : *enc;
-      prev[i] = preview(img[i], e, false);
+      // Outputs in their gamut, converted to the display's; the input (working colour space,
+      // Rec.709 primaries by default) as it is.
+      const ref::Mat3 to_display = output_to_display(*enc);
+      prev[i] = preview(img[i], e, false, 0, i == 0 && input_scene_linear ? nullptr : &to_display);
       if (Status s = put_png(dir / (std::string(kImageNames[i]) + ".png"), prev[i]); !s) return s;
     }
     const int main = c.has[2] ? 2 : c.has[1] ? 1 : 0;
@@ -587,7 +635,10 @@ struct Builder {
     // left out (the PNGs still show); no case of the suite comes near that.
     const size_t kMaxPxData = size_t{1} << 22;
     if (c.width * static_cast<size_t>(c.height) <= kMaxPxData) {
-      json px = {{"w", c.width}, {"h", c.height}, {"images", json::object()}};
+      json px = {{"w", c.width},
+                 {"h", c.height},
+                 {"packing", "float32 byte planes, deflate, base64"},
+                 {"images", json::object()}};
       for (int i = 0; i < 3; ++i) {
         if (!c.has[i]) continue;
         const OutputEncoding& e = (i == 0 && input_scene_linear) ? scene : *enc;
@@ -596,11 +647,11 @@ struct Builder {
         const bool const_a = constant_alpha(img[i], &a);
         im["ch"] = const_a ? 3 : 4;
         if (const_a) im["alpha"] = a;
-        im["v"] = float32_base64(img[i], const_a ? 3 : 4);
+        im["v"] = float32_packed_base64(img[i], const_a ? 3 : 4);
         if (auto k = linear_scale(e))
           im["scale"] = *k;
         else
-          im["nits"] = float32_base64(nits_image(img[i], e), 3);
+          im["nits"] = float32_packed_base64(nits_image(img[i], e), 3);
         px["images"][kImageNames[i]] = std::move(im);
       }
       c.px = true;
@@ -613,6 +664,15 @@ struct Builder {
     for (int r = 0; r < 3; ++r)
       for (int k = 0; k < 3; ++k) m.push_back(enc->to_rec2020(r, k));
     c.meta["to_rec2020"] = m;
+    const ref::Mat3 disp = output_to_display(*enc);
+    c.meta["to_display"] = json(disp.m);
+    // VisualizeHDR's false colour (reference/visualize/histogram.h): Colorize of the histogram
+    // position of log2(max(mean RGB, LuminanceMin)), default eye adaptation (extended range).
+    const auto eye =
+        ref::visualize::compute_eye_adaptation_parameters(ref::visualize::default_settings(true));
+    c.meta["false_colour"] = {{"scale", eye.histogram_scale},
+                              {"bias", eye.histogram_bias},
+                              {"luminance_min", eye.luminance_min}};
     c.meta["input_encoding"] = input_scene_linear ? "scene-linear x 100 nits" : enc->describe();
     if (enc->stage == StageId::kCombineLuts && c.height > 0 && c.width == c.height * c.height)
       c.lut_size = c.height;
@@ -630,7 +690,10 @@ struct Builder {
       h += "<p class=\"warning\">warning: " + html_escape(w) + "</p>\n";
     if (c.budget)
       h += "<p>Budget used: <b id=\"budget\">" + fmt(*c.budget * 100.0, "%.3g") +
-           " %</b> of the tightest judged metric.</p>\n";
+           " %</b> of the tolerance (the runner's figure: the largest share any limit uses).</p>\n";
+    h += "<p class=\"repro\">Reproduce: <code id=\"repro-cmd\">" +
+         html_escape(reproduce_command(doc, c.id)) +
+         "</code> <button type=\"button\" id=\"repro-copy\">copy</button></p>\n";
 
     h += "<section id=\"images\"><h2>Images</h2>\n";
     if (!c.has[0] && !c.has[1] && !c.has[2]) {
@@ -639,7 +702,11 @@ struct Builder {
       h += "<div class=\"toolbar\">"
            "<label>View <select id=\"view-mode\"><option value=\"side\">side by side</option>"
            "<option value=\"flip\">A/B flip</option><option value=\"slider\">slider</option>"
-           "</select></label>"
+           "<option value=\"diff\">diff</option></select></label>"
+           "<label>Display <select id=\"display-mode\"><option value=\"clip\">clip</option>"
+           "<option value=\"tonemap\">tone map</option><option value=\"falsecolour\">"
+           "VisualizeHDR false colour</option><option value=\"pq\">PQ signal</option>"
+           "<option value=\"hdr\">HDR (PQ)</option></select></label>"
            "<label>A <select id=\"view-a\"></select></label><label>B <select id=\"view-b\">"
            "</select></label>"
            "<label>Exposure <input type=\"range\" id=\"exposure\" min=\"-12\" max=\"12\" "
@@ -650,11 +717,16 @@ struct Builder {
            "<label>Zoom <select id=\"zoom\"><option value=\"0\">fit</option><option value=\"1\">1×"
            "</option><option value=\"2\">2×</option><option value=\"4\">4×</option><option "
            "value=\"8\">8×</option></select></label></div>\n";
+      h += "<p class=\"mapping\" id=\"hdr-status\"></p>\n";
       h += "<p class=\"mapping\">SDR preview: each value decoded to nits (output: " +
            html_escape(c.meta.value("encoding", std::string("—"))) +
            "; input: " + html_escape(c.meta.value("input_encoding", std::string("—"))) +
-           "), shown as sRGB(clamp(nits / 100 · 2<sup>EV</sup>, 0, 1)): 100 nits is SDR white at "
-           "0 EV. NaN pixels magenta, infinite pixels cyan.</p>\n";
+           "), converted from the output gamut (" +
+           html_escape(c.meta.value("gamut", std::string("—"))) +
+           ") to the display's sRGB primaries, shown as sRGB(clamp(nits / 100 · 2<sup>EV</sup>, 0, "
+           "1)) (clip): 100 nits is SDR white at 0 EV; tone map: x / (1 + x); false colour: "
+           "VisualizeHDR's Colorize of the histogram position; PQ signal: ST 2084 codes as grey. "
+           "NaN pixels magenta, infinite pixels cyan.</p>\n";
       h += "<div id=\"panels\" class=\"panels\">\n";
       auto panel = [&](const std::string& key, const std::string& label, bool present) {
         if (!present) return;
@@ -686,16 +758,20 @@ struct Builder {
                             : "The pixel probe needs the float data, not written for this case.") +
            "</p><table id=\"probe-table\" hidden><thead><tr><th id=\"probe-xy\"></th><th>R</th><th>"
            "G</th><th>B</th><th>A</th></tr></thead><tbody></tbody></table></div>\n";
-      h += "<p class=\"links\">Full-precision EXRs: ";
+      // The report links nothing outside report/ (it is uploaded alone); the EXRs are named.
+      h += "<p class=\"links\">Full-precision EXRs in the run's output folder (beside report/): ";
       for (int i = 0; i < 3; ++i)
         if (c.has[i])
-          h += "<a href=\"../../cases/" + url_path_escape(c.id) + "/" + kImageNames[i] + ".exr\">" +
-               kImageNames[i] + ".exr</a> ";
+          h += "<code>" + html_escape(case_image_dir_of(c.id)) + "/" + kImageNames[i] +
+               ".exr</code> ";
       h += "</p>\n";
     }
     if (!c.error.empty()) h += "<pre class=\"warning\">" + html_escape(c.error) + "</pre>\n";
     h += "</section>\n";
 
+    if (c.px)
+      h += "<section id=\"plots\"><h2>Plots</h2><div class=\"toolbar\"><label>ramp row <select "
+           "id=\"plot-row\"></select></label></div><div id=\"plots-body\"></div></section>\n";
     if (c.lut_size > 0)
       h += "<section id=\"lut\"><h2>LUT slices</h2><p>The " + std::to_string(c.lut_size) +
            "³ LUT, one blue slice at a time (r across, g down), and the error per lattice point "
@@ -837,13 +913,16 @@ struct Builder {
     h += "<a class=\"count tighten\" href=\"cases.html#verdict=TIGHTEN\"><b id=\"count-TIGHTEN\">" +
          std::to_string(tighten) + "</b> could be tightened</a></div>\n";
 
+    h += goldens_section(doc);
+
     // Worst cases: failures and errors first, then by budget used.
     std::vector<const CaseView*> worst;
     for (const auto& c : cases)
-      if (c.verdict == "FAIL" || c.verdict == "ERROR" || (c.budget && *c.budget > 0))
+      if (c.verdict == "FAIL" || c.verdict == "MISSING" || c.verdict == "ERROR" ||
+          (c.budget && *c.budget > 0))
         worst.push_back(&c);
     auto rank = [](const CaseView* c) {
-      return c->verdict == "FAIL" ? 0 : c->verdict == "ERROR" ? 1 : 2;
+      return c->verdict == "FAIL" || c->verdict == "MISSING" ? 0 : c->verdict == "ERROR" ? 1 : 2;
     };
     std::stable_sort(worst.begin(), worst.end(), [&](const CaseView* a, const CaseView* b) {
       if (rank(a) != rank(b)) return rank(a) < rank(b);
@@ -883,9 +962,9 @@ struct Builder {
          [](const CaseView& c) { return c.near_miss; });
     list("Could be tightened", "could-be-tightened", [](const CaseView& c) { return c.tighten; });
     h += "<h2>Run</h2>\n" + metadata_table(doc);
-    h += "<p class=\"links\"><a href=\"../results.json\">results.json</a> · <a "
-         "href=\"../junit.xml\">junit.xml</a> · <a href=\"matrix.html\">cvar matrix</a> · <a "
-         "href=\"cases.html\">all cases</a></p>\n";
+    h += "<p class=\"links\"><a href=\"matrix.html\">cvar matrix</a> · <a "
+         "href=\"cases.html\">all cases</a> · results.json and junit.xml are beside report/ in the "
+         "run's output folder</p>\n";
     return h + page_tail("", {});
   }
 
@@ -1041,7 +1120,7 @@ Result<report::ReportInfo> write_report(const std::string& results_dir) {
     c.warnings = warnings_of(j);
     c.tighten = truthy(get(j, {"could_be_tightened"}));
     c.tol = tolerance_of(j);
-    c.budget = budget_used(j, c.tol);
+    c.budget = budget_used(j);
     const json* nm = get(j, {"near_miss"});
     c.near_miss = nm ? truthy(nm)
                      : c.verdict == "PASS" && c.budget && *c.budget > kNearMiss && *c.budget <= 1;
@@ -1064,6 +1143,11 @@ Result<report::ReportInfo> write_report(const std::string& results_dir) {
     tol["rel_floor"] = c.tol.rel_floor;
     c.meta["tol"] = tol;
     c.meta["lut_size"] = c.lut_size;
+    if (const json* wp = get(*c.j, {"worst_pixel"}); wp && wp->is_object()) {
+      auto x = num(get(*wp, {"x"})), y = num(get(*wp, {"y"}));
+      if (x && y) c.meta["worst"] = {{"x", *x}, {"y", *y}};
+    }
+    c.meta["input"] = text(get(*c.j, {"input"}));
     c.meta["px"] = c.px;
     if (Status s = b.put(fs::path("c") / (c.slug + ".html"), b.case_page(c)); !s) return s.error();
   }

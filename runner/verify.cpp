@@ -359,6 +359,7 @@ int run_suite(std::vector<Case> cases, const std::vector<KnownLimit>& limits,
   sigaction(SIGINT, &old, nullptr);
   report.command = options.command;
   report.shard = options.shard;
+  report.provenance = options.provenance;
   if (!report.candidate_unavailable.empty())
     std::printf("candidate unavailable: %s\n", report.candidate_unavailable.c_str());
   if (Status st = write_run_outputs(report, options.out_dir); !st) {
