@@ -173,9 +173,10 @@ TEST(CliShard, TimingsBalanceTheShards) {
   EXPECT_EQ(seen, std::multiset<std::string>(all.begin(), all.end()));
   const double hi = *std::max_element(load.begin(), load.end());
   const double lo = *std::min_element(load.begin(), load.end());
-  // The 10 s case alone on its shard; the 1 s cases split over the other two.
-  EXPECT_DOUBLE_EQ(hi, 10.0);
-  EXPECT_LE(std::abs(load[0] + load[1] + load[2] - hi - 2 * lo), 1.0 + 1e-9);
+  // Greedy: the 10 s case first, the 1 s cases after it each to the least loaded shard, so the
+  // loads end within one 1 s case of each other (an index split leaves the 10 s case's shard
+  // about 9 s over the others).
+  EXPECT_LE(hi - lo, 1.0 + 1e-9) << load[0] << " " << load[1] << " " << load[2];
   EXPECT_EQ(run("list --shard 1/3 --timings " + (root / "nope.json").string()).code, 2);
   fs::remove_all(root);
 }
