@@ -15,6 +15,7 @@
 #include "core/cvars.h"
 #include "core/settings.h"
 #include "core/stage.h"
+#include "reference/color/st2084.h"
 #include "reference/ue_cpp/resolve.h"
 #include "reference/visualize/histogram.h"
 #include "report/assets.h"
@@ -290,6 +291,18 @@ std::optional<double> linear_scale(const OutputEncoding& e) {
   return k;
 }
 
+// When to_nits is k · ST 2084 EOTF(v) (PQ outputs), the script is sent k and decodes the PQ
+// signal itself (assets/report.js: nitsFromPq), instead of a second array. Checked numerically.
+std::optional<double> pq_scale(const OutputEncoding& e) {
+  const double k = e.to_nits(1.0) / ref::st2084::nits_from_pq(1.0);
+  if (!std::isfinite(k) || k <= 0) return std::nullopt;
+  for (double v : {0.0, 1e-4, 0.01, 0.1, 0.3, 0.5081, 0.58, 0.75, 0.9, 0.999}) {
+    const double want = k * ref::st2084::nits_from_pq(v), got = e.to_nits(v);
+    if (!(std::fabs(got - want) <= 1e-9 * std::fmax(1e-12, std::fabs(want)))) return std::nullopt;
+  }
+  return k;
+}
+
 Image nits_image(const Image& img, const OutputEncoding& e) {
   Image out = img;
   for (size_t i = 0; i < img.pixel_count(); ++i)
@@ -362,7 +375,7 @@ std::string kv_table(const json* obj, const std::string& id, const std::string& 
   if (!obj || !obj->is_object() || obj->empty()) return "<p class=\"muted\">" + empty + "</p>\n";
   std::string h = "<table class=\"kv\" id=\"" + id + "\"><tbody>\n";
   for (const auto& [k, v] : obj->items())
-    h += "<tr><th>" + html_escape(k) + "</th><td class=\"mono\">" + esc_text(&v) + "</td></tr>\n";
+    h += "<tr><th>" + html_escape(k) + "</th><td>" + esc_text(&v) + "</td></tr>\n";
   return h + "</tbody></table>\n";
 }
 
@@ -419,7 +432,9 @@ std::string stats_table(const json* obj, const std::string& id, const std::strin
       for (const auto& [k, p] : cells)
         if (k == c) v = p;
       const auto n = num(v);
-      h += n ? "<td class=\"num\">" + fmt(n) + "</td>" : "<td>" + esc_text(v) + "</td>";
+      // Numbers right-aligned by the stylesheet (table.stats td): no class per cell, as these
+      // tables are most of a case page's bytes.
+      h += "<td>" + (n ? fmt(n) : esc_text(v)) + "</td>";
     }
     h += "</tr>\n";
   }
@@ -454,6 +469,26 @@ std::string pixel_rows(const json& c) {
     h += "<td><button type=\"button\" class=\"goto\">probe</button></td></tr>\n";
   }
   return h;
+}
+
+// The cvars with UE's names beside the device and gamut numbers (HDRHelper.h:
+// EDisplayOutputFormat, EDisplayColorGamut); mirrored in assets/report.js (VALUE_NAMES).
+json named_cvars(const json* cvars) {
+  static const std::map<std::string, std::vector<const char*>> kNames = {
+      {"r.HDR.Display.OutputDevice",
+       {"SDR sRGB", "SDR Rec.709", "SDR explicit gamma", "HDR ACES 1000-nit ST 2084",
+        "HDR ACES 2000-nit ST 2084", "HDR ACES 1000-nit scRGB", "HDR ACES 2000-nit scRGB",
+        "HDR LinearEXR", "HDR LinearNoToneCurve", "HDR LinearWithToneCurve"}},
+      {"r.HDR.Display.ColorGamut",
+       {"Rec.709 / sRGB D65", "DCI-P3 D65", "Rec.2020 D65", "ACES AP0 D60", "ACEScg AP1 D60"}}};
+  if (!cvars || !cvars->is_object()) return json();
+  json out = *cvars;
+  for (const auto& [k, names] : kNames) {
+    auto v = num(get(*cvars, {k}));
+    if (v && *v >= 0 && *v < static_cast<double>(names.size()) && *v == std::floor(*v))
+      out[k] = text(get(*cvars, {k})) + " (" + names[static_cast<size_t>(*v)] + ")";
+  }
+  return out;
 }
 
 std::string case_image_dir_of(const std::string& id) {
@@ -637,7 +672,7 @@ struct Builder {
     if (c.width * static_cast<size_t>(c.height) <= kMaxPxData) {
       json px = {{"w", c.width},
                  {"h", c.height},
-                 {"packing", "float32 byte planes, deflate, base64"},
+                 {"packing", "float32 byte planes (nits16: float16), deflate, base64"},
                  {"images", json::object()}};
       for (int i = 0; i < 3; ++i) {
         if (!c.has[i]) continue;
@@ -650,8 +685,10 @@ struct Builder {
         im["v"] = float32_packed_base64(img[i], const_a ? 3 : 4);
         if (auto k = linear_scale(e))
           im["scale"] = *k;
+        else if (auto q = pq_scale(e))
+          im["pq_scale"] = *q;
         else
-          im["nits"] = float32_packed_base64(nits_image(img[i], e), 3);
+          im["nits16"] = float16_packed_base64(nits_image(img[i], e), 3);
         px["images"][kImageNames[i]] = std::move(im);
       }
       c.px = true;
@@ -862,7 +899,8 @@ struct Builder {
     h += "<tr><th>size</th><td>" +
          (c.width ? std::to_string(c.width) + " × " + std::to_string(c.height) : "—") +
          "</td></tr></tbody></table>\n";
-    h += "<h3>Cvars</h3>" + kv_table(get(j, {"cvars"}), "cvars", "none set (UE defaults)");
+    const json named = named_cvars(get(j, {"cvars"}));
+    h += "<h3>Cvars</h3>" + kv_table(&named, "cvars", "none set (UE defaults)");
     h += "<h3>Settings</h3>" + kv_table(get(j, {"settings"}), "settings", "none set (UE defaults)");
     const json* resolved = get(j, {"resolved"});
     if (!resolved) resolved = get(j, {"params"});

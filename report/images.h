@@ -90,6 +90,10 @@ std::string float32_base64(const Image& img, int channels);
 // values exactly. "" if deflate fails.
 std::string float32_packed_base64(const Image& img, int channels);
 
+// The same for IEEE half floats (2 byte planes): for derived display data (nits), where 11
+// significant bits are plenty and the size halves. Rounds to nearest (Imath's half).
+std::string float16_packed_base64(const Image& img, int channels);
+
 // Whether every alpha value of `img` equals `*value` (set from the first pixel).
 bool constant_alpha(const Image& img, double* value);
 

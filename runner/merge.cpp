@@ -209,7 +209,7 @@ int merge_runs(const std::string& out_dir, const std::vector<std::string>& shard
   const int code = exit_code_of(doc);
   doc["summary"]["exit_code"] = code;
 
-  Status st = write_file_atomic(out_dir + "/results.json", doc.dump(2) + "\n");
+  Status st = write_file_atomic(out_dir + "/results.json", doc.dump() + "\n");
   if (st) st = write_file_atomic(out_dir + "/junit.xml", junit_from_results(doc));
   if (!st) return refuse(st.error().to_string());
   auto report = write_report(out_dir);

@@ -227,7 +227,7 @@ std::string results_json(const RunReport& r) {
         {"exit_code", r.exit_code()}}},
       {"cases", cases},
   };
-  return doc.dump(2) + "\n";
+  return doc.dump() + "\n";
 }
 
 namespace {
@@ -462,7 +462,7 @@ int finish_run_outputs(const std::string& out_dir, int code, bool goldens_checke
     }
   (*doc)["summary"]["exit_code"] = code;
   Status s = apply_image_policy(*doc, out_dir, images);
-  if (s) s = write_file_atomic(out_dir + "/results.json", doc->dump(2) + "\n");
+  if (s) s = write_file_atomic(out_dir + "/results.json", doc->dump() + "\n");
   if (s) s = write_file_atomic(out_dir + "/junit.xml", junit_from_results(*doc));
   if (s) {
     auto report = write_report(out_dir);

@@ -10,6 +10,7 @@
 
 namespace hdrc {
 
+// results.json is written compact (one line): half the size of an indented one.
 std::string results_json(const RunReport& r);
 std::string junit_xml(const RunReport& r);  // junit_from_results(results_json(r))
 

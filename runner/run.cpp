@@ -86,24 +86,29 @@ ShardTimings& shard_timings() {
 }  // namespace
 
 double static_case_cost(const Case& c) {
-  // Seconds per case ≈ fixed + per-pixel cost of the stage, fitted to a default-suite run (
-  // reference + lavapipe + diff, -j 1; docs in README "Sharding"). Unknown stages count as tonemap.
+  // Seconds per case ≈ fixed + per-megapixel cost of its stage (reference + lavapipe + diff),
+  // fitted to a run of 92 default-suite cases (tonemap/tonemap, lut/storage, visualize, ui; -j 2):
+  // tonemap bakes its LUT (≈ 0.35 s whatever the image), VisualizeHDR builds its histogram
+  // (≈ 0.7 s), CombineLUTs costs ≈ 20 s per million lattice points; shaper, linear_device and
+  // dither are small images through short shaders. Only the ratios matter for the balance.
   struct Cost {
     const char* stage;
     double fixed, per_mpixel;
   };
   static constexpr Cost kCosts[] = {
-      {"shaper", 0.004, 1.6},        {"linear_device", 0.004, 1.8}, {"combine_luts", 0.010, 3.2},
-      {"tonemap", 0.012, 5.5},       {"dither", 0.004, 1.2},        {"ui_composite", 0.006, 2.4},
-      {"visualize_hdr", 0.020, 6.0},
+      {"shaper", 0.02, 2.0},       {"linear_device", 0.02, 2.0}, {"combine_luts", 0.05, 20.0},
+      {"tonemap", 0.35, 5.0},      {"dither", 0.05, 5.0},        {"ui_composite", 0.015, 2.0},
+      {"visualize_hdr", 0.7, 2.0},
   };
   const std::string stage = c.stage ? std::string(c.stage->name) : "";
-  Cost cost = kCosts[3];
+  Cost cost = kCosts[3];  // an unknown stage counts as tonemap
   for (const Cost& k : kCosts)
     if (stage == k.stage) cost = k;
-  // combine_luts renders the lattice (size³ points); the input spec is its LUT size.
-  const double pixels =
-      static_cast<double>(std::max(1, c.input.width)) * std::max(1, c.input.height);
+  double pixels = static_cast<double>(std::max(1, c.input.width)) * std::max(1, c.input.height);
+  if (stage == "combine_luts") {  // the lattice: r.LUT.Size³ points
+    const double n = std::clamp(c.cvars.get("r.LUT.Size"), 1.0, 256.0);
+    pixels = n * n * n;
+  }
   return cost.fixed + cost.per_mpixel * pixels * 1e-6;
 }
 

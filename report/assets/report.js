@@ -75,6 +75,19 @@ function pct(b) {
   b = toNumber(b);
   return b === undefined ? '—' : fmt(b * 100, 3) + ' %';
 }
+// UE's names of the device and gamut enums (HDRHelper.h: EDisplayOutputFormat,
+// EDisplayColorGamut), shown beside the numbers everywhere a value is displayed.
+const VALUE_NAMES = {
+  'r.HDR.Display.OutputDevice': ['SDR sRGB', 'SDR Rec.709', 'SDR explicit gamma', 'HDR ACES 1000-nit ST 2084',
+    'HDR ACES 2000-nit ST 2084', 'HDR ACES 1000-nit scRGB', 'HDR ACES 2000-nit scRGB', 'HDR LinearEXR',
+    'HDR LinearNoToneCurve', 'HDR LinearWithToneCurve'],
+  'r.HDR.Display.ColorGamut': ['Rec.709 / sRGB D65', 'DCI-P3 D65', 'Rec.2020 D65', 'ACES AP0 D60', 'ACEScg AP1 D60'],
+};
+function valueLabel(dim, v) {
+  const names = VALUE_NAMES[dim];
+  const n = names && /^\d+$/.test(String(v)) ? names[Number(v)] : undefined;
+  return n ? v + ' (' + n + ')' : String(v);
+}
 function cvarValue(c, dim) {
   if (dim === 'stage') return c.stage;
   if (dim.startsWith('setting:')) {
@@ -161,6 +174,13 @@ function pqFromNits(n) {
   const lm = Math.pow(n / 10000, PQ_M1);
   return Math.pow((PQ_C1 + PQ_C2 * lm) / (1 + PQ_C3 * lm), PQ_M2);
 }
+// ST 2084 EOTF: PQ signal → nits (reference/color/st2084.h: nits_from_pq).
+// The same expression (NaN below 0, extrapolated above 1), so the probe and the previews agree
+// with the C++ decoding exactly.
+function nitsFromPq(e) {
+  const p = Math.pow(e, 1 / PQ_M2);
+  return Math.pow(Math.max(p - PQ_C1, 0) / (PQ_C2 - PQ_C3 * p), 1 / PQ_M1) * 10000;
+}
 function pqSignal(n) {
   return pqFromNits(n > 0 ? Math.min(n, 10000) : 0);
 }
@@ -230,6 +250,23 @@ async function decodePacked(b64) {
   }
   return new Float32Array(bytes.buffer); // little-endian hosts (every browser we target)
 }
+// The same for half floats (nits16: 2 byte planes), decoded per IEEE 754 binary16.
+async function decodePackedHalf(b64) {
+  const bin = atob(b64);
+  const z = new Uint8Array(bin.length);
+  for (let i = 0; i < bin.length; i++) z[i] = bin.charCodeAt(i);
+  const stream = new Blob([z]).stream().pipeThrough(new DecompressionStream('deflate'));
+  const planes = new Uint8Array(await new Response(stream).arrayBuffer());
+  const n = planes.length / 2;
+  const out = new Float32Array(n);
+  for (let i = 0; i < n; i++) {
+    const u = planes[i] | (planes[n + i] << 8);
+    const sgn = u & 0x8000 ? -1 : 1, e = (u >> 10) & 31, m = u & 1023;
+    out[i] = e === 0 ? sgn * m * Math.pow(2, -24) : e === 31 ? (m ? NaN : sgn * Infinity) :
+      sgn * (1 + m / 1024) * Math.pow(2, e - 15);
+  }
+  return out;
+}
 class FloatImage {
   constructor(w, h, d, v, nits) {
     this.w = w;
@@ -239,18 +276,22 @@ class FloatImage {
     this.v = v;
     this.nitsArr = nits;
     this.scale = d.scale;
+    this.pqScale = d.pq_scale;
   }
   static async load(w, h, d) {
     const packed = !!HDRC.px.packing;
     const dec = packed ? decodePacked : async (b) => decodeF32(b);
-    return new FloatImage(w, h, d, await dec(d.v), d.nits ? await dec(d.nits) : null);
+    const nits = d.nits16 ? await decodePackedHalf(d.nits16) : d.nits ? await dec(d.nits) : null;
+    return new FloatImage(w, h, d, await dec(d.v), nits);
   }
   value(i, c) {
     if (c === 3 && this.ch === 3) return this.alpha;
     return this.v[i * this.ch + c];
   }
   nits(i, c) {
-    return this.nitsArr ? this.nitsArr[i * 3 + c] : this.v[i * this.ch + c] * this.scale;
+    if (this.nitsArr) return this.nitsArr[i * 3 + c];
+    const v = this.v[i * this.ch + c];
+    return this.pqScale !== undefined ? this.pqScale * nitsFromPq(v) : v * this.scale;
   }
 }
 
@@ -348,7 +389,7 @@ function initCases() {
     const s = $('#f-cvar-value');
     s.replaceChildren(el('option', { value: '', text: 'any' }));
     const name = $('#f-cvar').value;
-    if (name) for (const v of uniq((c) => cvarValue(c, name))) s.append(el('option', { value: v, text: v }));
+    if (name) for (const v of uniq((c) => cvarValue(c, name))) s.append(el('option', { value: v, text: valueLabel(name, v) }));
   };
   const h = parseHash();
   if (h.stage) $('#f-stage').value = h.stage;
@@ -516,11 +557,11 @@ function initMatrix() {
     };
     const table = el('table', { id: 'matrix-table' });
     const head = el('tr', {}, el('th', { class: 'corner', text: rd + ' ↓ / ' + (cd || '—') + ' →' }));
-    for (const v of colsV) head.append(el('th', { text: v }));
+    for (const v of colsV) head.append(el('th', { text: valueLabel(cd, v) }));
     table.append(el('thead', {}, head));
     const body = el('tbody');
     for (const rv of rowsV) {
-      const tr = el('tr', {}, el('th', { text: rv }));
+      const tr = el('tr', {}, el('th', { text: valueLabel(rd, rv) }));
       for (const cv of colsV) {
         const cs = grid.get(rv + '\u0000' + cv) || [];
         if (!cs.length) {
@@ -582,7 +623,7 @@ function initMatrix() {
   };
 
   const drill = (cs, rd, rv, cd, cv) => {
-    $('#cell-title').textContent = rd + ' = ' + rv + (cd ? ', ' + cd + ' = ' + cv : '') +
+    $('#cell-title').textContent = rd + ' = ' + valueLabel(rd, rv) + (cd ? ', ' + cd + ' = ' + valueLabel(cd, cv) : '') +
       ': ' + cs.length + ' case' + (cs.length === 1 ? '' : 's');
     const hash = [];
     if (stageSel.value) hash.push('stage=' + encodeURIComponent(stageSel.value));
@@ -1008,6 +1049,14 @@ async function initCase() {
         el('td', { text: fmt(itp, 6) }), el('td'), el('td'), el('td')));
       tb.append(el('tr', { 'data-row': 'nits' }, el('th', { text: 'reference nits' }),
         ...rn.map((v) => el('td', { text: fmt(v, 6) })), el('td')));
+      tb.append(el('tr', { 'data-row': 'cand-nits' }, el('th', { text: 'candidate nits' }),
+        ...cn.map((v) => el('td', { text: fmt(v, 6) })), el('td')));
+      // PQ code values (10-bit, of the Rec.2020 nits), the full RGB triplet of each side.
+      const pq10 = (n) => mul3(m2020, n).map((v) => (Number.isFinite(v) ? fmt(pqSignal(v) * 1023, 6) : 'NaN'));
+      tb.append(el('tr', { 'data-row': 'ref-pq' }, el('th', { text: 'reference PQ (10-bit codes)' }),
+        ...pq10(rn).map((v) => el('td', { text: v })), el('td')));
+      tb.append(el('tr', { 'data-row': 'cand-pq' }, el('th', { text: 'candidate PQ (10-bit codes)' }),
+        ...pq10(cn).map((v) => el('td', { text: v })), el('td')));
     }
     probeTable.hidden = false;
     $('#probe-hint').hidden = true;

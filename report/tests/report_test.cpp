@@ -281,6 +281,25 @@ TEST(ReportData, PackedFloatDataIsDeflatedBytePlanes) {
   ASSERT_EQ(n, 8u);
   const unsigned char want[8] = {0x00, 0x00, 0x00, 0x00, 0x80, 0x00, 0x3F, 0xC0};
   for (int i = 0; i < 8; ++i) EXPECT_EQ(out[i], want[i]) << i;
+  // Half floats (IEEE 754 binary16): 1.0 = 0x3C00, -2.0 = 0xC000; planes low bytes, high bytes.
+  const std::string h64 = float16_packed_base64(img, 1);
+  std::string hz;
+  acc = 0;
+  bits = 0;
+  for (char ch : h64) {
+    if (ch == '=') break;
+    acc = (acc << 6) | static_cast<uint32_t>(alphabet.find(ch));
+    bits += 6;
+    if (bits >= 8) {
+      bits -= 8;
+      hz += static_cast<char>((acc >> bits) & 0xFF);
+    }
+  }
+  n = sizeof out;
+  ASSERT_EQ(uncompress(out, &n, reinterpret_cast<const Bytef*>(hz.data()), hz.size()), Z_OK);
+  ASSERT_EQ(n, 4u);
+  const unsigned char want16[4] = {0x00, 0x00, 0x3C, 0xC0};
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(out[i], want16[i]) << i;
 }
 
 }  // namespace
