@@ -15,7 +15,9 @@
 #include "core/cvars.h"
 #include "core/settings.h"
 #include "core/stage.h"
+#include "reference/color/st2084.h"
 #include "reference/ue_cpp/resolve.h"
+#include "reference/visualize/histogram.h"
 #include "report/assets.h"
 #include "report/images.h"
 #include "runner/diff.h"
@@ -191,29 +193,11 @@ const json* metric_stats(const json& c, const std::string& key) {
   return nullptr;
 }
 
-std::optional<double> metric_max(const json& c, const std::string& key) {
-  if (const json* m = metric_stats(c, key)) return num(get(*m, {"max"}));
-  // Older results.json: flat metrics.max_rel / max_pq10.
-  static const std::map<std::string, std::string> flat = {{"linear_rel", "max_rel"},
-                                                          {"pq_code10", "max_pq10"},
-                                                          {"pq_code12", "max_pq12"},
-                                                          {"linear_abs", "max_abs"}};
-  if (auto it = flat.find(key); it != flat.end()) return num(get(c, {"metrics", it->second}));
-  return std::nullopt;
-}
-
-// The share of the budget used: the largest max/limit over judged metrics, computed from the
-// statistics and the tolerance; results.json's own figure when it is larger.
-std::optional<double> budget_used(const json& c, const TolView& t) {
-  std::optional<double> worst;
-  for (const auto& [k, lim] : t.max) {
-    auto m = metric_max(c, k);
-    if (!m) continue;
-    const double r = lim > 0 ? *m / lim : (*m > 0 ? INFINITY : 0.0);
-    if (!worst || !(r <= *worst)) worst = r;
-  }
-  if (auto v = num(get(c, {"budget_used"})); v && (!worst || !(*v <= *worst))) worst = v;
-  return worst;
+// The share of the budget used, as the runner computed it (results.json's budget_used,
+// runner/diff.h: budget_used): the report only displays it, so allowed fractions and hard caps
+// count exactly as they did for the verdict. Absent (null) when the case was not diffed.
+std::optional<double> budget_used(const json& c) {
+  return num(get(c, {"budget_used"}));
 }
 
 // The warnings list; a bare `warn` flag or string when there is none.
@@ -307,6 +291,18 @@ std::optional<double> linear_scale(const OutputEncoding& e) {
   return k;
 }
 
+// When to_nits is k · ST 2084 EOTF(v) (PQ outputs), the script is sent k and decodes the PQ
+// signal itself (assets/report.js: nitsFromPq), instead of a second array. Checked numerically.
+std::optional<double> pq_scale(const OutputEncoding& e) {
+  const double k = e.to_nits(1.0) / ref::st2084::nits_from_pq(1.0);
+  if (!std::isfinite(k) || k <= 0) return std::nullopt;
+  for (double v : {0.0, 1e-4, 0.01, 0.1, 0.3, 0.5081, 0.58, 0.75, 0.9, 0.999}) {
+    const double want = k * ref::st2084::nits_from_pq(v), got = e.to_nits(v);
+    if (!(std::fabs(got - want) <= 1e-9 * std::fmax(1e-12, std::fabs(want)))) return std::nullopt;
+  }
+  return k;
+}
+
 Image nits_image(const Image& img, const OutputEncoding& e) {
   Image out = img;
   for (size_t i = 0; i < img.pixel_count(); ++i)
@@ -379,7 +375,7 @@ std::string kv_table(const json* obj, const std::string& id, const std::string& 
   if (!obj || !obj->is_object() || obj->empty()) return "<p class=\"muted\">" + empty + "</p>\n";
   std::string h = "<table class=\"kv\" id=\"" + id + "\"><tbody>\n";
   for (const auto& [k, v] : obj->items())
-    h += "<tr><th>" + html_escape(k) + "</th><td class=\"mono\">" + esc_text(&v) + "</td></tr>\n";
+    h += "<tr><th>" + html_escape(k) + "</th><td>" + esc_text(&v) + "</td></tr>\n";
   return h + "</tbody></table>\n";
 }
 
@@ -436,7 +432,9 @@ std::string stats_table(const json* obj, const std::string& id, const std::strin
       for (const auto& [k, p] : cells)
         if (k == c) v = p;
       const auto n = num(v);
-      h += n ? "<td class=\"num\">" + fmt(n) + "</td>" : "<td>" + esc_text(v) + "</td>";
+      // Numbers right-aligned by the stylesheet (table.stats td): no class per cell, as these
+      // tables are most of a case page's bytes.
+      h += "<td>" + (n ? fmt(n) : esc_text(v)) + "</td>";
     }
     h += "</tr>\n";
   }
@@ -473,12 +471,59 @@ std::string pixel_rows(const json& c) {
   return h;
 }
 
+// The cvars with UE's names beside the device and gamut numbers (HDRHelper.h:
+// EDisplayOutputFormat, EDisplayColorGamut); mirrored in assets/report.js (VALUE_NAMES).
+json named_cvars(const json* cvars) {
+  static const std::map<std::string, std::vector<const char*>> kNames = {
+      {"r.HDR.Display.OutputDevice",
+       {"SDR sRGB", "SDR Rec.709", "SDR explicit gamma", "HDR ACES 1000-nit ST 2084",
+        "HDR ACES 2000-nit ST 2084", "HDR ACES 1000-nit scRGB", "HDR ACES 2000-nit scRGB",
+        "HDR LinearEXR", "HDR LinearNoToneCurve", "HDR LinearWithToneCurve"}},
+      {"r.HDR.Display.ColorGamut",
+       {"Rec.709 / sRGB D65", "DCI-P3 D65", "Rec.2020 D65", "ACES AP0 D60", "ACEScg AP1 D60"}}};
+  if (!cvars || !cvars->is_object()) return json();
+  json out = *cvars;
+  for (const auto& [k, names] : kNames) {
+    auto v = num(get(*cvars, {k}));
+    if (v && *v >= 0 && *v < static_cast<double>(names.size()) && *v == std::floor(*v))
+      out[k] = text(get(*cvars, {k})) + " (" + names[static_cast<size_t>(*v)] + ")";
+  }
+  return out;
+}
+
+std::string case_image_dir_of(const std::string& id) {
+  return "cases/" + id;
+}
+
+// A command that runs this one case again as the run did: the recorded command line without
+// the options that pick cases or outputs, then --filter '=<id>' (exact) and a fresh --out.
+std::string reproduce_command(const json& doc, const std::string& id) {
+  const json* prov = get(doc, {"provenance"});
+  std::string base = prov ? text(get(*prov, {"reproduce"})) : "—";
+  if (base == "—" || base.empty()) base = "hdrconform " + text(get(doc, {"command"}));
+  std::string q = "'";
+  for (char ch : "=" + id) q += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
+  return base + " --filter " + q + "' --out repro";
+}
+
 std::string metadata_table(const json& doc) {
   std::string h = "<table class=\"kv\" id=\"run-meta\"><tbody>\n";
   auto row = [&](const std::string& k, const std::string& v) {
     h += "<tr><th>" + html_escape(k) + "</th><td>" + html_escape(v) + "</td></tr>\n";
   };
-  row("commit", text(get(doc, {"commit"})));
+  const json* prov = get(doc, {"provenance"});
+  auto p = [&](const char* k) { return text(prov ? get(*prov, {k}) : nullptr); };
+  row("commit", p("commit"));
+  row("command line", p("command_line"));
+  row("working directory", p("cwd"));
+  row("shader directory",
+      p("shader_dir") + (p("shader_hash").size() > 12
+                             ? " (sha256 " + p("shader_hash").substr(0, 16) + "…)"
+                             : ""));
+  row("build", p("build_type") + ", " + p("compiler"));
+  row("suite", p("suite_cases") + " cases, fingerprint " + p("suite_fingerprint").substr(0, 16));
+  row("shard plan", p("shard_plan"));
+  row("images kept", p("images"));
   row("candidate engine", text(get(doc, {"candidate", "engine"})));
   row("candidate device", text(get(doc, {"candidate", "device"})));
   row("driver", text(get(doc, {"candidate", "driver"})));
@@ -489,6 +534,13 @@ std::string metadata_table(const json& doc) {
   row("command", text(get(doc, {"command"})));
   row("jobs", text(get(doc, {"jobs"})));
   row("shard", text(get(doc, {"shard"})));
+  if (const json* m = get(doc, {"merged_from"}); m && m->is_array()) {
+    std::string shards;
+    for (const auto& e : *m)
+      shards += (shards.empty() ? "" : "; ") + text(get(e, {"shard"})) + " " +
+                text(get(e, {"dir"})) + " (" + fmt(num(get(e, {"wall_seconds"})), "%.1f") + " s)";
+    row("merged from", shards);
+  }
   if (truthy(get(doc, {"interrupted"}))) row("interrupted", "yes: cases not started are NOT_RUN");
   if (truthy(get(doc, {"candidate_unavailable"})))
     row("candidate unavailable", text(get(doc, {"candidate_unavailable"})));
@@ -505,6 +557,34 @@ std::string metadata_table(const json& doc) {
       row("declared by the candidate (" + text(get(doc, {"candidate_limits", "file"})) + ")",
           text(get(l, {"cases"})) + ": " + text(get(l, {"reason"})));
   return h + "</tbody></table>\n";
+}
+
+// The golden check of the reference (results.json "goldens", runner/results.h:
+// record_golden_results): counts, and every missing, stale or regressed golden with its message.
+std::string goldens_section(const json& doc) {
+  const json* g = get(doc, {"goldens"});
+  if (!g || !g->is_object()) return "";
+  const auto failed = num(get(*g, {"failed"})).value_or(0);
+  std::string h =
+      "<h2 id=\"goldens\">Goldens</h2>\n<p id=\"goldens-summary\" class=\"" +
+      std::string(failed > 0 ? "warning" : "muted") + "\">The reference's outputs against " +
+      esc_text(get(*g, {"dir"})) + " (reference " + esc_text(get(*g, {"reference_version"})) +
+      "): " + esc_text(get(*g, {"checked"})) + " checked, " + esc_text(get(*g, {"match"})) +
+      " match, " + esc_text(get(*g, {"missing"})) + " missing, " + esc_text(get(*g, {"stale"})) +
+      " stale, " + esc_text(get(*g, {"regression"})) + " regressions.</p>\n";
+  std::string rows;
+  if (const json* cs = get(*g, {"cases"}); cs && cs->is_array())
+    for (const auto& e : *cs) {
+      if (text(get(e, {"outcome"})) == "match") continue;
+      rows += "<tr><td><span class=\"badge v-fail\">GOLDEN " + esc_text(get(e, {"outcome"})) +
+              "</span></td><td><code>" + esc_text(get(e, {"id"})) +
+              "</code></td><td class=\"reason\">" + esc_text(get(e, {"message"})) + "</td></tr>\n";
+    }
+  if (!rows.empty())
+    h += "<table class=\"cases\" id=\"golden-failures\"><thead><tr><th>outcome</th><th>case</th>"
+         "<th>what differs, and the command if intended</th></tr></thead><tbody>\n" +
+         rows + "</tbody></table>\n";
+  return h;
 }
 
 }  // namespace
@@ -574,7 +654,10 @@ struct Builder {
     for (int i = 0; i < 3; ++i) {
       if (!c.has[i]) continue;
       const OutputEncoding& e = (i == 0 && input_scene_linear) ? scene : *enc;
-      prev[i] = preview(img[i], e, false);
+      // Outputs in their gamut, converted to the display's; the input (working colour space,
+      // Rec.709 primaries by default) as it is.
+      const ref::Mat3 to_display = output_to_display(*enc);
+      prev[i] = preview(img[i], e, false, 0, i == 0 && input_scene_linear ? nullptr : &to_display);
       if (Status s = put_png(dir / (std::string(kImageNames[i]) + ".png"), prev[i]); !s) return s;
     }
     const int main = c.has[2] ? 2 : c.has[1] ? 1 : 0;
@@ -599,7 +682,10 @@ struct Builder {
     // left out (the PNGs still show); no case of the suite comes near that.
     const size_t kMaxPxData = size_t{1} << 22;
     if (c.width * static_cast<size_t>(c.height) <= kMaxPxData) {
-      json px = {{"w", c.width}, {"h", c.height}, {"images", json::object()}};
+      json px = {{"w", c.width},
+                 {"h", c.height},
+                 {"packing", "float32 byte planes (nits16: float16), deflate, base64"},
+                 {"images", json::object()}};
       for (int i = 0; i < 3; ++i) {
         if (!c.has[i]) continue;
         const OutputEncoding& e = (i == 0 && input_scene_linear) ? scene : *enc;
@@ -608,11 +694,13 @@ struct Builder {
         const bool const_a = constant_alpha(img[i], &a);
         im["ch"] = const_a ? 3 : 4;
         if (const_a) im["alpha"] = a;
-        im["v"] = float32_base64(img[i], const_a ? 3 : 4);
+        im["v"] = float32_packed_base64(img[i], const_a ? 3 : 4);
         if (auto k = linear_scale(e))
           im["scale"] = *k;
+        else if (auto q = pq_scale(e))
+          im["pq_scale"] = *q;
         else
-          im["nits"] = float32_base64(nits_image(img[i], e), 3);
+          im["nits16"] = float16_packed_base64(nits_image(img[i], e), 3);
         px["images"][kImageNames[i]] = std::move(im);
       }
       c.px = true;
@@ -625,6 +713,15 @@ struct Builder {
     for (int r = 0; r < 3; ++r)
       for (int k = 0; k < 3; ++k) m.push_back(enc->to_rec2020(r, k));
     c.meta["to_rec2020"] = m;
+    const ref::Mat3 disp = output_to_display(*enc);
+    c.meta["to_display"] = json(disp.m);
+    // VisualizeHDR's false colour (reference/visualize/histogram.h): Colorize of the histogram
+    // position of log2(max(mean RGB, LuminanceMin)), default eye adaptation (extended range).
+    const auto eye =
+        ref::visualize::compute_eye_adaptation_parameters(ref::visualize::default_settings(true));
+    c.meta["false_colour"] = {{"scale", eye.histogram_scale},
+                              {"bias", eye.histogram_bias},
+                              {"luminance_min", eye.luminance_min}};
     c.meta["input_encoding"] = input_scene_linear ? "scene-linear x 100 nits" : enc->describe();
     if (enc->stage == StageId::kCombineLuts && c.height > 0 && c.width == c.height * c.height)
       c.lut_size = c.height;
@@ -642,7 +739,10 @@ struct Builder {
       h += "<p class=\"warning\">warning: " + html_escape(w) + "</p>\n";
     if (c.budget)
       h += "<p>Budget used: <b id=\"budget\">" + fmt(*c.budget * 100.0, "%.3g") +
-           " %</b> of the tightest judged metric.</p>\n";
+           " %</b> of the tolerance (the runner's figure: the largest share any limit uses).</p>\n";
+    h += "<p class=\"repro\">Reproduce: <code id=\"repro-cmd\">" +
+         html_escape(reproduce_command(doc, c.id)) +
+         "</code> <button type=\"button\" id=\"repro-copy\">copy</button></p>\n";
 
     h += "<section id=\"images\"><h2>Images</h2>\n";
     if (!c.has[0] && !c.has[1] && !c.has[2]) {
@@ -651,7 +751,11 @@ struct Builder {
       h += "<div class=\"toolbar\">"
            "<label>View <select id=\"view-mode\"><option value=\"side\">side by side</option>"
            "<option value=\"flip\">A/B flip</option><option value=\"slider\">slider</option>"
-           "</select></label>"
+           "<option value=\"diff\">diff</option></select></label>"
+           "<label>Display <select id=\"display-mode\"><option value=\"clip\">clip</option>"
+           "<option value=\"tonemap\">tone map</option><option value=\"falsecolour\">"
+           "VisualizeHDR false colour</option><option value=\"pq\">PQ signal</option>"
+           "<option value=\"hdr\">HDR (PQ)</option></select></label>"
            "<label>A <select id=\"view-a\"></select></label><label>B <select id=\"view-b\">"
            "</select></label>"
            "<label>Exposure <input type=\"range\" id=\"exposure\" min=\"-12\" max=\"12\" "
@@ -662,11 +766,16 @@ struct Builder {
            "<label>Zoom <select id=\"zoom\"><option value=\"0\">fit</option><option value=\"1\">1×"
            "</option><option value=\"2\">2×</option><option value=\"4\">4×</option><option "
            "value=\"8\">8×</option></select></label></div>\n";
+      h += "<p class=\"mapping\" id=\"hdr-status\"></p>\n";
       h += "<p class=\"mapping\">SDR preview: each value decoded to nits (output: " +
            html_escape(c.meta.value("encoding", std::string("—"))) +
            "; input: " + html_escape(c.meta.value("input_encoding", std::string("—"))) +
-           "), shown as sRGB(clamp(nits / 100 · 2<sup>EV</sup>, 0, 1)): 100 nits is SDR white at "
-           "0 EV. NaN pixels magenta, infinite pixels cyan.</p>\n";
+           "), converted from the output gamut (" +
+           html_escape(c.meta.value("gamut", std::string("—"))) +
+           ") to the display's sRGB primaries, shown as sRGB(clamp(nits / 100 · 2<sup>EV</sup>, 0, "
+           "1)) (clip): 100 nits is SDR white at 0 EV; tone map: x / (1 + x); false colour: "
+           "VisualizeHDR's Colorize of the histogram position; PQ signal: ST 2084 codes as grey. "
+           "NaN pixels magenta, infinite pixels cyan.</p>\n";
       h += "<div id=\"panels\" class=\"panels\">\n";
       auto panel = [&](const std::string& key, const std::string& label, bool present) {
         if (!present) return;
@@ -698,16 +807,20 @@ struct Builder {
                             : "The pixel probe needs the float data, not written for this case.") +
            "</p><table id=\"probe-table\" hidden><thead><tr><th id=\"probe-xy\"></th><th>R</th><th>"
            "G</th><th>B</th><th>A</th></tr></thead><tbody></tbody></table></div>\n";
-      h += "<p class=\"links\">Full-precision EXRs: ";
+      // The report links nothing outside report/ (it is uploaded alone); the EXRs are named.
+      h += "<p class=\"links\">Full-precision EXRs in the run's output folder (beside report/): ";
       for (int i = 0; i < 3; ++i)
         if (c.has[i])
-          h += "<a href=\"../../cases/" + url_path_escape(c.id) + "/" + kImageNames[i] + ".exr\">" +
-               kImageNames[i] + ".exr</a> ";
+          h += "<code>" + html_escape(case_image_dir_of(c.id)) + "/" + kImageNames[i] +
+               ".exr</code> ";
       h += "</p>\n";
     }
     if (!c.error.empty()) h += "<pre class=\"warning\">" + html_escape(c.error) + "</pre>\n";
     h += "</section>\n";
 
+    if (c.px)
+      h += "<section id=\"plots\"><h2>Plots</h2><div class=\"toolbar\"><label>ramp row <select "
+           "id=\"plot-row\"></select></label></div><div id=\"plots-body\"></div></section>\n";
     if (c.lut_size > 0)
       h += "<section id=\"lut\"><h2>LUT slices</h2><p>The " + std::to_string(c.lut_size) +
            "³ LUT, one blue slice at a time (r across, g down), and the error per lattice point "
@@ -798,7 +911,8 @@ struct Builder {
     h += "<tr><th>size</th><td>" +
          (c.width ? std::to_string(c.width) + " × " + std::to_string(c.height) : "—") +
          "</td></tr></tbody></table>\n";
-    h += "<h3>Cvars</h3>" + kv_table(get(j, {"cvars"}), "cvars", "none set (UE defaults)");
+    const json named = named_cvars(get(j, {"cvars"}));
+    h += "<h3>Cvars</h3>" + kv_table(&named, "cvars", "none set (UE defaults)");
     h += "<h3>Settings</h3>" + kv_table(get(j, {"settings"}), "settings", "none set (UE defaults)");
     const json* resolved = get(j, {"resolved"});
     if (!resolved) resolved = get(j, {"params"});
@@ -849,13 +963,16 @@ struct Builder {
     h += "<a class=\"count tighten\" href=\"cases.html#verdict=TIGHTEN\"><b id=\"count-TIGHTEN\">" +
          std::to_string(tighten) + "</b> could be tightened</a></div>\n";
 
+    h += goldens_section(doc);
+
     // Worst cases: failures and errors first, then by budget used.
     std::vector<const CaseView*> worst;
     for (const auto& c : cases)
-      if (c.verdict == "FAIL" || c.verdict == "ERROR" || (c.budget && *c.budget > 0))
+      if (c.verdict == "FAIL" || c.verdict == "MISSING" || c.verdict == "ERROR" ||
+          (c.budget && *c.budget > 0))
         worst.push_back(&c);
     auto rank = [](const CaseView* c) {
-      return c->verdict == "FAIL" ? 0 : c->verdict == "ERROR" ? 1 : 2;
+      return c->verdict == "FAIL" || c->verdict == "MISSING" ? 0 : c->verdict == "ERROR" ? 1 : 2;
     };
     std::stable_sort(worst.begin(), worst.end(), [&](const CaseView* a, const CaseView* b) {
       if (rank(a) != rank(b)) return rank(a) < rank(b);
@@ -895,9 +1012,9 @@ struct Builder {
          [](const CaseView& c) { return c.near_miss; });
     list("Could be tightened", "could-be-tightened", [](const CaseView& c) { return c.tighten; });
     h += "<h2>Run</h2>\n" + metadata_table(doc);
-    h += "<p class=\"links\"><a href=\"../results.json\">results.json</a> · <a "
-         "href=\"../junit.xml\">junit.xml</a> · <a href=\"matrix.html\">cvar matrix</a> · <a "
-         "href=\"cases.html\">all cases</a></p>\n";
+    h += "<p class=\"links\"><a href=\"matrix.html\">cvar matrix</a> · <a "
+         "href=\"cases.html\">all cases</a> · results.json and junit.xml are beside report/ in the "
+         "run's output folder</p>\n";
     return h + page_tail("", {});
   }
 
@@ -1053,7 +1170,7 @@ Result<report::ReportInfo> write_report(const std::string& results_dir) {
     c.warnings = warnings_of(j);
     c.tighten = truthy(get(j, {"could_be_tightened"}));
     c.tol = tolerance_of(j);
-    c.budget = budget_used(j, c.tol);
+    c.budget = budget_used(j);
     const json* nm = get(j, {"near_miss"});
     c.near_miss = nm ? truthy(nm)
                      : c.verdict == "PASS" && c.budget && *c.budget > kNearMiss && *c.budget <= 1;
@@ -1076,6 +1193,11 @@ Result<report::ReportInfo> write_report(const std::string& results_dir) {
     tol["rel_floor"] = c.tol.rel_floor;
     c.meta["tol"] = tol;
     c.meta["lut_size"] = c.lut_size;
+    if (const json* wp = get(*c.j, {"worst_pixel"}); wp && wp->is_object()) {
+      auto x = num(get(*wp, {"x"})), y = num(get(*wp, {"y"}));
+      if (x && y) c.meta["worst"] = {{"x", *x}, {"y", *y}};
+    }
+    c.meta["input"] = text(get(*c.j, {"input"}));
     c.meta["px"] = c.px;
     if (Status s = b.put(fs::path("c") / (c.slug + ".html"), b.case_page(c)); !s) return s.error();
   }

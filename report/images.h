@@ -53,8 +53,16 @@ std::array<uint8_t, 3> heat_colour(double error, const HeatScale& scale);
 // The PQ signal difference · 1023 of two values under `enc` (runner/diff.cpp's metric).
 double pq10_error(const OutputEncoding& enc, double reference, double candidate);
 
-// SDR preview of `img` whose values are decoded to nits by `to_nits`.
-Rgb8 preview(const Image& img, const OutputEncoding& enc, bool scene_linear_input, double ev = 0);
+// SDR preview of `img` whose values are decoded to nits by `to_nits`; with `to_display`, each
+// pixel's nits are first converted from the image's gamut to the display's (Rec.709/sRGB
+// primaries, D65): a Rec.2020 or P3 output is shown in its true colours, not its raw triplets.
+Rgb8 preview(const Image& img, const OutputEncoding& enc, bool scene_linear_input, double ev = 0,
+             const ref::Mat3* to_display = nullptr);
+
+// The matrix from `enc`'s output gamut to the display (sRGB primaries): the standard BT.2020 →
+// BT.709 matrix from the primaries (reference/color/ue_matrices.h: standard::rgb_to_rgb, both
+// D65) · enc.to_rec2020.
+ref::Mat3 output_to_display(const OutputEncoding& enc);
 
 struct ErrorMaps {
   Rgb8 heat, heat_itp, mask;      // PQ 10-bit heatmap, ΔE_ITP heatmap, over-tolerance mask
@@ -75,6 +83,16 @@ Status write_png(const std::string& path, const Rgb8& img);
 
 // Base64 of the float32 (little-endian) values of the given channels of `img`.
 std::string float32_base64(const Image& img, int channels);
+
+// The float32 values of the given channels of `img`, packed for the case pages: byte planes (byte
+// 0 of every value, then byte 1, ...; little-endian), zlib-deflated (RFC 1950, what the page's
+// DecompressionStream('deflate') reads), then base64. Lossless: the probe shows the EXR's float32
+// values exactly. "" if deflate fails.
+std::string float32_packed_base64(const Image& img, int channels);
+
+// The same for IEEE half floats (2 byte planes): for derived display data (nits), where 11
+// significant bits are plenty and the size halves. Rounds to nearest (Imath's half).
+std::string float16_packed_base64(const Image& img, int channels);
 
 // Whether every alpha value of `img` equals `*value` (set from the first pixel).
 bool constant_alpha(const Image& img, double* value);

@@ -267,8 +267,8 @@ TEST(Cli, ShardsPartitionTheCaseList) {
     std::multiset<std::string> seen;
     for (int k = 1; k <= n; ++k) {
       const auto part = listed_ids("--shard " + std::to_string(k) + "/" + std::to_string(n));
-      EXPECT_GE(part.size(), all.size() / n) << k << "/" << n;  // balanced
-      EXPECT_LE(part.size(), all.size() / n + 1) << k << "/" << n;
+      // Balanced by cost (runner/run.h: select_shard; cli_report_test.cpp checks the balance).
+      EXPECT_FALSE(part.empty()) << k << "/" << n;
       seen.insert(part.begin(), part.end());
     }
     EXPECT_EQ(seen, std::multiset<std::string>(all.begin(), all.end())) << "N = " << n;

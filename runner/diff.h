@@ -133,8 +133,14 @@ struct Verdict {
   // Passed with every metric that has a max under 10 % of it (for an allowed fraction: the value
   // at that fraction): the tolerance could be tightened.
   bool could_be_tightened = false;
-  double budget_used = 0;  // the largest observed/max ratio over metrics with a max
+  double budget_used = 0;  // budget_used(stats, tol), failing cases included
 };
+
+// The share of the tolerance used, the one figure results.json and the report show: over every
+// metric with a max, observed / max (with an allowed fraction: the value that fraction may
+// exceed / max) and, where a hard cap is set, max / hard. Under 1 when every limit holds, over 1
+// when one fails; kNotJudged (+inf) for a non-finite mismatch or NaN statistics.
+double budget_used(const DiffStats& s, const Tolerance& tol);
 
 // Applies the tolerance: non-finite mismatches first, then per metric the hard cap and the
 // allowed fraction over max. Written so that NaN fails (`!(m <= tol)`). A case in which no finite

@@ -330,6 +330,38 @@ TEST(Diff, CouldBeTightenedAndNaNLimits) {
   EXPECT_FALSE(hdrc::judge(s, tol(kNaN, 1e-6, 10)).pass);
 }
 
+// Issue 14: budget_used is the one figure for "how much of the tolerance": with an allowed
+// fraction it is the value that fraction may exceed over max (not max/max, which read 1.91e+08 %
+// for a passing dither case), it is over 1 for every failing case, and the passing reason line
+// never claims "max <= limit" where max is over the limit.
+TEST(Diff, BudgetUsedHonoursAllowedFractionAndFailures) {
+  hdrc::Image in = grey(1000, 0.5), ref = grey(1000, 0.5), cand = grey(1000, 0.5);
+  cand.px(10, 0)[0] = 0.5 * 1.002;  // one value of 3000 at rel 2e-3 (0.033 %)
+  hdrc::Tolerance t = tol(1e-3, 1e-6, 100);
+  const int rel = static_cast<int>(Metric::kLinearRel);
+  t.allowed_fraction[rel] = 0.0005;  // 0.05 %: the allowed values may be over max
+  t.hard[rel] = 5e-3;
+  auto s = hdrc::diff_images(in, ref, cand, kShaper, t);
+  auto v = hdrc::judge(s, t);
+  ASSERT_TRUE(v.pass) << v.reason;
+  // Nearest rank 1 − 0.0005 of 3000 values is an exact 0; max/hard = 2e-3/5e-3 = 0.4 (by hand);
+  // the PQ metric (limit 100 codes) uses far less.
+  EXPECT_NEAR(v.budget_used, 0.4, 1e-3);
+  EXPECT_EQ(v.budget_used, hdrc::budget_used(s, t));
+  EXPECT_EQ(v.reason.find("0.002 <= 0.001"), std::string::npos) << v.reason;
+  EXPECT_NE(v.reason.find("% of values over 0.001"), std::string::npos) << v.reason;
+  // Failing: over 1, by max / limit = 2e-3 / 1e-3 = 2 (by hand).
+  hdrc::Tolerance strict = tol(1e-3, 1e-6, 100);
+  s = hdrc::diff_images(in, ref, cand, kShaper, strict);
+  v = hdrc::judge(s, strict);
+  ASSERT_FALSE(v.pass);
+  EXPECT_NEAR(v.budget_used, 2.0, 1e-3);
+  // A non-finite mismatch uses all of it.
+  cand.px(3, 0)[1] = kNaN;
+  s = hdrc::diff_images(in, ref, cand, kShaper, strict);
+  EXPECT_TRUE(std::isinf(hdrc::judge(s, strict).budget_used));
+}
+
 }  // namespace
 
 // The sign-boundary rule (docs/diff-metrics.md): where a NaN marks the power-law encoding of a

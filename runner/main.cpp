@@ -2,7 +2,9 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 
@@ -13,9 +15,12 @@
 #include "runner/coverage.h"
 #include "runner/export.h"
 #include "runner/goldens.h"
+#include "runner/merge.h"
 #include "runner/probe.h"
+#include "runner/provenance.h"
 #include "runner/results.h"
 #include "runner/run.h"
+#include "runner/selection.h"
 #include "runner/verify.h"
 
 #ifndef HDRC_SOURCE_CASES_DIR
@@ -38,8 +43,9 @@ constexpr const char* kExitCodes =
     "degenerate parameters (DEGENERATE) are reported with their reason and do not change the "
     "code.\n";
 
-int load_or_report(const std::string& dir, const std::string& filter, std::vector<hdrc::Case>* out,
-                   std::vector<hdrc::KnownLimit>* limits, const std::string& suite = "quick") {
+int load_or_report(const std::string& dir, const hdrc::CaseSelection& filter,
+                   std::vector<hdrc::Case>* out, std::vector<hdrc::KnownLimit>* limits,
+                   const std::string& suite = "quick") {
   hdrc::LoadedCases loaded = hdrc::load_cases(dir, suite);
   *limits = hdrc::load_known_limits(dir, &loaded.errors);
   if (!loaded.errors.empty()) {
@@ -47,11 +53,15 @@ int load_or_report(const std::string& dir, const std::string& filter, std::vecto
     std::fprintf(stderr, "%zu error(s) in case files; nothing was run\n", loaded.errors.size());
     return hdrc::kExitBadInput;
   }
-  for (auto& c : loaded.cases)
-    if (hdrc::matches_filter(c.id, filter)) out->push_back(std::move(c));
+  for (const auto& c : loaded.cases)
+    if (filter.matches(c.id)) out->push_back(c);
   if (out->empty()) {
-    std::fprintf(stderr, "error: no case matches --filter '%s' in %s\n", filter.c_str(),
-                 dir.c_str());
+    const std::string msg = hdrc::no_match_message(filter, loaded.cases, dir);
+    if (filter.rerun_ids && filter.rerun_ids->empty()) {  // nothing failed: nothing to rerun
+      std::printf("%s; nothing to rerun\n", msg.c_str());
+      return -1;
+    }
+    std::fprintf(stderr, "error: %s\n", msg.c_str());
     return hdrc::kExitBadInput;
   }
   return hdrc::kExitPass;
@@ -70,10 +80,31 @@ int main(int argc, char** argv) {
   std::string cases_dir = HDRC_SOURCE_CASES_DIR, filter, engine = "vulkan", out_dir = "out";
   hdrc::gpu::VulkanOptions vk;
 
+  // --filter: repeatable, comma-separated patterns (runner/selection.h); CLI11 joins repeats.
+  const std::string filter_help =
+      "only cases matching any pattern: a glob (* ? [) over the whole id, =ID exactly, else a "
+      "substring of the id; repeatable, comma-separated";
+  auto add_filter = [&](CLI::App* sub) {
+    sub->add_option("--filter", filter, filter_help)
+        ->multi_option_policy(CLI::MultiOptionPolicy::Join);
+  };
+  std::string rerun_failed, images = std::getenv("CI") ? "failing" : "all", timings;
+  const std::string images_help =
+      "case images kept in OUT/cases and shown in the report: failing (FAIL, ERROR, MISSING or a "
+      "failed golden), all, none (default: failing when CI is set, else all)";
+  const std::string timings_help =
+      "a results.json whose per-case seconds balance --shard (default: OUT/results.json when "
+      "present; without timings a static cost model); give every shard the same file";
+
   CLI::App* run = app.add_subcommand("run", "run cases on the reference and a candidate engine");
   run->footer(kExitCodes);
   run->add_option("--cases", cases_dir, "case directory")->capture_default_str();
-  run->add_option("--filter", filter, "only cases whose id matches this glob");
+  add_filter(run);
+  run->add_option("--rerun-failed", rerun_failed,
+                  "only the cases DIR/results.json lists as failed (FAIL, ERROR, MISSING, golden)");
+  run->add_option("--images", images, images_help)
+      ->check(CLI::IsMember({"failing", "all", "none"}));
+  run->add_option("--timings", timings, timings_help);
   run->add_option("--engine", engine, "candidate engine")
       ->check(CLI::IsMember({"vulkan", "reference"}))
       ->capture_default_str();
@@ -87,7 +118,8 @@ int main(int argc, char** argv) {
   std::string shard;
   const std::string jobs_help = "worker threads, each with its own engines (default: every core)";
   const std::string shard_help =
-      "run shard K of N (1-based): case i of the sorted list goes to shard (i mod N) + 1";
+      "run shard K of N (1-based): the cases are split into N parts of about equal cost (the "
+      "last run's seconds with --timings, else a static cost model), deterministically";
   run->add_option("-j,--jobs", jobs, jobs_help)->check(CLI::NonNegativeNumber);
   run->add_option("--shard", shard, shard_help);
 
@@ -130,7 +162,7 @@ int main(int argc, char** argv) {
       "removed");
   goldens_update->footer(kExitCodes);
   goldens_update->add_option("--cases", cases_dir, "case directory")->capture_default_str();
-  goldens_update->add_option("--filter", filter, "only cases whose id matches this glob");
+  add_filter(goldens_update);
   goldens_update->add_option("--goldens", goldens_dir,
                              "golden directory (default: the repository's goldens/)");
   goldens_update->add_option("-j,--jobs", jobs, jobs_help)->check(CLI::NonNegativeNumber);
@@ -138,9 +170,12 @@ int main(int argc, char** argv) {
   CLI::App* list = app.add_subcommand("list", "list the expanded case ids");
   list->footer(kExitCodes);
   list->add_option("--cases", cases_dir, "case directory")->capture_default_str();
-  list->add_option("--filter", filter, "only cases whose id matches this glob");
+  add_filter(list);
   list->add_option("--shard", shard, shard_help);
   list->add_option("--suite", suite_name, suite_help)->capture_default_str();
+  list->add_option("--timings", timings, timings_help);
+  bool list_long = false;
+  list->add_flag("--long", list_long, "each id with its stage and input");
 
   CLI::App* export_cmd = app.add_subcommand(
       "export",
@@ -148,8 +183,9 @@ int main(int argc, char** argv) {
       "shaders need) under DIR/cases/<case id>/, so another engine can render the same cases");
   export_cmd->footer(kExitCodes);
   export_cmd->add_option("--cases", cases_dir, "case directory")->capture_default_str();
-  export_cmd->add_option("--filter", filter, "only cases whose id matches this glob");
+  add_filter(export_cmd);
   export_cmd->add_option("--shard", shard, shard_help);
+  export_cmd->add_option("--timings", timings, timings_help);
   export_cmd->add_option("--out", out_dir, "output directory")->required();
 
   std::string candidate_dir, candidate_cmd;
@@ -170,7 +206,12 @@ int main(int argc, char** argv) {
           "runner/params.schema.json.\n") +
       kExitCodes);
   verify->add_option("--cases", cases_dir, "case directory")->capture_default_str();
-  verify->add_option("--filter", filter, "only cases whose id matches this glob");
+  add_filter(verify);
+  verify->add_option("--rerun-failed", rerun_failed,
+                     "only the cases DIR/results.json lists as failed (FAIL, ERROR, MISSING)");
+  verify->add_option("--images", images, images_help)
+      ->check(CLI::IsMember({"failing", "all", "none"}));
+  verify->add_option("--timings", timings, timings_help);
   verify->add_option("--out", out_dir, "output directory for results.json, junit.xml, report/")
       ->capture_default_str();
   verify->add_option("-j,--jobs", jobs, jobs_help)->check(CLI::NonNegativeNumber);
@@ -239,9 +280,28 @@ int main(int argc, char** argv) {
   report_cmd->add_option("RESULTS_DIR", report_dir, "a directory written by `hdrconform run --out`")
       ->required();
 
+  std::string merge_out;
+  std::vector<std::string> merge_dirs;
+  CLI::App* merge_cmd = app.add_subcommand(
+      "merge",
+      "merge the outputs of `run --shard K/N` (every K of one N, same suite and build) into one\n"
+      "results.json, junit.xml, case images and report in OUT, as one unsharded run writes them");
+  merge_cmd->footer(kExitCodes);
+  merge_cmd->add_option("OUT", merge_out, "output directory")->required();
+  merge_cmd->add_option("DIR", merge_dirs, "the shards' output directories")->required();
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
+    std::vector<std::string> names;
+    for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; }))
+      names.push_back(sub->get_name());
+    if (const std::string near = argc > 1 ? hdrc::closest_command(argv[1], names) : "";
+        !near.empty() && std::find(names.begin(), names.end(), argv[1]) == names.end()) {
+      std::fprintf(stderr, "error: unknown command '%s'; did you mean '%s'?\n", argv[1],
+                   near.c_str());
+      return hdrc::kExitBadInput;
+    }
     const int code = app.exit(e);
     return code == 0 ? hdrc::kExitPass : hdrc::kExitBadInput;
   }
@@ -293,6 +353,8 @@ int main(int argc, char** argv) {
     return hdrc::kExitPass;
   }
 
+  if (*merge_cmd) return hdrc::merge_runs(merge_out, merge_dirs);
+
   if (*probe) {
     std::ios::sync_with_stdio(false);  // buffered std::cin/std::cout: 1e6 lines in about a second
     if (hdrc::Status st = hdrc::run_probe(probe_opts, std::cin, std::cout); !st) {
@@ -304,9 +366,19 @@ int main(int argc, char** argv) {
 
   std::vector<hdrc::Case> cases;
   std::vector<hdrc::KnownLimit> limits;
-  if (int code = load_or_report(cases_dir, filter, &cases, &limits, suite_name);
+  auto selection = hdrc::make_selection(filter, rerun_failed);
+  if (!selection) {
+    std::fprintf(stderr, "error: --rerun-failed: %s\n", selection.error().to_string().c_str());
+    return hdrc::kExitBadInput;
+  }
+  if (int code = load_or_report(cases_dir, *selection, &cases, &limits, suite_name);
       code != hdrc::kExitPass)
-    return code;
+    return code < 0 ? hdrc::kExitPass : code;
+  // --shard's cost model: --timings, else the last run's results in --out (runner/run.h).
+  if (hdrc::Status st = hdrc::use_shard_timings(timings, out_dir); !st) {
+    std::fprintf(stderr, "error: --timings: %s\n", st.error().to_string().c_str());
+    return hdrc::kExitBadInput;
+  }
 
   // The golden directory, and the options `goldens update` needs to find the same cases again.
   namespace fs = std::filesystem;
@@ -365,8 +437,11 @@ int main(int argc, char** argv) {
 
   if (*list) {
     for (const auto& c : cases)
-      std::printf("%s  (%s, %s)\n", c.id.c_str(), std::string(c.stage->name).c_str(),
-                  c.input.describe().c_str());
+      if (list_long)
+        std::printf("%s  (%s, %s)\n", c.id.c_str(), std::string(c.stage->name).c_str(),
+                    c.input.describe().c_str());
+      else
+        std::printf("%s\n", c.id.c_str());
     return hdrc::kExitPass;
   }
 
@@ -382,7 +457,10 @@ int main(int argc, char** argv) {
   suite.cases_dir = cases_dir;
   suite.out_dir = out_dir;
   // The run's last line names the report (README: the main job ends with the report's path).
+  bool goldens_checked = false;
   auto finish = [&](int code) {
+    // Golden outcomes into results.json and junit, --images applied, then the report.
+    code = hdrc::finish_run_outputs(out_dir, code, goldens_checked, images);
     std::error_code ec;
     if (code != hdrc::kExitBadInput &&
         fs::exists(out_dir + "/results.json"))  // bad input writes nothing
@@ -405,6 +483,10 @@ int main(int argc, char** argv) {
     suite.reference = run_reference;
     repro("--reference", run_reference);
   }
+  const std::string shader_dir = !*run || engine != "vulkan" ? ""
+                                 : vk.shader_dir.empty()     ? hdrc::gpu::default_shader_dir()
+                                                             : vk.shader_dir;
+  suite.provenance = hdrc::run_provenance(argc, argv, cases, shader_dir, images);
   if (*verify) {
     suite.command = "verify";
     suite.candidate_engine = candidate_dir.empty() ? "candidate-cmd" : "candidate-dir";
@@ -474,6 +556,7 @@ int main(int argc, char** argv) {
     const hdrc::GoldenRunSummary g =
         hdrc::check_run_against_goldens(checked, out_dir, goldens_dir, golden_extra);
     if (g.failed() > 0 && code != hdrc::kExitFail) code = hdrc::kExitFail;
+    goldens_checked = true;
   }
   return finish(code);
 }

@@ -1,7 +1,11 @@
 #include "runner/results.h"
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
 
 #include "core/atomic_file.h"
 #include "report/html_report.h"
@@ -188,7 +192,13 @@ void add_candidate_protocol(json& doc, const RunReport& r) {
 
 std::string results_json(const RunReport& r) {
   json cases = json::array();
-  for (const auto& c : r.cases) cases.push_back(case_json(c, r));
+  for (const auto& c : r.cases) {
+    cases.push_back(case_json(c, r));
+    // A failing case carries the command that reruns it alone (junit and the console print it).
+    if (c.verdict == CaseVerdict::kFail || c.verdict == CaseVerdict::kError ||
+        c.verdict == CaseVerdict::kMissing)
+      cases.back()["reproduce"] = reproduce_command(r, c.spec.id);
+  }
   json bands = json::array();
   for (int b = 0; b < kBandCount; ++b) bands.push_back(range_of_band(b));
   json metrics = json::array();
@@ -208,6 +218,20 @@ std::string results_json(const RunReport& r) {
       {"reference", device(r.reference_device)},
       {"candidate", device(r.candidate_device)},
       {"candidate_unavailable", r.candidate_unavailable},
+      {"provenance",
+       {{"commit", r.provenance.commit},
+        {"command_line", r.provenance.command_line},
+        {"reproduce", r.provenance.reproduce},
+        {"cwd", r.provenance.cwd},
+        {"shader_dir", r.provenance.shader_dir},
+        {"shader_hash", r.provenance.shader_hash},
+        {"build_type", r.provenance.build_type},
+        {"compiler", r.provenance.compiler},
+        {"tool_version", r.provenance.tool_version},
+        {"suite_fingerprint", r.provenance.suite_fingerprint},
+        {"suite_cases", r.provenance.suite_cases},
+        {"shard_plan", r.provenance.shard_plan},
+        {"images", r.provenance.images}}},
       {"metrics", metrics},
       {"bands", bands},
       {"summary",
@@ -227,70 +251,254 @@ std::string results_json(const RunReport& r) {
       {"cases", cases},
   };
   add_candidate_protocol(doc, r);
-  return doc.dump(2) + "\n";
+  return doc.dump() + "\n";
+}
+
+namespace {
+
+std::string str_of(const json& j, const char* key) {
+  auto it = j.find(key);
+  return it != j.end() && it->is_string() ? it->get<std::string>() : std::string();
+}
+double num_of(const json& j, const char* key) {
+  auto it = j.find(key);
+  return it != j.end() && it->is_number() ? it->get<double>() : 0.0;
+}
+std::string seconds_text(double s) {
+  return std::to_string(s);
+}
+
+// One <testcase>: its failure names the worst pixel (the reason) and links to the case page.
+std::string junit_case(const json& c) {
+  const std::string stage = str_of(c, "stage").empty() ? "unknown" : str_of(c, "stage");
+  const std::string id = str_of(c, "id"), verdict = str_of(c, "verdict");
+  const std::string reason = str_of(c, "reason");
+  double seconds = 0;
+  if (auto it = c.find("seconds"); it != c.end() && it->is_object()) seconds = num_of(*it, "total");
+  std::string x = "  <testcase classname=\"hdrconform." + xml_escape(stage) + "\" name=\"" +
+                  xml_escape(id) + "\" time=\"" + seconds_text(seconds) + "\"";
+  const std::string page = "report/" + case_page_path(id);
+  const std::string repro =
+      str_of(c, "reproduce").empty() ? "" : "&#10;reproduce: " + xml_escape(str_of(c, "reproduce"));
+  std::string body;
+  if (verdict == "FAIL" || verdict == "MISSING") {
+    const std::string msg = (verdict == "MISSING" ? "MISSING: " : "") + reason;
+    std::string source;
+    if (auto t = c.find("tolerance"); t != c.end() && t->is_object()) source = str_of(*t, "source");
+    body = "    <failure message=\"" + xml_escape(msg) + "\">" + xml_escape(msg) +
+           "&#10;tolerance: " + xml_escape(source) + "&#10;case page: " + xml_escape(page) + repro +
+           "</failure>\n";
+  } else if (verdict == "ERROR") {
+    body = "    <error message=\"" + xml_escape(reason) + "\">" + xml_escape(reason) +
+           "&#10;case page: " + xml_escape(page) + repro + "</error>\n";
+  } else if (verdict != "PASS") {
+    body = "    <skipped message=\"" + xml_escape(verdict) + ": " + xml_escape(reason) + "\"/>\n";
+  }
+  std::string w;
+  if (auto ws = c.find("warnings"); ws != c.end() && ws->is_array())
+    for (const auto& s : *ws)
+      if (s.is_string()) w += "warning: " + s.get<std::string>() + "\n";
+  if (!w.empty()) body += "    <system-out>" + xml_escape(w) + "</system-out>\n";
+  return x + (body.empty() ? "/>\n" : ">\n" + body + "  </testcase>\n");
+}
+
+}  // namespace
+
+std::string case_page_path(const std::string& case_id) {
+  return "c/" + report::url_path_escape(report::case_slug(case_id)) + ".html";
+}
+
+std::string junit_from_results(const nlohmann::ordered_json& doc) {
+  std::string x = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites>\n";
+  const json empty = json::array();
+  const json& cases = doc.contains("cases") && doc["cases"].is_array() ? doc["cases"] : empty;
+  int failures = 0, errors = 0, skipped = 0;
+  for (const auto& c : cases) {
+    const std::string v = str_of(c, "verdict");
+    failures += v == "FAIL" || v == "MISSING";
+    errors += v == "ERROR";
+    skipped += v != "FAIL" && v != "MISSING" && v != "ERROR" && v != "PASS";
+  }
+  std::string device;
+  if (auto d = doc.find("candidate"); d != doc.end() && d->is_object())
+    device = str_of(*d, "device") + " / " + str_of(*d, "driver");
+  x += "<testsuite name=\"hdrconform\" tests=\"" + std::to_string(cases.size()) + "\" failures=\"" +
+       std::to_string(failures) + "\" errors=\"" + std::to_string(errors) + "\" skipped=\"" +
+       std::to_string(skipped) + "\" time=\"" + seconds_text(num_of(doc, "wall_seconds")) + "\">\n";
+  x += "  <properties><property name=\"candidate.device\" value=\"" + xml_escape(device) +
+       "\"/></properties>\n";
+  for (const auto& c : cases) x += junit_case(c);
+  x += "</testsuite>\n";
+  // The golden check of the reference (goldens.json, recorded by record_golden_results): one
+  // test case per checked golden, a failure for each missing, stale or regressed one.
+  if (auto g = doc.find("goldens"); g != doc.end() && g->is_object()) {
+    const json& gc = g->contains("cases") && (*g)["cases"].is_array() ? (*g)["cases"] : empty;
+    int gf = 0;
+    for (const auto& e : gc) gf += str_of(e, "outcome") != "match";
+    x += "<testsuite name=\"hdrconform.goldens\" tests=\"" + std::to_string(gc.size()) +
+         "\" failures=\"" + std::to_string(gf) + "\" errors=\"0\" skipped=\"0\">\n";
+    for (const auto& e : gc) {
+      const std::string outcome = str_of(e, "outcome");
+      x += "  <testcase classname=\"hdrconform.goldens\" name=\"" + xml_escape(str_of(e, "id")) +
+           "\"";
+      if (outcome == "match") {
+        x += "/>\n";
+        continue;
+      }
+      const std::string msg = "golden " + outcome + ": " + str_of(e, "message");
+      x += ">\n    <failure message=\"" + xml_escape(msg) + "\">" + xml_escape(msg) +
+           "</failure>\n  </testcase>\n";
+    }
+    x += "</testsuite>\n";
+  }
+  return x + "</testsuites>\n";
 }
 
 std::string junit_xml(const RunReport& r) {
-  std::string x = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
-  const int failures = r.count(CaseVerdict::kFail) + r.count(CaseVerdict::kMissing);
-  const int errors = r.count(CaseVerdict::kError);
-  const int skipped = r.count(CaseVerdict::kSkipped) + r.count(CaseVerdict::kKnownLimit) +
-                      r.count(CaseVerdict::kDegenerate) + r.count(CaseVerdict::kNotRun) +
-                      r.count(CaseVerdict::kUnsupported);
-  x += "<testsuites>\n<testsuite name=\"hdrconform\" tests=\"" + std::to_string(r.cases.size()) +
-       "\" failures=\"" + std::to_string(failures) + "\" errors=\"" + std::to_string(errors) +
-       "\" skipped=\"" + std::to_string(skipped) + "\" time=\"" + std::to_string(r.wall_seconds) +
-       "\">\n";
-  x += "  <properties><property name=\"candidate.device\" value=\"" +
-       xml_escape(r.candidate_device.device + " / " + r.candidate_device.driver) +
-       "\"/></properties>\n";
-  for (const auto& c : r.cases) {
-    const std::string stage = c.spec.stage ? std::string(c.spec.stage->name) : "unknown";
-    x += "  <testcase classname=\"hdrconform." + xml_escape(stage) + "\" name=\"" +
-         xml_escape(c.spec.id) + "\" time=\"" + std::to_string(c.seconds()) + "\"";
-    std::string body;
-    switch (c.verdict) {
-      case CaseVerdict::kPass:
-        break;
-      case CaseVerdict::kFail:
-      case CaseVerdict::kMissing: {
-        // The reason names the worst pixel (or the first non-finite mismatch).
-        const std::string msg = (c.verdict == CaseVerdict::kMissing ? "MISSING: " : "") + c.reason;
-        body = "    <failure message=\"" + xml_escape(msg) + "\">" + xml_escape(msg) +
-               "&#10;tolerance: " + xml_escape(c.tolerance.source) +
-               "&#10;reproduce: " + xml_escape(reproduce_command(r, c.spec.id)) + "</failure>\n";
-        break;
-      }
-      case CaseVerdict::kError:
-        body = "    <error message=\"" + xml_escape(c.reason) +
-               "\">reproduce: " + xml_escape(reproduce_command(r, c.spec.id)) + "</error>\n";
-        break;
-      case CaseVerdict::kSkipped:
-      case CaseVerdict::kKnownLimit:
-      case CaseVerdict::kDegenerate:
-      case CaseVerdict::kNotRun:
-      case CaseVerdict::kUnsupported:
-        body = "    <skipped message=\"" + std::string(verdict_name(c.verdict)) + ": " +
-               xml_escape(c.reason) + "\"/>\n";
-        break;
-    }
-    if (!c.warnings.empty()) {
-      std::string w;
-      for (const auto& s : c.warnings) w += "warning: " + s + "\n";
-      body += "    <system-out>" + xml_escape(w) + "</system-out>\n";
-    }
-    x += body.empty() ? "/>\n" : ">\n" + body + "  </testcase>\n";
+  return junit_from_results(json::parse(results_json(r)));
+}
+
+Result<nlohmann::ordered_json> read_results_json(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) return Error{path, "", "cannot read", "a results.json written by `hdrconform run`"};
+  std::stringstream ss;
+  ss << f.rdbuf();
+  try {
+    json doc = json::parse(ss.str());
+    if (!doc.is_object() || !doc.contains("cases") || !doc["cases"].is_array())
+      return Error{path, "/cases", "missing or not an array",
+                   "a results.json (results.schema.json)"};
+    return doc;
+  } catch (const json::exception& e) {
+    return Error{path, "", std::string("not valid JSON: ") + e.what(), ""};
   }
-  x += "</testsuite>\n</testsuites>\n";
-  return x;
+}
+
+Status record_goldens(nlohmann::ordered_json& doc, const std::string& out_dir) {
+  std::ifstream gf(out_dir + "/goldens.json", std::ios::binary);
+  json g = json::object();
+  if (gf) {
+    std::stringstream ss;
+    ss << gf.rdbuf();
+    g = json::parse(ss.str(), nullptr, /*allow_exceptions=*/false);
+    if (g.is_discarded() || !g.is_object())
+      return Error{out_dir + "/goldens.json", "", "not a JSON object", ""};
+  }
+  json summary = {{"checked", 0}, {"match", 0}, {"missing", 0}, {"stale", 0}, {"regression", 0}};
+  json cases = json::array();
+  if (auto it = g.find("cases"); it != g.end() && it->is_array())
+    for (const auto& e : *it) {
+      const std::string outcome = str_of(e, "outcome");
+      if (!summary.contains(outcome)) continue;
+      summary["checked"] = summary["checked"].get<int>() + 1;
+      summary[outcome] = summary[outcome].get<int>() + 1;
+      cases.push_back(
+          {{"id", str_of(e, "id")}, {"outcome", outcome}, {"message", str_of(e, "message")}});
+    }
+  json goldens = {{"dir", str_of(g, "goldens_dir")},
+                  {"reference_version", str_of(g, "reference_version")}};
+  goldens.update(summary);
+  goldens["failed"] = summary["missing"].get<int>() + summary["stale"].get<int>() +
+                      summary["regression"].get<int>();
+  goldens["cases"] = cases;
+  doc["goldens"] = goldens;
+  doc["summary"]["golden_failed"] = goldens["failed"];
+  return {};
 }
 
 Status write_run_outputs(const RunReport& r, const std::string& out_dir) {
   if (Status s = write_file_atomic(out_dir + "/results.json", results_json(r)); !s) return s;
   if (Status s = write_file_atomic(out_dir + "/junit.xml", junit_xml(r)); !s) return s;
-  auto report = write_report(out_dir);
-  if (!report) return report.error();
+  // `hdrconform run/verify` build the report once, at the end (finish_run_outputs); other
+  // callers (the report fixture) get it here.
+  if (r.provenance.command_line.empty()) {
+    auto report = write_report(out_dir);
+    if (!report) return report.error();
+  }
   return {};
+}
+
+namespace {
+
+bool keeps_images(const json& c, const std::set<std::string>& golden_failed,
+                  const std::string& policy) {
+  if (policy == "all") return true;
+  if (policy == "none") return false;
+  const std::string v = str_of(c, "verdict");
+  return v == "FAIL" || v == "ERROR" || v == "MISSING" || golden_failed.count(str_of(c, "id"));
+}
+
+}  // namespace
+
+Status apply_image_policy(nlohmann::ordered_json& doc, const std::string& out_dir,
+                          const std::string& policy) {
+  namespace fs = std::filesystem;
+  std::set<std::string> golden_failed;
+  if (auto g = doc.find("goldens"); g != doc.end() && g->is_object() && g->contains("cases"))
+    for (const auto& e : (*g)["cases"])
+      if (str_of(e, "outcome") != "match") golden_failed.insert(str_of(e, "id"));
+  std::error_code ec;
+  for (auto& c : doc["cases"]) {
+    if (!c.is_object() || keeps_images(c, golden_failed, policy)) continue;
+    auto im = c.find("images");
+    if (im == c.end() || !im->is_object()) continue;
+    for (auto it = im->begin(); it != im->end(); ++it) {
+      if (!it->is_string()) continue;
+      const std::string rel = it->get<std::string>();
+      // Only files this run wrote under OUT/cases/ (results.json is data: never a path out).
+      if (rel.rfind("cases/", 0) != 0 || rel.find("..") != std::string::npos) continue;
+      const fs::path p = fs::path(out_dir) / rel;
+      fs::remove(p, ec);
+      // The case's folder and its parents up to OUT/cases, when that leaves them empty.
+      for (fs::path d = p.parent_path(); d.filename() != "cases" && fs::is_empty(d, ec) && !ec;
+           d = d.parent_path())
+        fs::remove(d, ec);
+    }
+    c["images"] = json::object();
+  }
+  doc["images_policy"] = policy;
+  return {};
+}
+
+int exit_code_of(const nlohmann::ordered_json& doc) {
+  if (doc.value("interrupted", false)) return kExitInterrupted;
+  int fail = 0, skipped = 0, warned = 0;
+  for (const auto& c : doc["cases"]) {
+    const std::string v = str_of(c, "verdict");
+    fail += v == "FAIL" || v == "ERROR" || v == "MISSING";
+    skipped += v == "SKIP";
+    warned += v == "PASS" && c.value("warn", false);
+  }
+  if (auto g = doc.find("goldens"); g != doc.end() && g->is_object()) fail += g->value("failed", 0);
+  if (fail) return kExitFail;
+  if (skipped) return kExitEngineUnavailable;
+  if (warned) return kExitPassWithWarnings;
+  return kExitPass;
+}
+
+int finish_run_outputs(const std::string& out_dir, int code, bool goldens_checked,
+                       const std::string& images) {
+  if (code == kExitBadInput) return code;
+  auto doc = read_results_json(out_dir + "/results.json");
+  if (!doc) return code;  // nothing was written (the run failed before its outputs)
+  if (goldens_checked)
+    if (Status s = record_goldens(*doc, out_dir); !s) {
+      std::fprintf(stderr, "error: %s\n", s.error().to_string().c_str());
+      code = kExitFail;
+    }
+  (*doc)["summary"]["exit_code"] = code;
+  Status s = apply_image_policy(*doc, out_dir, images);
+  if (s) s = write_file_atomic(out_dir + "/results.json", doc->dump() + "\n");
+  if (s) s = write_file_atomic(out_dir + "/junit.xml", junit_from_results(*doc));
+  if (s) {
+    auto report = write_report(out_dir);
+    if (!report) s = report.error();
+  }
+  if (!s) {
+    std::fprintf(stderr, "error: %s\n", s.error().to_string().c_str());
+    return code == kExitInterrupted ? code : kExitFail;
+  }
+  return code;
 }
 
 }  // namespace hdrc

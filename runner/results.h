@@ -2,16 +2,52 @@
 // junit.xml, plus the per-case images the run wrote (RunOptions::image_dir).
 #pragma once
 
+#include <nlohmann/json.hpp>
 #include <string>
 
+#include "core/result.h"
 #include "runner/run.h"
 
 namespace hdrc {
 
+// results.json is written compact (one line): half the size of an indented one.
 std::string results_json(const RunReport& r);
-std::string junit_xml(const RunReport& r);
+std::string junit_xml(const RunReport& r);  // junit_from_results(results_json(r))
 
-// Writes results.json and junit.xml into `out_dir`, each atomically, then the HTML report.
+// junit.xml from a results.json document: one <testcase> per case (a failure names its worst
+// pixel and the case page, report/c/<slug>.html) and, when the document has a "goldens" record
+// (record_goldens), a second <testsuite> "hdrconform.goldens" with one <testcase> per
+// checked golden. `merge` writes junit.xml from its merged document the same way.
+std::string junit_from_results(const nlohmann::ordered_json& results);
+
+// The case page of `case_id` relative to the report folder: "c/<slug>.html".
+std::string case_page_path(const std::string& case_id);
+
+// Reads and parses a results.json; errors name the file (and /cases when it is not an array).
+Result<nlohmann::ordered_json> read_results_json(const std::string& path);
+
+// `run`'s golden check (runner/goldens.h: check_run_against_goldens wrote OUT/goldens.json) as
+// test results: adds "goldens" (counts, one entry per checked case) and summary.golden_failed to
+// the results document.
+Status record_goldens(nlohmann::ordered_json& results, const std::string& out_dir);
+
+// --images failing|all|none: deletes OUT/cases/<id>/{input,reference,candidate}.exr of the cases
+// the policy does not keep (failing keeps FAIL, ERROR, MISSING and failed goldens) and empties
+// their "images" in the document.
+Status apply_image_policy(nlohmann::ordered_json& results, const std::string& out_dir,
+                          const std::string& policy);
+
+// The exit code a results document stands for (README "Exit codes"; a failed golden fails).
+int exit_code_of(const nlohmann::ordered_json& results);
+
+// The end of `run`/`verify`, after the golden check: golden outcomes recorded (when checked),
+// summary.exit_code set to the process's exit code, --images applied, results.json and junit.xml
+// rewritten, the report built. Returns the exit code (kExitFail when writing failed).
+int finish_run_outputs(const std::string& out_dir, int exit_code, bool goldens_checked,
+                       const std::string& images);
+
+// Writes results.json and junit.xml into `out_dir`, each atomically; the report too unless the
+// run has provenance (a `run`/`verify` of the command line, which ends with finish_run_outputs).
 Status write_run_outputs(const RunReport& r, const std::string& out_dir);
 
 }  // namespace hdrc

@@ -1,11 +1,17 @@
 #include "runner/run.h"
 
 #include <algorithm>
+#include <cmath>
 #include <ctime>
+#include <filesystem>
+#include <fstream>
 #include <mutex>
+#include <nlohmann/json.hpp>
+#include <sstream>
 #include <thread>
 
 #include "runner/case_loader.h"
+#include "runner/goldens.h"
 
 namespace hdrc {
 
@@ -68,10 +74,112 @@ Result<Shard> parse_shard(const std::string& text) {
   return s;
 }
 
+namespace {
+
+// The timings --shard balances with (use_shard_timings): case id → seconds, and where from.
+struct ShardTimings {
+  std::map<std::string, double> seconds;
+  std::string description = "static";
+};
+ShardTimings& shard_timings() {
+  static ShardTimings t;
+  return t;
+}
+
+}  // namespace
+
+double static_case_cost(const Case& c) {
+  // Seconds per case ≈ fixed + per-megapixel cost of its stage (reference + lavapipe + diff),
+  // fitted to a run of 92 default-suite cases (tonemap/tonemap, lut/storage, visualize, ui; -j 2):
+  // tonemap bakes its LUT (≈ 0.35 s whatever the image), VisualizeHDR builds its histogram
+  // (≈ 0.7 s), CombineLUTs costs ≈ 20 s per million lattice points; shaper, linear_device and
+  // dither are small images through short shaders. Only the ratios matter for the balance.
+  struct Cost {
+    const char* stage;
+    double fixed, per_mpixel;
+  };
+  static constexpr Cost kCosts[] = {
+      {"shaper", 0.02, 2.0},       {"linear_device", 0.02, 2.0}, {"combine_luts", 0.05, 20.0},
+      {"tonemap", 0.35, 5.0},      {"dither", 0.05, 5.0},        {"ui_composite", 0.015, 2.0},
+      {"visualize_hdr", 0.7, 2.0},
+  };
+  const std::string stage = c.stage ? std::string(c.stage->name) : "";
+  Cost cost = kCosts[3];  // an unknown stage counts as tonemap
+  for (const Cost& k : kCosts)
+    if (stage == k.stage) cost = k;
+  double pixels = static_cast<double>(std::max(1, c.input.width)) * std::max(1, c.input.height);
+  if (stage == "combine_luts") {  // the lattice: r.LUT.Size³ points
+    const double n = std::clamp(c.cvars.get("r.LUT.Size"), 1.0, 256.0);
+    pixels = n * n * n;
+  }
+  return cost.fixed + cost.per_mpixel * pixels * 1e-6;
+}
+
+Status use_shard_timings(const std::string& path, const std::string& out_dir) {
+  namespace fs = std::filesystem;
+  std::string file = path;
+  std::error_code ec;
+  if (file.empty() && !out_dir.empty() && fs::exists(out_dir + "/results.json", ec))
+    file = out_dir + "/results.json";
+  ShardTimings t;
+  if (!file.empty()) {
+    std::ifstream f(file, std::ios::binary);
+    if (!f) return Error{file, "", "cannot read", "a results.json of an earlier run"};
+    std::stringstream ss;
+    ss << f.rdbuf();
+    const std::string text = ss.str();
+    const auto doc = nlohmann::json::parse(text, nullptr, false);
+    if (doc.is_discarded() || !doc.is_object() || !doc.contains("cases") ||
+        !doc["cases"].is_array()) {
+      if (!path.empty()) return Error{file, "/cases", "not a results.json with a cases array", ""};
+      return {};  // a broken results.json left in --out: static costs
+    }
+    // --out's own results only when they are a whole run: a shard's would balance by its cases
+    // alone, and the other shards (with other --out folders) would plan differently.
+    if (path.empty() && doc.contains("shard") && !doc["shard"].is_null()) {
+      shard_timings() = ShardTimings{};
+      return {};
+    }
+    for (const auto& c : doc["cases"]) {
+      if (!c.is_object() || !c.contains("id") || !c["id"].is_string()) continue;
+      const auto sec = c.find("seconds");
+      if (sec == c.end() || !sec->is_object() || !sec->contains("total") ||
+          !(*sec)["total"].is_number())
+        continue;
+      const double v = (*sec)["total"].get<double>();
+      if (v > 0 && std::isfinite(v)) t.seconds[c["id"].get<std::string>()] = v;
+    }
+    t.description = "timings " + file + " (sha256 " + sha256_hex(text).substr(0, 12) + ")";
+  }
+  shard_timings() = std::move(t);
+  return {};
+}
+
+std::string shard_plan_description() {
+  return shard_timings().description;
+}
+
 std::vector<Case> select_shard(const std::vector<Case>& cases, const Shard& shard) {
+  const ShardTimings& t = shard_timings();
+  std::vector<std::pair<double, size_t>> order;  // (cost, index)
+  for (size_t i = 0; i < cases.size(); ++i) {
+    auto it = t.seconds.find(cases[i].id);
+    order.push_back({it != t.seconds.end() ? it->second : static_case_cost(cases[i]), i});
+  }
+  std::stable_sort(order.begin(), order.end(), [&](const auto& a, const auto& b) {
+    if (a.first != b.first) return a.first > b.first;
+    return cases[a.second].id < cases[b.second].id;
+  });
+  std::vector<double> load(static_cast<size_t>(shard.n), 0.0);
+  std::vector<char> mine(cases.size(), 0);
+  for (const auto& [cost, i] : order) {
+    const size_t k = static_cast<size_t>(std::min_element(load.begin(), load.end()) - load.begin());
+    load[k] += cost;
+    mine[i] = static_cast<int>(k) == shard.k - 1;
+  }
   std::vector<Case> out;
   for (size_t i = 0; i < cases.size(); ++i)
-    if (static_cast<int>(i % static_cast<size_t>(shard.n)) == shard.k - 1) out.push_back(cases[i]);
+    if (mine[i]) out.push_back(cases[i]);
   return out;
 }
 

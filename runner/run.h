@@ -70,6 +70,20 @@ struct CaseResult {
   double seconds() const { return reference_seconds + candidate_seconds + diff_seconds; }
 };
 
+// Where a run came from (runner/provenance.h fills it; results.json "provenance").
+struct RunProvenance {
+  std::string commit;        // git HEAD of the source tree (+ "-dirty"), or "unknown"
+  std::string command_line;  // shell-quoted argv
+  std::string reproduce;     // command_line without the options choosing cases and outputs
+  std::string cwd;
+  std::string shader_dir, shader_hash;  // the Vulkan engine's shaders (path, directory_hash)
+  std::string build_type, compiler, tool_version;
+  std::string suite_fingerprint;  // SHA-256 of the selected (unsharded) ids and case hashes
+  size_t suite_cases = 0;         // how many cases the unsharded selection has
+  std::string shard_plan;         // how --shard split them (shard_plan_description)
+  std::string images = "all";     // --images: failing, all, none
+};
+
 struct RunReport {
   std::string command = "run";  // "run" or "verify"
   std::vector<CaseResult> cases;
@@ -86,6 +100,7 @@ struct RunReport {
   std::vector<KnownLimit> candidate_limits;
   std::string reference_mode = "baked";  // verify --reference: "baked" or "analytic"
   std::string reproduce_args;            // options a case's reproduce command repeats (verify.h)
+  RunProvenance provenance;
   int exit_code() const;
   int count(CaseVerdict v) const;
   int warned() const;  // passing cases with warnings
@@ -120,9 +135,24 @@ struct Shard {
   int k = 1, n = 1;
 };
 Result<Shard> parse_shard(const std::string& text);
-// Case i of the sorted list belongs to shard (i mod N) + 1: deterministic, balanced, and the
-// shards of one N are disjoint and together the whole list.
+// Cost-balanced shards: each case has a cost (its seconds in the shard timings when they list
+// it, else static_case_cost); cases are taken from the most to the least costly (ties by id) and
+// each goes to the shard with the least total cost so far (ties: the lowest K). The result is in
+// the input's order. Deterministic for the same cases and timings, and the shards of one N are
+// disjoint and together the whole list.
 std::vector<Case> select_shard(const std::vector<Case>& cases, const Shard& shard);
+
+// A deterministic cost estimate in seconds (lavapipe on 1 core, measured on the default suite:
+// runner/run.cpp), from the stage and the pixel count, for cases no timings list.
+double static_case_cost(const Case& c);
+
+// The timings --shard balances with (process-wide, set once before select_shard): `path` (a
+// results.json; its cases' seconds.total), else `out_dir`/results.json when it exists, else none
+// (static costs only). An unreadable `path` is an error naming it.
+Status use_shard_timings(const std::string& path, const std::string& out_dir);
+// "static" or "timings <file> (sha256 <12 hex>)": recorded per run; `merge` refuses shards
+// planned differently (they could overlap or leave cases out).
+std::string shard_plan_description();
 
 // Where a case's images go, relative to the output directory: "cases/<case id>" (case ids
 // contain '/', so these are nested folders).

@@ -548,6 +548,7 @@ int run_suite(std::vector<Case> cases, const std::vector<KnownLimit>& limits,
   report.candidate_limits = candidate_limits;
   report.reference_mode = options.reference;
   report.reproduce_args = options.reproduce_args;
+  report.provenance = options.provenance;
   if (!report.candidate_unavailable.empty())
     std::printf("candidate unavailable: %s\n", report.candidate_unavailable.c_str());
   if (Status st = write_run_outputs(report, options.out_dir); !st) {

@@ -119,8 +119,9 @@ struct SuiteOptions {
   std::string command = "run";  // "run" or "verify"
   std::string cases_dir;
   std::string out_dir = "out";
-  int jobs = 0;       // 0: every core
-  std::string shard;  // "K/N" or ""
+  int jobs = 0;              // 0: every core
+  std::string shard;         // "K/N" or ""
+  RunProvenance provenance;  // recorded in results.json (runner/provenance.h)
   // verify --candidate-dir: report absent images as MISSING.
   const CandidateDirEngine* candidate_dir = nullptr;
   bool require_all = false;         // verify --require-all: UNSUPPORTED fails the run

@@ -75,6 +75,19 @@ function pct(b) {
   b = toNumber(b);
   return b === undefined ? '—' : fmt(b * 100, 3) + ' %';
 }
+// UE's names of the device and gamut enums (HDRHelper.h: EDisplayOutputFormat,
+// EDisplayColorGamut), shown beside the numbers everywhere a value is displayed.
+const VALUE_NAMES = {
+  'r.HDR.Display.OutputDevice': ['SDR sRGB', 'SDR Rec.709', 'SDR explicit gamma', 'HDR ACES 1000-nit ST 2084',
+    'HDR ACES 2000-nit ST 2084', 'HDR ACES 1000-nit scRGB', 'HDR ACES 2000-nit scRGB', 'HDR LinearEXR',
+    'HDR LinearNoToneCurve', 'HDR LinearWithToneCurve'],
+  'r.HDR.Display.ColorGamut': ['Rec.709 / sRGB D65', 'DCI-P3 D65', 'Rec.2020 D65', 'ACES AP0 D60', 'ACEScg AP1 D60'],
+};
+function valueLabel(dim, v) {
+  const names = VALUE_NAMES[dim];
+  const n = names && /^\d+$/.test(String(v)) ? names[Number(v)] : undefined;
+  return n ? v + ' (' + n + ')' : String(v);
+}
 function cvarValue(c, dim) {
   if (dim === 'stage') return c.stage;
   if (dim.startsWith('setting:')) {
@@ -161,6 +174,13 @@ function pqFromNits(n) {
   const lm = Math.pow(n / 10000, PQ_M1);
   return Math.pow((PQ_C1 + PQ_C2 * lm) / (1 + PQ_C3 * lm), PQ_M2);
 }
+// ST 2084 EOTF: PQ signal → nits (reference/color/st2084.h: nits_from_pq).
+// The same expression (NaN below 0, extrapolated above 1), so the probe and the previews agree
+// with the C++ decoding exactly.
+function nitsFromPq(e) {
+  const p = Math.pow(e, 1 / PQ_M2);
+  return Math.pow(Math.max(p - PQ_C1, 0) / (PQ_C2 - PQ_C3 * p), 1 / PQ_M1) * 10000;
+}
 function pqSignal(n) {
   return pqFromNits(n > 0 ? Math.min(n, 10000) : 0);
 }
@@ -182,6 +202,28 @@ function mul3(m, v) {
     m[6] * v[0] + m[7] * v[1] + m[8] * v[2]];
 }
 
+// PNG chunks (ISO/IEC 15948: length, type, data, CRC-32 of type and data).
+const CRC_TABLE = (() => {
+  const t = new Uint32Array(256);
+  for (let n = 0; n < 256; n++) {
+    let c = n;
+    for (let k = 0; k < 8; k++) c = c & 1 ? 0xedb88320 ^ (c >>> 1) : c >>> 1;
+    t[n] = c >>> 0;
+  }
+  return t;
+})();
+function pngChunk(type, data) {
+  const out = new Uint8Array(12 + data.length);
+  const dv = new DataView(out.buffer);
+  dv.setUint32(0, data.length);
+  for (let i = 0; i < 4; i++) out[4 + i] = type.charCodeAt(i);
+  out.set(data, 8);
+  let c = 0xffffffff;
+  for (let i = 4; i < 8 + data.length; i++) c = CRC_TABLE[(c ^ out[i]) & 255] ^ (c >>> 8);
+  dv.setUint32(8 + data.length, (c ^ 0xffffffff) >>> 0);
+  return out;
+}
+
 // Float data of one image: values (3 or 4 channels) and nits (3 channels, or values · scale).
 function decodeF32(b64) {
   const bin = atob(b64);
@@ -192,24 +234,125 @@ function decodeF32(b64) {
   for (let i = 0; i < out.length; i++) out[i] = dv.getFloat32(i * 4, true);
   return out;
 }
+// Packed data (report/images.h: float32_packed_base64): base64 → inflate (the browser's own
+// DecompressionStream) → byte planes → float32. Lossless, so the probe shows the EXR's values.
+async function decodePacked(b64) {
+  const bin = atob(b64);
+  const z = new Uint8Array(bin.length);
+  for (let i = 0; i < bin.length; i++) z[i] = bin.charCodeAt(i);
+  const stream = new Blob([z]).stream().pipeThrough(new DecompressionStream('deflate'));
+  const planes = new Uint8Array(await new Response(stream).arrayBuffer());
+  const n = planes.length / 4;
+  const bytes = new Uint8Array(planes.length);
+  for (let b = 0; b < 4; b++) {
+    const plane = planes.subarray(b * n, (b + 1) * n);
+    for (let i = 0; i < n; i++) bytes[i * 4 + b] = plane[i];
+  }
+  return new Float32Array(bytes.buffer); // little-endian hosts (every browser we target)
+}
+// The same for half floats (nits16: 2 byte planes), decoded per IEEE 754 binary16.
+async function decodePackedHalf(b64) {
+  const bin = atob(b64);
+  const z = new Uint8Array(bin.length);
+  for (let i = 0; i < bin.length; i++) z[i] = bin.charCodeAt(i);
+  const stream = new Blob([z]).stream().pipeThrough(new DecompressionStream('deflate'));
+  const planes = new Uint8Array(await new Response(stream).arrayBuffer());
+  const n = planes.length / 2;
+  const out = new Float32Array(n);
+  for (let i = 0; i < n; i++) {
+    const u = planes[i] | (planes[n + i] << 8);
+    const sgn = u & 0x8000 ? -1 : 1, e = (u >> 10) & 31, m = u & 1023;
+    out[i] = e === 0 ? sgn * m * Math.pow(2, -24) : e === 31 ? (m ? NaN : sgn * Infinity) :
+      sgn * (1 + m / 1024) * Math.pow(2, e - 15);
+  }
+  return out;
+}
 class FloatImage {
-  constructor(w, h, d) {
+  constructor(w, h, d, v, nits) {
     this.w = w;
     this.h = h;
     this.ch = d.ch;
     this.alpha = d.alpha;
-    this.v = decodeF32(d.v);
-    this.nitsArr = d.nits ? decodeF32(d.nits) : null;
+    this.v = v;
+    this.nitsArr = nits;
     this.scale = d.scale;
+    this.pqScale = d.pq_scale;
+  }
+  static async load(w, h, d) {
+    const packed = !!HDRC.px.packing;
+    const dec = packed ? decodePacked : async (b) => decodeF32(b);
+    const nits = d.nits16 ? await decodePackedHalf(d.nits16) : d.nits ? await dec(d.nits) : null;
+    return new FloatImage(w, h, d, await dec(d.v), nits);
   }
   value(i, c) {
     if (c === 3 && this.ch === 3) return this.alpha;
     return this.v[i * this.ch + c];
   }
   nits(i, c) {
-    return this.nitsArr ? this.nitsArr[i * 3 + c] : this.v[i * this.ch + c] * this.scale;
+    if (this.nitsArr) return this.nitsArr[i * 3 + c];
+    const v = this.v[i * this.ch + c];
+    return this.pqScale !== undefined ? this.pqScale * nitsFromPq(v) : v * this.scale;
   }
 }
+
+// ---------------------------------------------------------------------------------------------
+// Plots: SVG drawn here (no plotting library: a few hundred points per plot, axes on log scales,
+// and the report must stay one offline folder with nothing to vendor or update).
+
+const SVGNS = 'http://www.w3.org/2000/svg';
+function svgEl(tag, attrs, ...children) {
+  const e = document.createElementNS(SVGNS, tag);
+  for (const [k, v] of Object.entries(attrs || {})) if (v !== undefined && v !== null) e.setAttribute(k, String(v));
+  for (const c of children) e.append(c instanceof Node ? c : document.createTextNode(String(c)));
+  return e;
+}
+// A plot frame: x/y scales (linear or log10), axes with decade or 5 linear ticks, labels.
+function plotFrame(width, height, xr, yr, opts) {
+  const m = { l: 58, r: 12, t: 8, b: 30 };
+  const lx = opts.xlog, ly = opts.ylog;
+  const tx = (v) => (lx ? Math.log10(v) : v), ty = (v) => (ly ? Math.log10(v) : v);
+  const [x0, x1] = xr.map(tx), [y0, y1] = yr.map(ty);
+  const X = (v) => m.l + ((tx(v) - x0) / (x1 - x0 || 1)) * (width - m.l - m.r);
+  const Y = (v) => height - m.b - ((ty(v) - y0) / (y1 - y0 || 1)) * (height - m.t - m.b);
+  const g = svgEl('svg', { width, height, viewBox: `0 0 ${width} ${height}`, role: 'img', id: opts.id });
+  const ticks = (a, b, log) => {
+    const out = [];
+    if (log) for (let e = Math.ceil(a); e <= Math.floor(b); e++) out.push(Math.pow(10, e));
+    else for (let i = 0; i <= 4; i++) out.push(a + ((b - a) * i) / 4);
+    return out;
+  };
+  for (const v of ticks(x0, x1, lx)) {
+    g.append(svgEl('line', { class: 'grid', x1: X(v), x2: X(v), y1: m.t, y2: height - m.b }));
+    g.append(svgEl('text', { x: X(v), y: height - m.b + 12, 'text-anchor': 'middle' }, fmt(v, 3)));
+  }
+  for (const v of ticks(y0, y1, ly)) {
+    g.append(svgEl('line', { class: 'grid', x1: m.l, x2: width - m.r, y1: Y(v), y2: Y(v) }));
+    g.append(svgEl('text', { x: m.l - 4, y: Y(v) + 4, 'text-anchor': 'end' }, fmt(v, 3)));
+  }
+  g.append(svgEl('line', { class: 'axis', x1: m.l, x2: m.l, y1: m.t, y2: height - m.b }));
+  g.append(svgEl('line', { class: 'axis', x1: m.l, x2: width - m.r, y1: height - m.b, y2: height - m.b }));
+  g.append(svgEl('text', { x: (m.l + width - m.r) / 2, y: height - 4, 'text-anchor': 'middle' }, opts.xlabel));
+  g.append(svgEl('text', { x: 12, y: (m.t + height - m.b) / 2, transform: `rotate(-90 12 ${(m.t + height - m.b) / 2})`, 'text-anchor': 'middle' }, opts.ylabel));
+  return { g, X, Y };
+}
+function polyline(points, cls) {
+  return svgEl('polyline', { class: cls, points: points.map(([x, y]) => x.toFixed(1) + ',' + y.toFixed(1)).join(' ') });
+}
+const LUMA709 = [0.2126, 0.7152, 0.0722], LUMA2020 = [0.2627, 0.678, 0.0593]; // BT.709, BT.2020 Y
+// CIE 1931 2° spectral locus (x, y), 380–700 nm (CIE 15:2004 tables, rounded to 4 places).
+const LOCUS = [[0.1741, 0.005], [0.1733, 0.0048], [0.1714, 0.0051], [0.1644, 0.0109], [0.1566, 0.0177],
+  [0.144, 0.0297], [0.1241, 0.0578], [0.1096, 0.0868], [0.0913, 0.1327], [0.0687, 0.2007], [0.0454, 0.295],
+  [0.0235, 0.4127], [0.0082, 0.5384], [0.0039, 0.6548], [0.0139, 0.7502], [0.0389, 0.812], [0.0743, 0.8338],
+  [0.1142, 0.8262], [0.1547, 0.8059], [0.2296, 0.7543], [0.3016, 0.6923], [0.3731, 0.6245], [0.4441, 0.5547],
+  [0.5125, 0.4866], [0.5752, 0.4242], [0.627, 0.3725], [0.6658, 0.334], [0.6915, 0.3083], [0.7079, 0.292],
+  [0.719, 0.2809], [0.726, 0.274], [0.73, 0.27], [0.7334, 0.2666], [0.7347, 0.2653]];
+// Primaries (x, y): BT.709, Display P3 (D65), BT.2020, ACES AP1.
+const GAMUTS = [['Rec.709', [[0.64, 0.33], [0.3, 0.6], [0.15, 0.06]], '#2b8a3e'],
+  ['P3-D65', [[0.68, 0.32], [0.265, 0.69], [0.15, 0.06]], '#1971c2'],
+  ['Rec.2020', [[0.708, 0.292], [0.17, 0.797], [0.131, 0.046]], '#862e9c'],
+  ['AP1', [[0.713, 0.293], [0.165, 0.83], [0.128, 0.044]], '#868e96']];
+// BT.2020 RGB → CIE XYZ (D65), from its primaries (ITU-R BT.2020 Table 4).
+const REC2020_TO_XYZ = [0.636958, 0.144617, 0.168881, 0.262700, 0.677998, 0.059302, 0, 0.028073, 1.060985];
 
 // ---------------------------------------------------------------------------------------------
 // Summary page: static; only marks itself ready.
@@ -246,7 +389,7 @@ function initCases() {
     const s = $('#f-cvar-value');
     s.replaceChildren(el('option', { value: '', text: 'any' }));
     const name = $('#f-cvar').value;
-    if (name) for (const v of uniq((c) => cvarValue(c, name))) s.append(el('option', { value: v, text: v }));
+    if (name) for (const v of uniq((c) => cvarValue(c, name))) s.append(el('option', { value: v, text: valueLabel(name, v) }));
   };
   const h = parseHash();
   if (h.stage) $('#f-stage').value = h.stage;
@@ -401,13 +544,24 @@ function initMatrix() {
       grid.get(k).push(c);
     }
     const show = showSel.value;
+    // The metric's range over the grid's cases (log10), for the colour of each cell; declared
+    // before the cells are drawn (it was used before its declaration: a ReferenceError).
+    let metricRange = null;
+    const metricPosition = (v) => {
+      if (!metricRange) {
+        const vals = cases.map((c) => toNumber(c.metrics[show.slice(2)])).filter((x) => x > 0 && Number.isFinite(x));
+        metricRange = vals.length ? [Math.log10(Math.min(...vals)), Math.log10(Math.max(...vals))] : [0, 0];
+      }
+      const [lo, hi] = metricRange;
+      return hi > lo ? (Math.log10(Math.max(v, 1e-300)) - lo) / (hi - lo) : 1;
+    };
     const table = el('table', { id: 'matrix-table' });
     const head = el('tr', {}, el('th', { class: 'corner', text: rd + ' ↓ / ' + (cd || '—') + ' →' }));
-    for (const v of colsV) head.append(el('th', { text: v }));
+    for (const v of colsV) head.append(el('th', { text: valueLabel(cd, v) }));
     table.append(el('thead', {}, head));
     const body = el('tbody');
     for (const rv of rowsV) {
-      const tr = el('tr', {}, el('th', { text: rv }));
+      const tr = el('tr', {}, el('th', { text: valueLabel(rd, rv) }));
       for (const cv of colsV) {
         const cs = grid.get(rv + '\u0000' + cv) || [];
         if (!cs.length) {
@@ -449,15 +603,6 @@ function initMatrix() {
     }
     table.append(body);
     $('#matrix').replaceChildren(table);
-    let metricRange = null;
-    function metricPosition(v) {
-      if (!metricRange) {
-        const vals = cases.map((c) => toNumber(c.metrics[show.slice(2)])).filter((x) => x > 0 && Number.isFinite(x));
-        metricRange = [Math.log10(Math.min(...vals, 1)), Math.log10(Math.max(...vals, 1e-12))];
-      }
-      const [lo, hi] = metricRange;
-      return hi > lo ? (Math.log10(Math.max(v, 1e-300)) - lo) / (hi - lo) : 1;
-    }
     const legend = $('#matrix-legend');
     legend.replaceChildren();
     if (show === 'verdict') {
@@ -478,7 +623,7 @@ function initMatrix() {
   };
 
   const drill = (cs, rd, rv, cd, cv) => {
-    $('#cell-title').textContent = rd + ' = ' + rv + (cd ? ', ' + cd + ' = ' + cv : '') +
+    $('#cell-title').textContent = rd + ' = ' + valueLabel(rd, rv) + (cd ? ', ' + cd + ' = ' + valueLabel(cd, cv) : '') +
       ': ' + cs.length + ' case' + (cs.length === 1 ? '' : 's');
     const hash = [];
     if (stageSel.value) hash.push('stage=' + encodeURIComponent(stageSel.value));
@@ -517,14 +662,30 @@ function initMatrix() {
 // Case page: images with exposure, heatmaps, mask, side-by-side / flip / slider, pixel probe,
 // LUT slices.
 
-function initCase() {
+async function initCase() {
   const meta = JSON.parse($('#case-meta').textContent);
   HDRC.meta = meta;
   const w = meta.w, h = meta.h;
   const imgs = {};
   if (HDRC.px) {
-    for (const [k, d] of Object.entries(HDRC.px.images)) imgs[k] = new FloatImage(HDRC.px.w, HDRC.px.h, d);
+    for (const [k, d] of Object.entries(HDRC.px.images)) imgs[k] = await FloatImage.load(HDRC.px.w, HDRC.px.h, d);
   }
+  const copy = $('#repro-copy');
+  if (copy)
+    copy.addEventListener('click', async () => {
+      const text = $('#repro-cmd').textContent;
+      try {
+        await navigator.clipboard.writeText(text);
+        copy.textContent = 'copied';
+      } catch (e) {
+        // file:// pages may not write the clipboard: select the text for Ctrl-C instead.
+        const r = document.createRange();
+        r.selectNodeContents($('#repro-cmd'));
+        getSelection().removeAllRanges();
+        getSelection().addRange(r);
+        copy.textContent = 'selected: press Ctrl-C';
+      }
+    });
   HDRC.images = imgs;
   const tol = meta.tol || {};
   const m2020 = meta.to_rec2020 || [1, 0, 0, 0, 1, 0, 0, 0, 1];
@@ -537,16 +698,32 @@ function initCase() {
   const keys = $$('figure.panel').map((f) => f.dataset.key);
   // The case's image folder, from the PNG the page was written with (c/<slug>/).
   const imgBase = $('figure.panel img').getAttribute('src').replace(/[^/]*$/, '');
-  const labels = { input: 'input', reference: 'reference', candidate: 'candidate', heat: 'error heatmap', mask: 'over tolerance' };
+  const labels = { input: 'input', reference: 'reference', candidate: 'candidate', heat: 'error heatmap', mask: 'over tolerance', diff: 'difference (heatmap)' };
 
-  // Rendering of the float images at the current exposure (cached per exposure).
+  // Rendering of the float images (cached per display mode and exposure). Each pixel's nits are
+  // converted from the output gamut to the display's (meta.to_display: sRGB primaries; the input,
+  // in the working colour space, as it is), scaled by 2^EV, then mapped by the display mode:
+  //   clip        sRGB(clamp(nits / 100 · 2^EV, 0, 1)) per channel (the PNGs' mapping)
+  //   tonemap     sRGB(x / (1 + x)) per channel, x = nits / 100 · 2^EV (Reinhard: nothing clips)
+  //   falsecolour VisualizeHDR's Colorize(histogram position of log2(max(mean RGB / 100 · 2^EV,
+  //               LuminanceMin))), default eye adaptation (meta.false_colour)
+  //   pq          the PQ signal of each channel (ST 2084 of the Rec.2020 nits), shown as grey codes
+  //   hdr         (HDR displays) a 16-bit PQ / BT.2020 PNG (cICP) the browser shows in true HDR
+  const toDisplay = meta.to_display || [1, 0, 0, 0, 1, 0, 0, 0, 1];
+  const fc = meta.false_colour || { scale: 1 / 30, bias: 0.5, luminance_min: 1e-4 };
   const cache = new Map();
+  function displayMode() {
+    return $('#display-mode') ? $('#display-mode').value : 'clip';
+  }
   function previewData(key) {
-    const ck = key + '@' + ev;
+    const mode = displayMode() === 'hdr' ? 'clip' : displayMode();
+    const ck = key + '@' + ev + '@' + mode;
     if (cache.has(ck)) return cache.get(ck);
     const im = imgs[key];
     const data = new ImageData(w, h);
     const k = Math.pow(2, ev) / 100;
+    const m = key === 'input' ? [1, 0, 0, 0, 1, 0, 0, 0, 1] : toDisplay;
+    const m2 = key === 'input' ? [1, 0, 0, 0, 1, 0, 0, 0, 1] : m2020;
     for (let i = 0; i < w * h; i++) {
       let nan = false, inf = false;
       for (let c = 0; c < 3; c++) {
@@ -555,17 +732,68 @@ function initCase() {
         inf = inf || (!Number.isFinite(v) && !Number.isNaN(v));
       }
       const o = i * 4;
+      data.data[o + 3] = 255;
       if (nan || inf) {
         data.data[o] = nan ? 255 : 0;
         data.data[o + 1] = nan ? 0 : 255;
         data.data[o + 2] = 255;
-      } else {
-        for (let c = 0; c < 3; c++) data.data[o + c] = Math.round(srgbOetf(im.nits(i, c) * k) * 255);
+        continue;
       }
-      data.data[o + 3] = 255;
+      const n = [im.nits(i, 0), im.nits(i, 1), im.nits(i, 2)];
+      if (mode === 'pq') {
+        const n2020 = mul3(m2, n);
+        for (let c = 0; c < 3; c++) data.data[o + c] = Math.round(pqSignal(n2020[c]) * 255);
+        continue;
+      }
+      const d = mul3(m, n);
+      if (mode === 'falsecolour') {
+        const lum = Math.max(((d[0] + d[1] + d[2]) / 3) * k, fc.luminance_min);
+        const rgb = colorize(Math.log2(lum) * fc.scale + fc.bias);
+        for (let c = 0; c < 3; c++) data.data[o + c] = rgb[c];
+        continue;
+      }
+      for (let c = 0; c < 3; c++) {
+        const x = d[c] * k;
+        data.data[o + c] = Math.round(srgbOetf(mode === 'tonemap' ? (x > 0 ? x / (1 + x) : 0) : x) * 255);
+      }
     }
     cache.set(ck, data);
     return data;
+  }
+  // The HDR path: a 16-bit RGB PNG of the BT.2020 PQ signal with a cICP chunk (primaries 9
+  // BT.2020, transfer 16 PQ, matrix 0, full range), which Chromium shows in HDR on an HDR display.
+  const hdrCache = new Map();
+  async function hdrUrl(key) {
+    const ck = key + '@' + ev;
+    if (hdrCache.has(ck)) return hdrCache.get(ck);
+    const im = imgs[key];
+    const k = Math.pow(2, ev);
+    const raw = new Uint8Array(h * (1 + w * 6));
+    const m2 = key === 'input' ? [0.6274, 0.3293, 0.0433, 0.0691, 0.9195, 0.0114, 0.0164, 0.0880, 0.8956] : m2020;
+    for (let y = 0; y < h; y++) {
+      raw[y * (1 + w * 6)] = 0; // filter: none
+      for (let x = 0; x < w; x++) {
+        const i = y * w + x;
+        const n = mul3(m2, [im.nits(i, 0), im.nits(i, 1), im.nits(i, 2)]);
+        for (let c = 0; c < 3; c++) {
+          const v = Number.isFinite(n[c]) ? Math.round(pqSignal(n[c] * k) * 65535) : 0;
+          const o = y * (1 + w * 6) + 1 + x * 6 + c * 2;
+          raw[o] = v >> 8;
+          raw[o + 1] = v & 255;
+        }
+      }
+    }
+    const z = new Uint8Array(await new Response(new Blob([raw]).stream().pipeThrough(new CompressionStream('deflate'))).arrayBuffer());
+    const ihdr = new Uint8Array(13);
+    new DataView(ihdr.buffer).setUint32(0, w);
+    new DataView(ihdr.buffer).setUint32(4, h);
+    ihdr.set([16, 2, 0, 0, 0], 8); // 16-bit, RGB
+    const png = new Blob([new Uint8Array([137, 80, 78, 71, 13, 10, 26, 10]), pngChunk('IHDR', ihdr),
+      pngChunk('cICP', new Uint8Array([9, 16, 0, 1])), pngChunk('IDAT', z), pngChunk('IEND', new Uint8Array(0))],
+    { type: 'image/png' });
+    const url = URL.createObjectURL(png);
+    hdrCache.set(ck, url);
+    return url;
   }
   const floatKeys = new Set(['input', 'reference', 'candidate'].filter((k) => imgs[k]));
 
@@ -573,9 +801,25 @@ function initCase() {
   // PNG (heatmaps, mask, and previews when there is no float data).
   function makeView(key) {
     let e;
-    if (floatKeys.has(key)) {
+    if (floatKeys.has(key) && displayMode() === 'hdr') {
+      e = el('img', { alt: labels[key] + ' (HDR)', 'data-key': key, class: 'hdr' });
+      hdrUrl(key).then((u) => {
+        e.src = u;
+      });
+    } else if (floatKeys.has(key)) {
       e = el('canvas', { width: w, height: h, 'data-key': key });
       e.getContext('2d').putImageData(previewData(key), 0, 0);
+    } else if (key === 'diff') {
+      // |B − A| per pixel on the heatmap's scale (the heatmap of the chosen metric).
+      e = el('canvas', { width: w, height: h, 'data-key': key });
+      if (imgs.reference && imgs.candidate) {
+        const d = new ImageData(w, h);
+        for (let i = 0; i < w * h; i++) {
+          const [r, g, b] = heatColour(pixelError(i), HEAT[heatKey]);
+          d.data.set([r, g, b, 255], i * 4);
+        }
+        e.getContext('2d').putImageData(d, 0, 0);
+      }
     } else {
       const file = key === 'heat' ? HEAT[heatKey].png : key + '.png';
       e = el('img', { alt: labels[key], 'data-key': key });
@@ -629,6 +873,12 @@ function initCase() {
     cmp.hidden = mode === 'side';
     if (mode === 'side') return;
     const a = selA.value, b = selB.value;
+    if (mode === 'diff') {
+      cmp.replaceChildren(el('p', { class: 'caption', id: 'diff-label' }, 'difference of A and B: per pixel the heatmap of ' + HEAT[heatKey].unit),
+        el('div', { class: 'frame', id: 'diff-frame' }, makeView('diff')));
+      centreOnWorst(cmp);
+      return;
+    }
     if (mode === 'flip') {
       const key = flipShowsB ? b : a;
       const v = makeView(key);
@@ -638,6 +888,7 @@ function initCase() {
         flipShowsB = !flipShowsB;
         renderCompare();
       });
+      queueMicrotask(() => centreOnWorst(cmp));
       cmp.replaceChildren(el('p', { class: 'caption', id: 'flip-label' },
         'showing ', el('b', { text: (flipShowsB ? 'B: ' : 'A: ') + labels[key] }),
         ' — click the image, press F or ', el('button', { type: 'button', id: 'flip-button', onclick: () => {
@@ -665,7 +916,18 @@ function initCase() {
         if (e.buttons & 1) set((100 * e.offsetX) / stack.clientWidth);
       });
       cmp.replaceChildren(el('p', { class: 'caption' }, 'left: A (' + labels[a] + '), right: B (' + labels[b] + ') — drag, or ', range), stack);
+      centreOnWorst(cmp);
     }
+  }
+  // Zoomed in, the compare frame scrolls so that the worst pixel (results.json) is at its centre.
+  function centreOnWorst(cmp) {
+    const z = Number($('#zoom').value);
+    cmp.classList.toggle('zoomed', z > 0);
+    if (!(z > 0) || !meta.worst) return;
+    const [sx, sy] = scales();
+    cmp.scrollLeft = Math.max(0, (meta.worst.x + 0.5) * sx - cmp.clientWidth / 2);
+    cmp.scrollTop = Math.max(0, (meta.worst.y + 0.5) * sy - cmp.clientHeight / 2);
+    cmp.dataset.centre = meta.worst.x + ',' + meta.worst.y;
   }
   document.addEventListener('keydown', (e) => {
     if ((e.key === 'f' || e.key === 'F') && $('#view-mode').value === 'flip' && !/INPUT|SELECT/.test(e.target.tagName)) {
@@ -692,6 +954,21 @@ function initCase() {
   };
   expo.addEventListener('input', () => setEv(Number(expo.value)));
   $('#exposure-reset').addEventListener('click', () => setEv(0));
+  // HDR display: the browser says so (or #hdr=1 forces the path, for tests); else SDR views only.
+  const hdrOk = matchMedia('(dynamic-range: high)').matches || parseHash().hdr === '1';
+  const hdrOpt = $('#display-mode option[value="hdr"]');
+  if (hdrOpt) {
+    hdrOpt.disabled = !hdrOk || !floatKeys.size;
+    $('#hdr-status').textContent = hdrOk ? 'HDR display found: "HDR (PQ)" shows the true HDR image' :
+      'SDR display (matchMedia dynamic-range: high is false): the SDR views are shown';
+    if (hdrOk && floatKeys.size && parseHash().hdr === '1') $('#display-mode').value = 'hdr';
+  }
+  if ($('#display-mode'))
+    $('#display-mode').addEventListener('change', () => {
+      redrawPanels();
+      renderCompare();
+      renderLut();
+    });
   if (!floatKeys.size) {
     expo.disabled = true;
     $('#exposure-value').textContent = 'needs the float data';
@@ -772,6 +1049,14 @@ function initCase() {
         el('td', { text: fmt(itp, 6) }), el('td'), el('td'), el('td')));
       tb.append(el('tr', { 'data-row': 'nits' }, el('th', { text: 'reference nits' }),
         ...rn.map((v) => el('td', { text: fmt(v, 6) })), el('td')));
+      tb.append(el('tr', { 'data-row': 'cand-nits' }, el('th', { text: 'candidate nits' }),
+        ...cn.map((v) => el('td', { text: fmt(v, 6) })), el('td')));
+      // PQ code values (10-bit, of the Rec.2020 nits), the full RGB triplet of each side.
+      const pq10 = (n) => mul3(m2020, n).map((v) => (Number.isFinite(v) ? fmt(pqSignal(v) * 1023, 6) : 'NaN'));
+      tb.append(el('tr', { 'data-row': 'ref-pq' }, el('th', { text: 'reference PQ (10-bit codes)' }),
+        ...pq10(rn).map((v) => el('td', { text: v })), el('td')));
+      tb.append(el('tr', { 'data-row': 'cand-pq' }, el('th', { text: 'candidate PQ (10-bit codes)' }),
+        ...pq10(cn).map((v) => el('td', { text: v })), el('td')));
     }
     probeTable.hidden = false;
     $('#probe-hint').hidden = true;
@@ -896,20 +1181,125 @@ function initCase() {
     if (!floatKeys.size) $('#lut').append(el('p', { class: 'muted', text: 'The LUT view needs the float data.' }));
   }
 
+  // Plots (section #plots): the ramp's nits in vs out with the error beneath, the ΔE_ITP
+  // histogram, the CIE xy chromaticities of colour stimuli.
+  function renderPlots() {
+    const box = $('#plots-body');
+    if (!box) return;
+    box.replaceChildren();
+    const r = imgs.reference, c = imgs.candidate, inp = imgs.input;
+    const input = String(meta.input || '');
+    const lumOut = (im, i) => { const n = mul3(m2020, [im.nits(i, 0), im.nits(i, 1), im.nits(i, 2)]); return n[0] * LUMA2020[0] + n[1] * LUMA2020[1] + n[2] * LUMA2020[2]; };
+    const lumIn = (i) => inp.nits(i, 0) * LUMA709[0] + inp.nits(i, 1) * LUMA709[1] + inp.nits(i, 2) * LUMA709[2];
+    if (inp && r && /ramp|pq_codes|near_black|above_peak/.test(input)) {
+      const row = Number($('#plot-row').value);
+      const pts = [];
+      for (let x = 0; x < w; x++) {
+        const i = row * w + x;
+        const xin = lumIn(i), yr = lumOut(r, i), yc = c ? lumOut(c, i) : NaN;
+        if (xin > 0 && Number.isFinite(xin)) pts.push([xin, yr, yc, c ? pixelErrorPq(i) : NaN]);
+      }
+      const pos = pts.flatMap((p) => [p[1], p[2]]).filter((v) => v > 0 && Number.isFinite(v));
+      if (pts.length > 1 && pos.length) {
+        const xr = [Math.min(...pts.map((p) => p[0])), Math.max(...pts.map((p) => p[0]))];
+        const yr = [Math.max(Math.min(...pos), 1e-6), Math.max(...pos)];
+        const { g, X, Y } = plotFrame(760, 280, xr, yr, { xlog: true, ylog: true, id: 'ramp-plot', xlabel: 'input luminance (nits, row ' + row + ')', ylabel: 'output luminance (nits)' });
+        const ok = (v) => v > 0 && Number.isFinite(v);
+        g.append(polyline(pts.filter((p) => ok(p[1])).map((p) => [X(p[0]), Y(Math.max(p[1], yr[0]))]), 'ref'));
+        if (c) g.append(polyline(pts.filter((p) => ok(p[2])).map((p) => [X(p[0]), Y(Math.max(p[2], yr[0]))]), 'cand'));
+        g.append(svgEl('text', { x: 70, y: 20, fill: '#1f5fbf' }, '— reference'), svgEl('text', { x: 170, y: 20, fill: '#d9480f' }, '- - candidate'));
+        box.append(el('figure', { class: 'plot' }, el('figcaption', { text: 'Nits in vs nits out along the ramp (BT.2020 luminance of the output, BT.709 of the input)' }), g));
+        if (c) {
+          const errs = pts.map((p) => p[3]).filter((v) => Number.isFinite(v));
+          const emax = Math.max(...errs, tol.pq_code10 || 0, 1e-3);
+          const { g: ge, X: Xe, Y: Ye } = plotFrame(760, 160, xr, [0, emax * 1.05], { xlog: true, ylog: false, id: 'ramp-error', xlabel: 'input luminance (nits)', ylabel: 'PQ error (10-bit codes)' });
+          ge.append(polyline(pts.filter((p) => Number.isFinite(p[3])).map((p) => [Xe(p[0]), Ye(p[3])]), 'err'));
+          if (tol.pq_code10 > 0) ge.append(svgEl('line', { class: 'tol', x1: Xe(xr[0]), x2: Xe(xr[1]), y1: Ye(tol.pq_code10), y2: Ye(tol.pq_code10) }));
+          box.append(el('figure', { class: 'plot' }, el('figcaption', { text: 'Error beneath: the largest PQ error of the pixel\'s channels; dashed: the tolerance' }), ge));
+        }
+      }
+    }
+    if (r && c) {
+      // ΔE_ITP per pixel: exact 0 in the first bar, then log10 bins of 0.25 from 1e-4 to 100.
+      const bins = new Array(26).fill(0);
+      let n = 0;
+      for (let i = 0; i < w * h; i++) {
+        const rn = [0, 1, 2].map((ch) => r.nits(i, ch)), cn = [0, 1, 2].map((ch) => c.nits(i, ch));
+        if (rn.concat(cn).some((v) => !Number.isFinite(v))) continue;
+        const e = deltaEItp(ictcp(mul3(m2020, cn)), ictcp(mul3(m2020, rn)));
+        n++;
+        if (!(e > 0)) bins[0]++;
+        else bins[Math.min(25, Math.max(1, 1 + Math.floor((Math.log10(e) + 4) * 4)))]++;
+      }
+      const maxc = Math.max(...bins, 1);
+      const { g, X, Y } = plotFrame(760, 200, [0, 26], [0, maxc], { xlog: false, ylog: false, id: 'itp-histogram', xlabel: 'ΔE_ITP (bar 0: exact; then 4 bars per decade from 1e-4)', ylabel: 'pixels' });
+      const t = tol.delta_e_itp;
+      bins.forEach((cnt, b) => {
+        const lo = b === 0 ? 0 : Math.pow(10, (b - 1) / 4 - 4);
+        g.append(svgEl('rect', { class: 'bar' + (t > 0 && lo >= t ? ' over' : ''), x: X(b) + 1, y: Y(cnt), width: Math.max(1, X(b + 1) - X(b) - 2), height: Y(0) - Y(cnt), 'data-count': cnt },
+          svgEl('title', {}, (b === 0 ? 'exact' : '≥ ' + fmt(lo, 3)) + ': ' + cnt + ' pixels')));
+      });
+      box.append(el('figure', { class: 'plot' }, el('figcaption', { text: 'ΔE_ITP histogram (' + n + ' finite pixels' + (t > 0 ? '; red: at or over the tolerance ' + fmt(t) : '') + ')' }), g));
+    }
+    if (r && /hue_sweep|colorchecker|primaries/.test(input)) {
+      const { g, X, Y } = plotFrame(420, 420, [0, 0.8], [0, 0.9], { xlog: false, ylog: false, id: 'xy-plot', xlabel: 'CIE x', ylabel: 'CIE y' });
+      g.append(svgEl('polygon', { points: LOCUS.map(([x, y]) => X(x) + ',' + Y(y)).join(' '), fill: 'none', stroke: '#333' }));
+      GAMUTS.forEach(([name, p, col], gi) => {
+        g.append(svgEl('polygon', { points: p.map(([x, y]) => X(x) + ',' + Y(y)).join(' '), fill: 'none', stroke: col, 'data-gamut': name }));
+        g.append(svgEl('text', { x: 300, y: 20 + gi * 14, fill: col }, name));
+      });
+      const seen = new Set();
+      const dot = (im, i, cls) => {
+        const n = mul3(REC2020_TO_XYZ, mul3(m2020, [im.nits(i, 0), im.nits(i, 1), im.nits(i, 2)]));
+        const sum = n[0] + n[1] + n[2];
+        if (!(sum > 0) || !Number.isFinite(sum)) return;
+        const x = n[0] / sum, y = n[1] / sum;
+        const k = cls + Math.round(x * 2000) + ',' + Math.round(y * 2000);
+        if (seen.has(k) || seen.size > 3000) return;
+        seen.add(k);
+        g.append(cls === 'r' ? svgEl('circle', { cx: X(x), cy: Y(y), r: 2.5, fill: 'none', stroke: '#1f5fbf' }) :
+          svgEl('path', { d: `M${X(x) - 2},${Y(y) - 2}l4,4m0,-4l-4,4`, stroke: '#d9480f' }));
+      };
+      for (let i = 0; i < w * h; i++) {
+        dot(r, i, 'r');
+        if (c) dot(c, i, 'c');
+      }
+      box.append(el('figure', { class: 'plot' }, el('figcaption', { text: 'CIE 1931 xy of the output (○ reference, × candidate) with the spectral locus and gamut triangles' }), g));
+    }
+    if (!box.children.length) box.append(el('p', { class: 'muted', text: 'No plot applies to this case (ramps, colour stimuli, or a reference and a candidate).' }));
+  }
+  function pixelErrorPq(i) {
+    const r = imgs.reference, c = imgs.candidate;
+    let worst = 0;
+    for (let ch = 0; ch < 3; ch++) {
+      const rv = r.nits(i, ch), cv = c.nits(i, ch);
+      if (!Number.isFinite(rv) || !Number.isFinite(cv)) return NaN;
+      worst = Math.max(worst, Math.abs(pqSignal(cv) - pqSignal(rv)) * 1023);
+    }
+    return worst;
+  }
+  if ($('#plot-row')) {
+    const sel = $('#plot-row');
+    for (let y = 0; y < h; y++) sel.append(el('option', { value: y, text: 'row ' + y }));
+    sel.value = meta.worst ? meta.worst.y : 0;
+    sel.addEventListener('change', renderPlots);
+  }
+
   redrawPanels();
   renderCompare();
   drawLegend();
   renderLut();
+  renderPlots();
   ready();
 }
 
-document.addEventListener('DOMContentLoaded', () => {
+document.addEventListener('DOMContentLoaded', async () => {
   const page = document.body.dataset.page;
   try {
     if (page === 'summary') initSummary();
     else if (page === 'cases') initCases();
     else if (page === 'matrix') initMatrix();
-    else if (page === 'case') initCase();
+    else if (page === 'case') await initCase();
   } catch (e) {
     document.documentElement.dataset.error = String(e && e.stack ? e.stack : e);
     document.body.prepend(el('pre', { class: 'warning', text: 'report script error: ' + e }));

@@ -13,6 +13,11 @@
 //   fixture/degenerate                     DEGENERATE (an ACES device with HDR output off)
 //   fixture/skipped/log_ramp               SKIP (from a second run whose candidate cannot start)
 //   <script>alert(1)</script>/log_ramp     a hostile case id; passes
+//   fixture/aces/log_ramp                  an ACES regression (issue 14): ACES 1000-nit device 3,
+//                                          the candidate compresses every output over 200 nits
+//                                          (PQ signal − 0.04 above PQ(200 nits)); FAILS
+//   fixture/hue/hue_sweep                  hue sweeps for the chromaticity plot; passes
+// and a golden check with one regression (fixture/lut), recorded as the runner records it.
 //
 // Usage: report_fixture OUT_DIR. Also writes OUT_DIR/expect.json: what the fixture planted, for
 // the browser test to check the report against (independently of results.json).
@@ -48,6 +53,8 @@ const std::map<std::string, Plant>& plants() {
   return p;
 }
 
+const std::string kAcesId = "fixture/aces/log_ramp";
+
 // The reference engine, its output rounded to float32 as a GPU would store it, plus the defects.
 class PlantedEngine final : public hdrc::Engine {
  public:
@@ -65,6 +72,14 @@ class PlantedEngine final : public hdrc::Engine {
     auto img = ref_.run(c);
     if (!img) return img;
     for (double& v : img->data) v = static_cast<float>(v);
+    if (c.spec.id == kAcesId) {
+      // A highlight regression: PQ signals over PQ(200 nits) = 0.5791 lowered by 0.04.
+      for (size_t i = 0; i < img->pixel_count(); ++i)
+        for (int ch = 0; ch < 3; ++ch) {
+          double& v = img->data[i * Image::kChannels + ch];
+          if (v > 0.5791) v = static_cast<float>(v - 0.04);
+        }
+    }
     if (auto it = plants().find(c.spec.id); it != plants().end()) {
       const Plant& p = it->second;
       double& v = img->px(p.x, p.y)[p.channel];
@@ -99,6 +114,24 @@ const char* kLut = R"({
 const char* kShaper = R"({
   "stage": "shaper",
   "input": {"stimulus": "log_ramp", "width": 32, "height": 2},
+  "tolerance": {"linear_rel": 1e-4, "rel_floor": 1e-4, "pq_code10": 0.05,
+                "reason": "report fixture"}
+})";
+
+const char* kAces = R"({
+  "stage": "tonemap",
+  "cvars": {"r.HDR.EnableHDROutput": 1, "r.HDR.Display.OutputDevice": 3,
+            "r.HDR.Display.ColorGamut": 2, "r.HDR.Display.MaxLuminance": 1000},
+  "input": {"stimulus": "log_ramp", "width": 256, "height": 4},
+  "tolerance": {"pq_code10": 0.5, "linear_rel": null,
+                "reason": "report fixture: an ACES highlight regression is planted"}
+})";
+
+const char* kHue = R"({
+  "stage": "linear_device",
+  "cvars": {"r.HDR.EnableHDROutput": 1, "r.HDR.Display.OutputDevice": 7,
+            "r.HDR.Display.ColorGamut": 2},
+  "input": {"stimulus": "hue_sweep", "width": 96, "height": 8},
   "tolerance": {"linear_rel": 1e-4, "rel_floor": 1e-4, "pq_code10": 0.05,
                 "reason": "report fixture"}
 })";
@@ -141,6 +174,8 @@ int main(int argc, char** argv) {
   add(&main_cases, kShaper, "fixture/known");
   add(&main_cases, kDegenerate, "fixture/degenerate");
   add(&main_cases, kShaper, "<script>alert(1)</script>");
+  add(&main_cases, kAces, "fixture/aces");
+  add(&main_cases, kHue, "fixture/hue");
   add(&skipped_cases, kShaper, "fixture/skipped");
   if (!errors.empty()) {
     for (const auto& e : errors) std::fprintf(stderr, "error: %s\n", e.to_string().c_str());
@@ -161,10 +196,26 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "error: %s\n", st.error().to_string().c_str());
     return 1;
   }
+  // The golden check as `run` records it (runner/results.h: finish_run_outputs): one regression.
+  {
+    nlohmann::json g = {{"goldens_dir", "goldens"}, {"reference_version", "fixture"}};
+    for (const auto& c : report.cases)
+      if (c.images.count("reference"))
+        g["cases"].push_back(
+            {{"id", c.spec.id},
+             {"outcome", c.spec.id == "fixture/lut" ? "regression" : "match"},
+             {"message",
+              c.spec.id == "fixture/lut" ? "golden regression: 1 value(s) differ (planted)" : ""}});
+    std::ofstream(out + "/goldens.json") << g.dump(2) << "\n";
+    hdrc::finish_run_outputs(out, hdrc::kExitFail, /*goldens_checked=*/true, "all");
+  }
 
   // What the browser test checks, from the fixture's own design and the images it ran.
   nlohmann::json expect = {
-      {"verdicts", {{"PASS", 7}, {"FAIL", 1}, {"KNOWN_LIMIT", 1}, {"DEGENERATE", 1}, {"SKIP", 1}}},
+      {"verdicts", {{"PASS", 8}, {"FAIL", 2}, {"KNOWN_LIMIT", 1}, {"DEGENERATE", 1}, {"SKIP", 1}}},
+      {"aces", kAcesId},
+      {"hue", "fixture/hue/hue_sweep"},
+      {"golden_regression", "fixture/lut"},
       {"warned", 1},
       {"failing", "fixture/linear/dev8_gamut2_log_ramp"},
       {"warned_case", "fixture/linear/dev7_gamut1_log_ramp"},

@@ -33,6 +33,9 @@ const CHROME_ARGS = ['--no-sandbox', '--disable-gpu', '--disable-quic', '--no-fi
   '--disable-background-networking', '--disable-component-update', '--disable-sync'];
 
 let failures = 0, checks = 0;
+// Every control (select option, button, input, sortable header) the test drives, by page type.
+const controls = new Set();
+const drove = (page, what) => controls.add(page + ': ' + what);
 function check(cond, what, detail) {
   checks++;
   if (cond) {
@@ -127,12 +130,20 @@ async function fixtureTest(dir, artifacts) {
     check(await count('PASS') === results.summary.pass && await count('FAIL') === results.summary.fail &&
       await count('SKIP') === results.summary.skipped, 'counts agree with results.json summary');
     check(await count('WARN') === expect.warned, 'warned count');
-    const worst = await page.$$eval('#worst-cases tbody tr code', (e) => e.map((x) => x.textContent));
-    check(worst[0] === expect.failing, 'worst cases list the failing case first', worst);
+    const worst = await page.$$eval('#worst-cases tbody tr', (e) => e.map((x) => [x.querySelector('code').textContent, x.querySelector('.badge').textContent, x.children[2].textContent]));
+    check(worst[0][1] === 'FAIL' && worst[1][1] === 'FAIL' && worst.slice(0, 2).some((w) => w[0] === expect.failing) &&
+      worst.slice(0, 2).some((w) => w[0] === expect.aces), 'worst cases list the two failing cases first', worst.slice(0, 3));
+    // Budget used is the runner's figure (results.json budget_used), never 1e+08 %.
+    const budgets = worst.map((w) => [w[0], w[2]]);
+    check(budgets.every(([id, t]) => t === '—' || Math.abs(Number(t.replace(' %', '')) - byId.get(id).budget_used * 100) <=
+      0.01 * byId.get(id).budget_used * 100 + 1e-9), 'budget used = results.json budget_used for every listed case', budgets);
+    check(worst.filter((w) => w[1] === 'PASS').every((w) => Number(w[2].replace(' %', '')) <= 100), 'passing cases use at most 100 % of their budget', worst);
     const meta = await page.textContent('#run-meta');
     check(meta.includes(results.candidate.device), 'run metadata names the candidate device');
-    check(await page.$('a[href="../results.json"]') && await page.$('a[href="../junit.xml"]'),
-      'links to results.json and junit.xml');
+    const hrefs = await page.$$eval('a[href], img[src], link[href], script[src]', (e) => e.map((x) => x.getAttribute('href') || x.getAttribute('src')));
+    check(hrefs.every((h) => !h.startsWith('../') && !h.includes('://')), 'no link leaves report/ (self-contained)', hrefs.filter((h) => h.startsWith('../')));
+    const golden = await page.$$eval('#golden-failures tbody tr code', (e) => e.map((x) => x.textContent));
+    check(golden.length === 1 && golden[0] === expect.golden_regression, 'golden regression listed in the report', golden);
     await page.screenshot({ path: path.join(artifacts, 'summary.png'), fullPage: true });
     dialogs.push(...d);
   }
@@ -159,8 +170,35 @@ async function fixtureTest(dir, artifacts) {
     const drilled = await page.$$eval('#cell-table tbody tr code', (e) => e.map((x) => x.textContent));
     check(drilled.length === 1 && drilled[0] === expect.failing, 'drill-down lists the failing case', drilled);
     await page.selectOption('#m-show', 'budget');
+    drove('matrix', '#m-show budget');
     const txt = await page.textContent(`#matrix-table td.cell[data-row="${fr}"][data-col="${fc}"]`);
     check(/%$/.test(txt.trim()), 'metric toggle shows the budget used', txt);
+    const passTxt = await page.textContent(`#matrix-table td.cell[data-row="7"][data-col="0"]`);
+    check(!/e\+/.test(passTxt) && Number(passTxt.replace(' %', '')) < 100, 'a passing cell\'s budget is under 100 % (not 1e+08 %)', passTxt);
+    // Every view of the matrix: each metric, each stage, each row/column dimension.
+    const shows = await page.$$eval('#m-show option', (o) => o.map((x) => x.value));
+    let rendered = 0;
+    for (const v of shows) {
+      await page.selectOption('#m-show', v);
+      drove('matrix', '#m-show ' + v);
+      rendered += (await page.$$('#matrix-table td.cell')).length > 0;
+    }
+    check(rendered === shows.length, `every "show" view renders (${shows.length}: verdict, budget, each metric)`, rendered);
+    for (const st of await page.$$eval('#m-stage option', (o) => o.map((x) => x.value))) {
+      await page.selectOption('#m-stage', st);
+      drove('matrix', '#m-stage ' + (st || 'all'));
+      for (const sel of ['#m-rows', '#m-cols'])
+        for (const v of await page.$$eval(sel + ' option', (o) => o.map((x) => x.value))) {
+          await page.selectOption(sel, v);
+          drove('matrix', sel + ' ' + v);
+        }
+      const cell = await page.$('#matrix-table td.cell');
+      if (cell) {
+        await cell.click();
+        drove('matrix', 'cell click');
+      }
+    }
+    check(d.length === 0 && (await page.evaluate(() => document.documentElement.dataset.error || '')) === '', 'every matrix view and control ran without a script error');
     dialogs.push(...d);
   }
 
@@ -172,7 +210,24 @@ async function fixtureTest(dir, artifacts) {
     check((await visible()).length === results.cases.length, 'all cases listed');
     await page.selectOption('#f-verdict', 'FAIL');
     let v = await visible();
-    check(v.length === 1 && v[0] === expect.failing, 'verdict filter FAIL narrows to the failing case', v);
+    check(v.length === 2 && v.includes(expect.failing) && v.includes(expect.aces), 'verdict filter FAIL narrows to the failing cases', v);
+    for (const o of await page.$$eval('#f-verdict option', (x) => x.map((y) => y.value))) {
+      await page.selectOption('#f-verdict', o);
+      drove('cases', '#f-verdict ' + (o || 'all'));
+    }
+    for (const o of await page.$$eval('#f-stage option', (x) => x.map((y) => y.value))) {
+      await page.selectOption('#f-stage', o);
+      drove('cases', '#f-stage ' + (o || 'all'));
+    }
+    for (const o of await page.$$eval('#f-metric option', (x) => x.map((y) => y.value))) {
+      await page.selectOption('#f-metric', o);
+      drove('cases', '#f-metric ' + o);
+    }
+    for (const th of await page.$$eval('th[data-sort]', (x) => x.map((y) => y.dataset.sort))) {
+      await page.click(`th[data-sort="${th}"]`);
+      drove('cases', 'sort ' + th);
+    }
+    await page.selectOption('#f-stage', '');
     await page.selectOption('#f-verdict', 'WARN');
     v = await visible();
     check(v.length === 1 && v[0] === expect.warned_case, 'WARN filter narrows to the warned case', v);
@@ -184,11 +239,13 @@ async function fixtureTest(dir, artifacts) {
     await page.selectOption('#f-cvar', 'r.HDR.Display.ColorGamut');
     await page.selectOption('#f-cvar-value', '2');
     v = await visible();
-    check(v.length === 2 && v.every((x) => x.includes('gamut2')), 'cvar filter ColorGamut = 2 narrows to 2 cases', v);
+    const gamut2 = results.cases.filter((c) => c.cvars['r.HDR.Display.ColorGamut'] === 2).map((c) => c.id);
+    check(v.length === gamut2.length && v.length >= 2 && v.every((x) => gamut2.includes(x)), `cvar filter ColorGamut = 2 narrows to its ${gamut2.length} cases`, v);
     await page.selectOption('#f-cvar', '');
+    await page.click('th[data-sort="id"]');
     await page.click('th[data-sort="budget"]');
     v = await visible();
-    check(v[0] === expect.failing, 'sorting by budget used (descending) puts the failing case first', v.slice(0, 3));
+    check(v.slice(0, 2).includes(expect.failing) && v.slice(0, 2).includes(expect.aces), 'sorting by budget used (descending) puts the failing cases first', v.slice(0, 3));
     const hostileText = await page.$$eval('#case-table tbody code', (e, id) => e.some((x) => x.textContent === id), expect.hostile);
     check(hostileText, 'hostile case id is listed as text');
     dialogs.push(...d);
@@ -263,9 +320,67 @@ async function fixtureTest(dir, artifacts) {
     check(before.startsWith('A: reference') && after.startsWith('B: candidate'), 'flip toggles A → B', [before, after]);
     await page.selectOption('#view-mode', 'slider');
     check((await page.$$('#slider-stack .layer')).length === 2 && await page.isVisible('#split'), 'slider view stacks A and B');
+    await page.selectOption('#view-mode', 'diff');
+    check(await page.isVisible('#diff-frame canvas'), 'diff view shows the difference');
+    for (const v of ['side', 'flip', 'slider', 'diff']) drove('case', '#view-mode ' + v);
+    drove('case', '#flip-button');
+    await page.selectOption('#view-mode', 'slider');
+    await page.fill('#split', '30');
+    await page.dispatchEvent('#split', 'input');
+    drove('case', '#split');
+    check((await page.$eval('#slider-stack .layer:not(.base)', (e) => e.style.clipPath)).includes('30%'), 'slider moves the split');
+    // Zoom: every level; zoomed in, the compare frame centres on the worst pixel.
+    await page.selectOption('#view-mode', 'flip');
+    for (const z of await page.$$eval('#zoom option', (o) => o.map((x) => x.value))) {
+      await page.selectOption('#zoom', z);
+      drove('case', '#zoom ' + z);
+    }
+    check((await page.getAttribute('#compare', 'data-centre')) === '13,2', 'zoom centres the compare frame on the worst pixel (13, 2)');
+    await page.selectOption('#zoom', '0');
+    // Display modes: each maps the same float data differently (read back from the canvas).
+    await page.selectOption('#view-mode', 'side');
+    const sig = () => page.$eval('figure.panel[data-key="candidate"] canvas', (c) => {
+      const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+      let s = 0;
+      for (let i = 0; i < d.length; i += 4) s += d[i] * 3 + d[i + 1] * 5 + d[i + 2] * 7;
+      return s;
+    });
+    const sigs = {};
+    for (const m of ['clip', 'tonemap', 'falsecolour', 'pq']) {
+      await page.selectOption('#display-mode', m);
+      drove('case', '#display-mode ' + m);
+      sigs[m] = await sig();
+    }
+    check(new Set(Object.values(sigs)).size === 4, 'clip, tone map, false colour and PQ signal views differ', sigs);
+    check(await page.$eval('#display-mode option[value="hdr"]', (o) => o.disabled), 'HDR view disabled on an SDR display');
+    check((await page.textContent('#hdr-status')).includes('SDR display'), 'SDR fallback explained');
+    await page.selectOption('#display-mode', 'clip');
+    for (const m of ['itp', 'pq10']) {
+      await page.selectOption('#heat-metric', m);
+      drove('case', '#heat-metric ' + m);
+    }
+    check(await page.isVisible('#ramp-plot') && await page.isVisible('#ramp-error') && await page.isVisible('#itp-histogram'), 'ramp plot, its error and the ΔE_ITP histogram drawn');
+    for (const r of await page.$$eval('#plot-row option', (o) => o.map((x) => x.value))) {
+      await page.selectOption('#plot-row', r);
+      drove('case', '#plot-row ' + r);
+    }
+    const hist = await page.$$eval('#itp-histogram rect.bar', (r) => r.reduce((a, x) => a + Number(x.dataset.count), 0));
+    check(hist === 64 * 4, 'ΔE_ITP histogram counts every pixel (64 × 4)', hist);
+    const repro = await page.textContent('#repro-cmd');
+    check(repro.includes("--filter '=" + expect.failing + "'"), 'reproduce command selects exactly this case', repro);
+    await page.click('#repro-copy');
+    drove('case', '#repro-copy');
+    for (const b of await page.$$('#worst-pixel button.goto')) {
+      await b.click();
+      drove('case', 'worst-pixel probe');
+    }
+    drove('case', '#exposure');
+    drove('case', '#exposure-reset');
+    drove('case', 'probe hover');
     await page.selectOption('#view-mode', 'side');
     await page.mouse.move(box.x + ((13 + 0.5) * box.w) / 64, box.y + ((2 + 0.5) * box.h) / 4);
     await page.screenshot({ path: path.join(artifacts, 'failing-case.png') });
+    check((await page.evaluate(() => document.documentElement.dataset.error || '')) === '', 'every case-page control ran without a script error');
     dialogs.push(...d);
   }
 
@@ -320,6 +435,49 @@ async function fixtureTest(dir, artifacts) {
     dialogs.push(...d);
   }
 
+  // ---- The planted ACES regression (issue 14): the matrix, the case page's HDR views and the
+  // ramp plot, as screenshots in the artifacts.
+  console.log('ACES regression');
+  {
+    const mx = await openPage(context, url('matrix.html') + '#stage=tonemap&show=budget', 'matrix (tonemap budget)');
+    await mx.page.screenshot({ path: path.join(artifacts, 'aces-matrix.png'), fullPage: true });
+    const slug = await caseSlug(context, url('cases.html'), expect.aces);
+    const { page, dialogs: d } = await openPage(context, url('c/' + slug), 'ACES case page');
+    for (const m of ['clip', 'tonemap', 'falsecolour', 'pq']) {
+      await page.selectOption('#display-mode', m);
+      await page.selectOption('#view-mode', 'side');
+      await page.locator('#images').screenshot({ path: path.join(artifacts, `aces-case-${m}.png`) });
+    }
+    await page.locator('#plots').screenshot({ path: path.join(artifacts, 'aces-ramp-plot.png') });
+    // The ramp plot makes the regression visible: the candidate's curve leaves the reference's
+    // over 200 nits, and the error line crosses the tolerance there.
+    const errMax = await page.$eval('#ramp-error polyline.err', (p) => Math.min(...p.getAttribute('points').split(' ').map((q) => Number(q.split(',')[1]))));
+    const tolY = await page.$eval('#ramp-error line.tol', (l) => Number(l.getAttribute('y1')));
+    check(errMax < tolY, 'the ramp error rises above the tolerance line (planted regression visible)', [errMax, tolY]);
+    await page.close();
+    // The HDR path (#hdr=1 stands in for an HDR display): a 16-bit PQ PNG with cICP, decoded.
+    const hdr = await openPage(context, url('c/' + slug) + '#hdr=1', 'ACES case page, HDR path');
+    await hdr.page.waitForFunction(() => { const i = document.querySelector('figure.panel[data-key="candidate"] img.hdr'); return i && i.complete && i.naturalWidth > 0; }, null, { timeout: 10000 });
+    const dims = await hdr.page.$eval('figure.panel[data-key="candidate"] img.hdr', (i) => [i.naturalWidth, i.naturalHeight, i.src.startsWith('blob:')]);
+    check(dims[0] === 256 && dims[1] === 4 && dims[2], 'HDR view shows the PQ PNG (256 × 4)', dims);
+    drove('case', '#display-mode hdr');
+    await hdr.page.locator('#images').screenshot({ path: path.join(artifacts, 'aces-case-hdr.png') });
+    dialogs.push(...d, ...hdr.dialogs, ...mx.dialogs);
+  }
+
+  // ---- Hue sweep: the CIE xy plot with the gamut triangles.
+  console.log('hue sweep case page');
+  {
+    const slug = await caseSlug(context, url('cases.html'), expect.hue);
+    const { page, dialogs: d } = await openPage(context, url('c/' + slug), 'hue case page');
+    const gamuts = await page.$$eval('#xy-plot polygon[data-gamut]', (p) => p.map((x) => x.dataset.gamut));
+    check(gamuts.join() === 'Rec.709,P3-D65,Rec.2020,AP1', 'xy plot with the Rec.709, P3, Rec.2020 and AP1 triangles', gamuts);
+    const dots = await page.$$eval('#xy-plot circle', (c) => c.length);
+    check(dots > 10, `xy plot shows the reference's chromaticities (${dots} points)`);
+    await page.locator('#plots').screenshot({ path: path.join(artifacts, 'hue-xy-plot.png') });
+    dialogs.push(...d);
+  }
+
   // ---- Warned case page: warning and markers.
   console.log('warned case page');
   {
@@ -344,6 +502,10 @@ async function fixtureTest(dir, artifacts) {
     dialogs.push(...d);
   }
   check(dialogs.length === 0, 'no dialog (alert) opened on any page', dialogs);
+  drove('LUT', '#lut-slice');
+  drove('LUT', '#lut-goto-worst');
+  const pages = new Set([...controls].map((c) => c.split(':')[0]));
+  console.log(`controls driven: ${controls.size} (${[...pages].map((p) => p + ' ' + [...controls].filter((c) => c.startsWith(p + ':')).length).join(', ')})`);
   await browser.close();
 }
 

@@ -3,8 +3,10 @@
 // write_report on hand-written results directories. The browser test (report/browser_test)
 // checks the pages themselves.
 #include <gtest/gtest.h>
+#include <zlib.h>
 
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -200,6 +202,104 @@ TEST_F(WriteReport, SparseResultsAndHostileTextAreShownEscaped) {
   std::ofstream(dir_ / "report" / "stale.html") << "x";
   ASSERT_TRUE(hdrc::write_report(dir_.string()));
   EXPECT_FALSE(std::filesystem::exists(dir_ / "report" / "stale.html"));
+}
+
+// Issue 14: the budget is the runner's figure (results.json budget_used), never recomputed from
+// max/limit: a passing dither case with an allowed fraction has max 1.91 over a 1e-6 limit but
+// uses 1.99 % of its budget, and the report must say 1.99 %, not 1.91e+08 %.
+TEST_F(WriteReport, BudgetIsDisplayedAsTheRunnerComputedIt) {
+  std::ofstream(dir_ / "results.json") << R"({"cases": [
+      {"id": "dither/a", "verdict": "PASS", "stage": "dither", "budget_used": 0.0199,
+       "tolerance": {"linear_abs": {"max": 1e-6, "allowed_fraction": 0.02, "hard": 2}},
+       "stats": {"overall": {"linear_abs": {"max": 1.91}}}},
+      {"id": "dither/b", "verdict": "FAIL", "stage": "dither", "budget_used": 3.5,
+       "tolerance": {"linear_abs": {"max": 1e-6}}},
+      {"id": "dither/c", "verdict": "PASS", "stage": "dither", "budget_used": 0.5}]})";
+  auto r = hdrc::write_report(dir_.string());
+  ASSERT_TRUE(r) << r.error().to_string();
+  const std::string page = read_file(dir_ / "report" / "c" / "dither__a.html");
+  EXPECT_NE(page.find("id=\"budget\">1.99 %"), std::string::npos);
+  EXPECT_EQ(page.find("e+08"), std::string::npos);
+  const std::string index = read_file(dir_ / "report" / "index.html");
+  // The worst cases: the failure first, then by budget (50 % before 1.99 %).
+  const size_t b = index.find("dither/b"), c = index.find("dither/c"), a = index.find("dither/a");
+  ASSERT_NE(b, std::string::npos);
+  EXPECT_LT(b, c);
+  EXPECT_LT(c, a);
+  EXPECT_NE(index.find("350 %"), std::string::npos);
+  const std::string data = read_file(dir_ / "report" / "data.js");
+  EXPECT_NE(data.find("\"budget\":0.0199"), std::string::npos);
+}
+
+// Golden regressions are part of the report; nothing links outside report/.
+TEST_F(WriteReport, GoldenFailuresAreListedAndNoLinkLeavesTheReport) {
+  std::ofstream(dir_ / "results.json") << R"({"cases": [{"id": "shaper/x", "verdict": "PASS",
+      "stage": "shaper"}], "goldens": {"dir": "goldens", "checked": 1, "match": 0, "missing": 0,
+      "stale": 0, "regression": 1, "failed": 1, "cases": [{"id": "shaper/x",
+      "outcome": "regression", "message": "golden regression: 3 value(s) differ"}]}})";
+  ASSERT_TRUE(hdrc::write_report(dir_.string()));
+  const std::string index = read_file(dir_ / "report" / "index.html");
+  EXPECT_NE(index.find("id=\"golden-failures\""), std::string::npos);
+  EXPECT_NE(index.find("GOLDEN regression"), std::string::npos);
+  EXPECT_NE(index.find("3 value(s) differ"), std::string::npos);
+  for (const auto& e : std::filesystem::recursive_directory_iterator(dir_ / "report")) {
+    if (!e.is_regular_file() || e.path().extension() != ".html") continue;
+    const std::string html = read_file(e.path());
+    const bool in_c = e.path().parent_path().filename() == "c";
+    // href/src: from report/ no "../", from report/c/ one "../" at most.
+    for (const char* attr : {"href=\"", "src=\""})
+      for (size_t at = html.find(attr); at != std::string::npos; at = html.find(attr, at + 1)) {
+        const std::string v = html.substr(at + std::strlen(attr), 6);
+        EXPECT_NE(v.rfind(in_c ? "../../" : "../", 0), 0u) << e.path() << ": " << v;
+      }
+  }
+}
+
+// The packed float data: byte planes of float32 (little-endian), zlib-deflated, base64.
+TEST(ReportData, PackedFloatDataIsDeflatedBytePlanes) {
+  Image img(2, 1);
+  img.px(0, 0)[0] = 1.0;   // 00 00 80 3F
+  img.px(1, 0)[0] = -2.0;  // 00 00 00 C0
+  const std::string b64 = float32_packed_base64(img, 1);
+  // Decode base64 by the RFC 4648 alphabet, then inflate.
+  const std::string alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string z;
+  uint32_t acc = 0;
+  int bits = 0;
+  for (char ch : b64) {
+    if (ch == '=') break;
+    acc = (acc << 6) | static_cast<uint32_t>(alphabet.find(ch));
+    bits += 6;
+    if (bits >= 8) {
+      bits -= 8;
+      z += static_cast<char>((acc >> bits) & 0xFF);
+    }
+  }
+  unsigned char out[64];
+  uLongf n = sizeof out;
+  ASSERT_EQ(uncompress(out, &n, reinterpret_cast<const Bytef*>(z.data()), z.size()), Z_OK);
+  ASSERT_EQ(n, 8u);
+  const unsigned char want[8] = {0x00, 0x00, 0x00, 0x00, 0x80, 0x00, 0x3F, 0xC0};
+  for (int i = 0; i < 8; ++i) EXPECT_EQ(out[i], want[i]) << i;
+  // Half floats (IEEE 754 binary16): 1.0 = 0x3C00, -2.0 = 0xC000; planes low bytes, high bytes.
+  const std::string h64 = float16_packed_base64(img, 1);
+  std::string hz;
+  acc = 0;
+  bits = 0;
+  for (char ch : h64) {
+    if (ch == '=') break;
+    acc = (acc << 6) | static_cast<uint32_t>(alphabet.find(ch));
+    bits += 6;
+    if (bits >= 8) {
+      bits -= 8;
+      hz += static_cast<char>((acc >> bits) & 0xFF);
+    }
+  }
+  n = sizeof out;
+  ASSERT_EQ(uncompress(out, &n, reinterpret_cast<const Bytef*>(hz.data()), hz.size()), Z_OK);
+  ASSERT_EQ(n, 4u);
+  const unsigned char want16[4] = {0x00, 0x00, 0x3C, 0xC0};
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(out[i], want16[i]) << i;
 }
 
 }  // namespace

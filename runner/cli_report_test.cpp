@@ -1,0 +1,245 @@
+// The command line of issue 14 end to end: merge of shards, cost-balanced shards, --filter
+// patterns, --rerun-failed, did-you-mean, bare `list`, --images, and golden failures recorded as
+// test results.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <set>
+#include <sstream>
+
+#ifndef HDRC_BINARY
+#error "HDRC_BINARY must be defined"
+#endif
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+namespace {
+
+struct Ran {
+  int code;
+  std::string out;
+};
+
+Ran run(const std::string& args, const std::string& env = "") {
+  const std::string cmd = env + std::string(HDRC_BINARY) + " " + args + " 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  std::string out;
+  std::array<char, 4096> buf;
+  while (size_t n = fread(buf.data(), 1, buf.size(), p)) out.append(buf.data(), n);
+  const int status = pclose(p);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+fs::path temp_dir(const std::string& name) {
+  fs::path p =
+      fs::temp_directory_path() / ("hdrc_cli14_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(p);
+  fs::create_directories(p);
+  return p;
+}
+
+std::string read(const fs::path& p) {
+  std::ifstream f(p);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+std::vector<std::string> lines(const std::string& text) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  for (std::string l; std::getline(in, l);)
+    if (!l.empty()) out.push_back(l);
+  return out;
+}
+
+// The report minus what legitimately differs between runs: timings, the run's metadata table.
+std::string stable_page(std::string html) {
+  html =
+      std::regex_replace(html, std::regex("<h3>Timings and device</h3>[\\s\\S]*?</section>"), "");
+  html = std::regex_replace(
+      html, std::regex("<table class=\"kv\" id=\"run-meta\">[\\s\\S]*?</table>"), "");
+  return html;
+}
+
+// Three shards merged give the same verdicts, counts, junit test cases and report as one
+// unsharded run (issue 14, acceptance 2).
+TEST(CliMerge, ThreeShardsMergedEqualOneUnshardedRun) {
+  const fs::path root = temp_dir("merge");
+  const std::string sel = "--engine reference --filter 'tonemap/shaper_pq/*,tonemap/dither' ";
+  const Ran whole = run("run " + sel + "--out " + (root / "whole").string());
+  ASSERT_TRUE(whole.code == 0 || whole.code == 4) << whole.out;
+  std::vector<std::string> dirs;
+  for (int k = 1; k <= 3; ++k) {
+    const fs::path d = root / ("shard" + std::to_string(k));
+    const Ran r = run("run " + sel + "--shard " + std::to_string(k) + "/3 --out " + d.string());
+    ASSERT_TRUE(r.code == 0 || r.code == 4) << r.out;
+    dirs.push_back(d.string());
+  }
+  const fs::path merged = root / "merged";
+  const Ran m = run("merge " + merged.string() + " " + dirs[2] + " " + dirs[0] + " " + dirs[1]);
+  ASSERT_EQ(m.code, whole.code) << m.out;
+  const json a = json::parse(read(root / "whole" / "results.json"));
+  const json b = json::parse(read(merged / "results.json"));
+  ASSERT_EQ(a["cases"].size(), b["cases"].size());
+  ASSERT_GT(a["cases"].size(), 10u);
+  for (size_t i = 0; i < a["cases"].size(); ++i) {
+    EXPECT_EQ(a["cases"][i]["id"], b["cases"][i]["id"]);
+    EXPECT_EQ(a["cases"][i]["verdict"], b["cases"][i]["verdict"]);
+    EXPECT_EQ(a["cases"][i]["reason"], b["cases"][i]["reason"]);
+    EXPECT_EQ(a["cases"][i]["budget_used"], b["cases"][i]["budget_used"]);
+  }
+  EXPECT_EQ(a["summary"], b["summary"]);
+  EXPECT_EQ(a["goldens"]["checked"], b["goldens"]["checked"]);
+  EXPECT_EQ(a["goldens"]["cases"], b["goldens"]["cases"]);
+  EXPECT_EQ(b["merged_from"].size(), 3u);
+  auto testcases = [](const std::string& x) {
+    return std::regex_replace(x, std::regex(" time=\"[0-9.]+\""), "");
+  };
+  EXPECT_EQ(testcases(read(root / "whole" / "junit.xml")), testcases(read(merged / "junit.xml")));
+  // The report: the same files, the same case table, the same pages (but for timings and the
+  // run's metadata).
+  std::set<std::string> fa, fb;
+  for (const auto& e : fs::recursive_directory_iterator(root / "whole" / "report"))
+    fa.insert(fs::relative(e.path(), root / "whole" / "report").string());
+  for (const auto& e : fs::recursive_directory_iterator(merged / "report"))
+    fb.insert(fs::relative(e.path(), merged / "report").string());
+  EXPECT_EQ(fa, fb);
+  EXPECT_EQ(read(root / "whole" / "report" / "data.js"), read(merged / "report" / "data.js"));
+  for (const auto& f : fa) {
+    if (f.size() > 5 && f.substr(f.size() - 5) == ".html") {
+      EXPECT_EQ(stable_page(read(root / "whole" / "report" / f)),
+                stable_page(read(merged / "report" / f)))
+          << f;
+    }
+  }
+
+  // Refused: a shard missing, a shard twice, shards of another suite.
+  Ran bad = run("merge " + (root / "m2").string() + " " + dirs[0] + " " + dirs[1]);
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.out.find("shard(s) 3/3 missing"), std::string::npos) << bad.out;
+  bad = run("merge " + (root / "m3").string() + " " + dirs[0] + " " + dirs[0] + " " + dirs[1]);
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.out.find("given twice"), std::string::npos) << bad.out;
+  const fs::path other = root / "other";
+  ASSERT_LE(run("run --engine reference --filter 'tonemap/shaper_log/*' --shard 3/3 --out " +
+                other.string())
+                .code,
+            4);
+  bad =
+      run("merge " + (root / "m4").string() + " " + dirs[0] + " " + dirs[1] + " " + other.string());
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.out.find("differ in suite"), std::string::npos) << bad.out;
+  EXPECT_FALSE(fs::exists(root / "m4" / "results.json"));
+  fs::remove_all(root);
+}
+
+// Shards balance cost, not count: with the last run's timings (--timings), every shard's summed
+// seconds is within the largest single case of the others' (greedy bound), and the plan is
+// recorded so shards of different plans are never merged.
+TEST(CliShard, TimingsBalanceTheShards) {
+  const fs::path root = temp_dir("timings");
+  // A results.json whose seconds make an index split unbalanced: one case costs 10 s.
+  const auto all = lines(run("list --filter tonemap/shaper_pq").out);
+  ASSERT_GT(all.size(), 6u);
+  json t = {{"cases", json::array()}};
+  for (size_t i = 0; i < all.size(); ++i)
+    t["cases"].push_back({{"id", all[i]}, {"seconds", {{"total", i == 0 ? 10.0 : 1.0}}}});
+  std::ofstream(root / "t.json") << t.dump();
+  std::map<std::string, double> cost;
+  for (const auto& c : t["cases"]) cost[c["id"]] = c["seconds"]["total"];
+  std::vector<double> load;
+  std::multiset<std::string> seen;
+  for (int k = 1; k <= 3; ++k) {
+    const Ran r = run("list --filter tonemap/shaper_pq --shard " + std::to_string(k) +
+                      "/3 --timings " + (root / "t.json").string());
+    ASSERT_EQ(r.code, 0) << r.out;
+    double sum = 0;
+    for (const auto& id : lines(r.out)) {
+      sum += cost.at(id);
+      seen.insert(id);
+    }
+    load.push_back(sum);
+  }
+  EXPECT_EQ(seen, std::multiset<std::string>(all.begin(), all.end()));
+  const double hi = *std::max_element(load.begin(), load.end());
+  const double lo = *std::min_element(load.begin(), load.end());
+  // Greedy: the 10 s case first, the 1 s cases after it each to the least loaded shard, so the
+  // loads end within one 1 s case of each other (an index split leaves the 10 s case's shard
+  // about 9 s over the others).
+  EXPECT_LE(hi - lo, 1.0 + 1e-9) << load[0] << " " << load[1] << " " << load[2];
+  EXPECT_EQ(run("list --shard 1/3 --timings " + (root / "nope.json").string()).code, 2);
+  fs::remove_all(root);
+}
+
+TEST(CliSelection, FilterPatternsListAndHints) {
+  // list prints bare ids; --long adds the stage and input.
+  const Ran l = run("list --filter lut");
+  ASSERT_EQ(l.code, 0) << l.out;
+  const auto ids = lines(l.out);
+  ASSERT_GT(ids.size(), 5u);
+  for (const auto& id : ids) {
+    EXPECT_EQ(id.find(' '), std::string::npos) << id;
+    EXPECT_NE(id.find("lut"), std::string::npos) << id;  // a substring pattern
+  }
+  const Ran longer = run("list --long --filter lut");
+  EXPECT_NE(longer.out.find("  (combine_luts, "), std::string::npos) << longer.out;
+  // Several patterns: the union.
+  const size_t a = lines(run("list --filter tonemap/shaper_pq").out).size();
+  const size_t b = lines(run("list --filter tonemap/dither").out).size();
+  EXPECT_EQ(lines(run("list --filter tonemap/shaper_pq,tonemap/dither").out).size(), a + b);
+  EXPECT_EQ(lines(run("list --filter tonemap/shaper_pq --filter tonemap/dither").out).size(),
+            a + b);
+  // Nothing matches: exit 2 with a hint.
+  const Ran none = run("list --filter tonemapp/shaper");
+  EXPECT_EQ(none.code, 2);
+  EXPECT_NE(none.out.find("hint:"), std::string::npos) << none.out;
+  // A mistyped command: did you mean.
+  const Ran typo = run("lsit");
+  EXPECT_EQ(typo.code, 2);
+  EXPECT_NE(typo.out.find("did you mean 'list'?"), std::string::npos) << typo.out;
+}
+
+// Golden failures fail the run, and results.json, junit.xml and the report say so; --rerun-failed
+// then runs exactly the failed cases; --images failing keeps only their images.
+TEST(CliGoldens, GoldenFailuresAreRecordedAndRerun) {
+  const fs::path root = temp_dir("goldens");
+  fs::create_directories(root / "empty_goldens");
+  const Ran r = run("run --engine reference --filter 'tonemap/shaper_pq/*' --goldens " +
+                    (root / "empty_goldens").string() + " --out " + (root / "out").string());
+  ASSERT_EQ(r.code, 1) << r.out;
+  const json doc = json::parse(read(root / "out" / "results.json"));
+  EXPECT_EQ(doc["summary"]["exit_code"], 1);
+  EXPECT_EQ(doc["summary"]["fail"], 0);
+  EXPECT_GT(doc["goldens"]["missing"].get<int>(), 0);
+  const std::string junit = read(root / "out" / "junit.xml");
+  EXPECT_NE(junit.find("<testsuite name=\"hdrconform.goldens\""), std::string::npos);
+  EXPECT_NE(junit.find("<failure message=\"golden missing: "), std::string::npos);
+  EXPECT_NE(read(root / "out" / "report" / "index.html").find("id=\"golden-failures\""),
+            std::string::npos);
+  // Rerun the failed ones (here: every case, by its golden) with the real goldens: they pass.
+  const Ran again = run("run --engine reference --rerun-failed " + (root / "out").string() +
+                        " --images failing --out " + (root / "again").string());
+  EXPECT_EQ(again.code, 0) << again.out;
+  const json doc2 = json::parse(read(root / "again" / "results.json"));
+  EXPECT_EQ(doc2["cases"].size(), doc["cases"].size());
+  EXPECT_FALSE(fs::exists(root / "again" / "cases" / "tonemap"));  // nothing failed: no images
+  EXPECT_EQ(doc2["images_policy"], "failing");
+  // Nothing failed there: nothing to rerun, exit 0.
+  const Ran nothing = run("run --engine reference --rerun-failed " + (root / "again").string() +
+                          " --out " + (root / "third").string());
+  EXPECT_EQ(nothing.code, 0) << nothing.out;
+  EXPECT_NE(nothing.out.find("nothing to rerun"), std::string::npos) << nothing.out;
+  fs::remove_all(root);
+}
+
+}  // namespace

@@ -1,0 +1,48 @@
+// Which cases a command runs: --filter patterns, --rerun-failed, and the command-line hints that
+// go with them (no match, an unknown subcommand).
+#pragma once
+
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "core/case.h"
+#include "core/result.h"
+
+namespace hdrc {
+
+// --filter, given once or more, each value a comma-separated list of patterns; a case is selected
+// when any pattern matches its id. A pattern with a glob character (* ? [) is matched against the
+// whole id (fnmatch, '*' crosses '/'); "=ID" selects exactly that id (the reproduce command of a
+// case page); any other pattern is a substring of the id ("lut" selects every case whose id
+// contains "lut").
+struct CaseSelection {
+  std::vector<std::string> patterns;  // empty: every case
+  // --rerun-failed DIR: only the cases DIR/results.json lists as FAIL, ERROR or MISSING, or whose
+  // golden check failed.
+  std::string rerun_dir;
+  std::optional<std::set<std::string>> rerun_ids;
+  bool matches(const std::string& id) const;
+  std::string describe() const;  // for messages: "--filter 'a,b' --rerun-failed DIR"
+};
+
+// Splits --filter values (CLI11 joins repeated values with '\n') on newlines and commas.
+std::vector<std::string> split_filter(const std::string& text);
+
+// Builds the selection; with a rerun directory, reads DIR/results.json (errors name the file).
+Result<CaseSelection> make_selection(const std::string& filter_text, const std::string& rerun_dir);
+
+// The ids of DIR/results.json's failed cases (FAIL, ERROR, MISSING, or a failed golden).
+Result<std::set<std::string>> failed_case_ids(const std::string& results_dir);
+
+// "no case matches ...": the patterns, then a hint: the closest case ids and id components
+// (did you mean), and how patterns are matched.
+std::string no_match_message(const CaseSelection& sel, const std::vector<Case>& all,
+                             const std::string& cases_dir);
+
+// The command name closest to a mistyped one (case-insensitive edit distance at most 3, or a
+// prefix), or "" when none is close.
+std::string closest_command(const std::string& typed, const std::vector<std::string>& commands);
+
+}  // namespace hdrc
