@@ -19,6 +19,7 @@
 
 #include "reference/reference_engine.h"
 #include "runner/export.h"
+#include "runner/provenance.h"
 #include "runner/results.h"
 
 namespace hdrc {
@@ -352,15 +353,9 @@ std::vector<KnownLimit> load_candidate_limits(const std::string& path, std::vect
   return out;
 }
 
-std::string shell_quote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
-
 std::string reproduce_command(const RunReport& r, const std::string& case_id) {
-  return "hdrconform " + r.command + " --filter " + shell_quote(case_id) + " --out out/repro" +
-         (r.reproduce_args.empty() ? "" : " " + r.reproduce_args);
+  return "hdrconform " + r.command + " --filter " + shell_quote("=" + case_id) +
+         " --out out/repro" + (r.reproduce_args.empty() ? "" : " " + r.reproduce_args);
 }
 
 // ---- the run/verify driver -------------------------------------------------------------------

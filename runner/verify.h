@@ -107,11 +107,8 @@ class CandidateCommandEngine final : public Engine {
 // valid choices. Each reason is prefixed so the verdict says who declared it.
 std::vector<KnownLimit> load_candidate_limits(const std::string& path, std::vector<Error>* errors);
 
-// A word quoted for a POSIX shell: 'it'\''s'.
-std::string shell_quote(const std::string& s);
-
 // The command that reruns one case as this run ran it, printed with every failing case (console
-// and JUnit): "hdrconform run --filter 'ID' --out out/repro" plus the run's options that matter
+// and JUnit): "hdrconform run --filter '=ID' --out out/repro" plus the run's options that matter
 // (RunReport::reproduce_args: --cases, --engine, --candidate-cmd ...).
 std::string reproduce_command(const RunReport& r, const std::string& case_id);
 

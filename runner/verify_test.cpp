@@ -211,12 +211,12 @@ TEST(CandidateProtocol, FailuresPrintAReproduceCommandAndResultsMatchTheSchema) 
       out.string());
   EXPECT_EQ(r.code, 1) << r.out;
   const std::string repro =
-      "reproduce: hdrconform verify --filter 'tonemap/shaper_pq/dev3_log_ramp' --out out/repro "
+      "reproduce: hdrconform verify --filter =tonemap/shaper_pq/dev3_log_ramp --out out/repro "
       "--candidate-cmd 'sh -c '\\''exit 3'\\'' {output}'";
   EXPECT_NE(r.out.find(repro), std::string::npos) << r.out;
   const std::string junit = read(out / "junit.xml");
-  EXPECT_NE(junit.find("reproduce: hdrconform verify --filter &apos;tonemap/shaper_pq/"
-                       "dev3_log_ramp&apos;"),
+  EXPECT_NE(junit.find("reproduce: hdrconform verify --filter =tonemap/shaper_pq/"
+                       "dev3_log_ramp --out"),
             std::string::npos)
       << junit;
   std::ifstream f(std::string(HDRC_SOURCE_DIR) + "/runner/results.schema.json");
@@ -275,7 +275,7 @@ TEST(Messages, PlantedLutDefectNamesLatticeTripletAndDeltaE) {
             std::string::npos)
       << r.out;
   EXPECT_NE(r.out.find("), pixel ΔE_ITP "), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("reproduce: hdrconform run --filter '" + id + "' --out out/repro"),
+  EXPECT_NE(r.out.find("reproduce: hdrconform run --filter =" + id + " --out out/repro"),
             std::string::npos)
       << r.out;
   fs::remove_all(shaders);
@@ -342,9 +342,11 @@ TEST(AnalyticReference, PerPixelPortPassesAnalyticAndFailsBaked) {
   // special_ramp cases of devices 5-7 hold too few values in range to show the LUT's error.
   // Every log ramp (1024 values from 1e-4 to 1e4 nits) fails.
   EXPECT_GE(count_verdict(jb, "FAIL"), 17) << b.out;
-  for (const auto& c : jb["cases"])
-    if (c["id"].get<std::string>().find("log_ramp") != std::string::npos)
+  for (const auto& c : jb["cases"]) {
+    if (c["id"].get<std::string>().find("log_ramp") != std::string::npos) {
       EXPECT_EQ(c["verdict"], "FAIL") << c["id"];
+    }
+  }
   fs::remove_all(out);
 }
 
