@@ -4,8 +4,10 @@
 #include <nlohmann/json.hpp>
 
 #include "core/atomic_file.h"
+#include "core/utf8.h"
 #include "report/html_report.h"
 #include "runner/export.h"
+#include "runner/json_read.h"
 
 namespace hdrc {
 
@@ -135,7 +137,8 @@ json case_json(const CaseResult& c, const RunReport& r) {
   };
 }
 
-std::string xml_escape(const std::string& s) {
+std::string xml_escape(const std::string& text) {
+  const std::string s = valid_utf8(text);  // XML text is well-formed UTF-8 or unreadable
   std::string out;
   for (char c : s) {
     switch (c) {
@@ -209,7 +212,7 @@ std::string results_json(const RunReport& r) {
         {"exit_code", r.exit_code()}}},
       {"cases", cases},
   };
-  return doc.dump(2) + "\n";
+  return dump_json(doc, 2) + "\n";
 }
 
 std::string junit_xml(const RunReport& r) {
