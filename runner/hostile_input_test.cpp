@@ -45,7 +45,8 @@ struct Ran {
 // Runs the binary with a hard limit: a hang is killed (exit 137) and reported as such.
 Ran run_binary(const std::string& args, int limit_s = 60) {
   const std::string cmd = "timeout -s KILL " + std::to_string(limit_s) + " " +
-                          std::string(HDRC_BINARY) + " " + args + " 2>&1 </dev/null";
+                          std::string(HDRC_BINARY) + " " + args + " 2>&1" +
+                          (args.find('<') == std::string::npos ? " </dev/null" : "");
   const auto t0 = std::chrono::steady_clock::now();
   FILE* p = popen(cmd.c_str(), "r");
   std::string out;
@@ -847,6 +848,40 @@ std::vector<Row> rows() {
   add({"cmd_passes",
        script("cp " + ref_image().string() + " \"$1\""),
        kVerifyCmd,
+       0,
+       {"1 passed"}});
+  // ---- more of the same classes -----------------------------------------------------------
+  add({"probe_stdin_dev_zero", nullptr, "probe < /dev/zero", 2, {"<stdin>", "longer than 4096"}});
+  add({"probe_stdin_binary",
+       [](const fs::path& t) { write(t / "bin.txt", "\xff\xfe 1 2\n"); },
+       "probe < {T}/bin.txt",
+       2,
+       {"<stdin>", "line 1", "expected three numbers"}});
+  add({"out_runs_is_symlink",
+       [](const fs::path& t) {
+         write(t / "victim/keep.txt", "precious");
+         fs::create_directories(t / "out");
+         fs::create_directory_symlink(t / "victim", t / "out/.runs");
+       },
+       kRun,
+       2,
+       {"not a plain folder"}});
+  add({"out_current_is_folder",
+       [](const fs::path& t) { fs::create_directories(t / "out/current"); },
+       kRun,
+       2,
+       {"not a symlink"}});
+  add({"filter_pathological_glob",
+       nullptr,
+       kList + " --filter '*a*a*a*a*a*a*a*a*a*a*a*a*a*a*a*a*a*a*a*a*b'",
+       2,
+       {"no case matches"}});
+  add({"out_legacy_results_adopted",
+       [](const fs::path& t) {
+         write(t / "out/results.json", "{\"tool\": \"hdrconform\", \"cases\": []}");
+         write(t / "out/junit.xml", "<testsuites/>");
+       },
+       kRun,
        0,
        {"1 passed"}});
   return r;

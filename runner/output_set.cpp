@@ -250,6 +250,16 @@ Result<std::unique_ptr<OutputSet>> OutputSet::open(const std::string& out_dir,
   const fs::path out(out_dir);
   if (Status st = adopt_legacy(out); !st) return st.error();
   std::error_code ec;
+  // .runs and current are ours: a symlinked .runs would make the clean-up below delete another
+  // folder's files.
+  const auto runs_type = fs::symlink_status(out / kRuns, ec).type();
+  const auto current_type = fs::symlink_status(out / kCurrent, ec).type();
+  if ((runs_type != fs::file_type::not_found && runs_type != fs::file_type::directory) ||
+      (current_type != fs::file_type::not_found && current_type != fs::file_type::symlink))
+    return Error{valid_utf8(out_dir), "--out",
+                 "holds a .runs that is not a plain folder or a current that is not a symlink; "
+                 "nothing was run",
+                 "an empty folder or one written by hdrconform run/verify"};
   fs::create_directories(out / kRuns, ec);
   if (ec) return Error{valid_utf8(out_dir), "--out", "cannot create .runs: " + ec.message(), ""};
   remove_other_runs(out, current_run_name(out));  // staging folders of killed runs
@@ -269,6 +279,14 @@ Result<std::unique_ptr<OutputSet>> OutputSet::open(const std::string& out_dir,
 }
 
 Status OutputSet::publish() {
+  // Only a complete run is published (a full disk can leave results.json unwritten).
+  for (const char* required : {"results.json", "junit.xml", "report/index.html"}) {
+    std::error_code ec;
+    if (!fs::is_regular_file(fs::path(staging_) / required, ec))
+      return Error{valid_utf8(staging_), "",
+                   std::string("the run is incomplete (no ") + required + "); it is not published",
+                   ""};
+  }
   for (const auto& [dir, before] : digests_) {
     const auto changes = digest_changes(before, tree_digest(dir));
     if (changes.empty()) continue;
