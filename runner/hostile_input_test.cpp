@@ -698,8 +698,8 @@ std::vector<Row> rows() {
          write(t / "shaders/stages/self.glsl", "#include \"self.glsl\"\n");
        },
        "run --cases {T}/cases --out {T}/out --shader-dir {T}/shaders",
-       -1,
-       {}});
+       1,
+       {"#include nested more than 32 levels deep"}});
 
   // ---- candidate images (verify --candidate-dir) -------------------------------------------
   auto cand = [](std::function<void(const fs::path&)> make) {
