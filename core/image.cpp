@@ -2,32 +2,83 @@
 
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imageio.h>
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <memory>
 
+#include "core/utf8.h"
+
 namespace hdrc {
 
+namespace {
+
+std::string oiio_error(std::string text) {
+  // OpenEXR quotes corrupt channel and attribute names byte for byte.
+  return valid_utf8(text);
+}
+
+}  // namespace
+
 Result<Image> read_image(const std::string& path) {
-  auto in = OIIO::ImageInput::open(path);
-  if (!in) {
-    return Error{path, "", "cannot open image: " + OIIO::geterror(), ""};
+  const std::string name = valid_utf8(path);
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) {
+    const int err = errno;
+    return Error{name, "", std::string("cannot open image: ") + std::strerror(err), ""};
   }
+  if (!S_ISREG(st.st_mode))
+    return Error{name, "", "the image is not a regular file", "a regular image file"};
+  if (static_cast<unsigned long long>(st.st_size) > kMaxImageFileBytes)
+    return Error{name, "", "the image file is " + std::to_string(st.st_size) + " bytes",
+                 "at most " + std::to_string(kMaxImageFileBytes) + " bytes"};
+  const bool exr_name = std::filesystem::path(path).extension() == ".exr";
+  if (exr_name) {
+    // OpenEXR's magic number (OpenEXR file layout: 0x76, 0x2f, 0x31, 0x01).
+    unsigned char magic[4] = {0, 0, 0, 0};
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
+    const ssize_t n = fd >= 0 ? ::read(fd, magic, sizeof magic) : -1;
+    if (fd >= 0) ::close(fd);
+    if (n != 4 || magic[0] != 0x76 || magic[1] != 0x2f || magic[2] != 0x31 || magic[3] != 0x01)
+      return Error{name, "", "not an OpenEXR file (no EXR magic number)", "an OpenEXR image"};
+  }
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) return Error{name, "", "cannot open image: " + oiio_error(OIIO::geterror()), ""};
   const OIIO::ImageSpec& spec = in->spec();
+  if (exr_name && std::string(in->format_name()) != "openexr")
+    return Error{name, "", std::string("a *.exr file read as ") + in->format_name(),
+                 "an OpenEXR image"};
+  if (spec.width <= 0 || spec.height <= 0 || spec.depth > 1 ||
+      static_cast<size_t>(spec.width) * static_cast<size_t>(spec.height) > kMaxImagePixels)
+    return Error{name, "",
+                 "the image is " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+                     (spec.depth > 1 ? "x" + std::to_string(spec.depth) : ""),
+                 "at most " + std::to_string(kMaxImagePixels) + " pixels (4096x4096), 2D"};
   if (spec.nchannels < 3) {
-    return Error{path, "", "image has " + std::to_string(spec.nchannels) + " channel(s)",
+    return Error{name, "", "image has " + std::to_string(spec.nchannels) + " channel(s)",
                  "3 (RGB) or 4 (RGBA) channels"};
   }
-  std::vector<float> pixels(static_cast<size_t>(spec.width) * spec.height * spec.nchannels);
-  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, pixels.data())) {
-    return Error{path, "", "cannot read pixels: " + in->geterror(), ""};
+  std::string names;
+  for (int c = 0; c < spec.nchannels && c < 8; ++c)
+    names += (c ? "," : "") + std::string(spec.channel_name(c));
+  if (spec.nchannels > 8) names += ",...";
+  if (spec.channel_name(0) != "R" || spec.channel_name(1) != "G" || spec.channel_name(2) != "B")
+    return Error{name, "", "the image's channels are " + oiio_error(names),
+                 "R,G,B or R,G,B,A (first, in that order)"};
+  const int nch = spec.nchannels >= 4 && spec.channel_name(3) == "A" ? 4 : 3;
+  std::vector<float> pixels(static_cast<size_t>(spec.width) * spec.height * nch);
+  if (!in->read_image(0, 0, 0, nch, OIIO::TypeDesc::FLOAT, pixels.data())) {
+    return Error{name, "", "cannot read pixels: " + oiio_error(in->geterror()), ""};
   }
   Image img(spec.width, spec.height);
   for (size_t i = 0; i < img.pixel_count(); ++i) {
     for (int c = 0; c < 4; ++c) {
-      img.data[i * 4 + c] = c < spec.nchannels ? pixels[i * spec.nchannels + c] : 1.0;
+      img.data[i * 4 + c] = c < nch ? pixels[i * nch + c] : 1.0;
     }
   }
   return img;
@@ -47,7 +98,7 @@ Status write_exr(const std::string& path, const Image& image) {
       !out->close()) {
     std::string why = out ? out->geterror() : OIIO::geterror();
     fs::remove(tmp, ec);
-    return Error{path, "", "cannot write EXR: " + why, ""};
+    return Error{valid_utf8(path), "", "cannot write EXR: " + valid_utf8(why), ""};
   }
   fs::rename(tmp, target, ec);
   if (ec) {

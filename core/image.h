@@ -29,8 +29,16 @@ struct Image {
   }
 };
 
-// Reads an image file (EXR or anything OpenImageIO reads). Fewer than 4 channels: missing colour
-// channels are an error, missing alpha is filled with 1.
+// The largest image any case, input or candidate may have (4096 x 4096): one Image of doubles is
+// then 512 MiB. Checked before any pixel is allocated or decoded.
+inline constexpr size_t kMaxImagePixels = size_t{4096} * 4096;
+// The largest image file read (a 4096x4096 RGBA float EXR, uncompressed, plus headers).
+inline constexpr size_t kMaxImageFileBytes = kMaxImagePixels * 4 * 4 + (size_t{16} << 20);
+
+// Reads an image file (EXR or anything OpenImageIO reads). Only a regular file of at most
+// kMaxImageFileBytes is opened; a file named *.exr must be an OpenEXR file; the header's size is
+// checked against kMaxImagePixels before decoding; the channels must be named R, G, B and
+// optionally A (in that order; a missing alpha is filled with 1). Errors name the file.
 Result<Image> read_image(const std::string& path);
 
 // Writes a 32-bit float EXR (ZIP compression) atomically: a temporary file beside the target is

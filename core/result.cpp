@@ -2,6 +2,8 @@
 
 #include <cstdio>
 
+#include "core/utf8.h"
+
 namespace hdrc {
 
 std::string format_number(double v) {
@@ -16,7 +18,8 @@ std::string Error::to_string() const {
   if (!pointer.empty()) s += pointer + ": ";
   s += message;
   if (!choices.empty()) s += "; valid choices: " + choices;
-  return s;
+  // Messages quote file names, library errors and a candidate's output: any bytes at all.
+  return valid_utf8(s);
 }
 
 }  // namespace hdrc

@@ -46,12 +46,18 @@ bool read_text(const fs::path& p, std::string* out) {
   return true;
 }
 
+constexpr size_t kMaxIncludeDepth = 32;
+
 // Resolves includes against the shader root (and the including file's folder first).
 class Includer final : public glslang::TShader::Includer {
  public:
   explicit Includer(fs::path root) : root_(std::move(root)) {}
 
   IncludeResult* includeLocal(const char* name, const char* includer, size_t depth) override {
+    // A file that includes itself (directly or in a cycle) would recurse without end.
+    if (depth > kMaxIncludeDepth)
+      return make("", "#include nested more than " + std::to_string(kMaxIncludeDepth) +
+                          " levels deep at \"" + std::string(name) + "\" (an include cycle?)");
     if (std::string(name) == kGeneratedInclude) return make(name, generated_interface_glsl());
     if (std::string(name) == kGeneratedIncludeHlsl) return make(name, generated_interface_hlsl());
     const fs::path from = fs::path(includer).parent_path();
@@ -61,7 +67,6 @@ class Includer final : public glslang::TShader::Includer {
         return make(fs::relative(candidate, root_).generic_string(), std::move(text));
       }
     }
-    (void)depth;
     return nullptr;
   }
   IncludeResult* includeSystem(const char* name, const char* includer, size_t depth) override {

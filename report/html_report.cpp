@@ -21,6 +21,7 @@
 #include "report/assets.h"
 #include "report/images.h"
 #include "runner/diff.h"
+#include "runner/json_read.h"
 
 namespace hdrc {
 
@@ -1135,15 +1136,9 @@ Result<report::ReportInfo> write_report(const std::string& results_dir) {
   b.results_dir = results_dir;
   const fs::path results = b.results_dir / "results.json";
   {
-    std::ifstream f(results, std::ios::binary);
-    if (!f) return Error{results.string(), "", "cannot read (run `hdrconform run` first)", ""};
-    std::stringstream ss;
-    ss << f.rdbuf();
-    try {
-      b.doc = json::parse(ss.str());
-    } catch (const json::exception& e) {
-      return Error{results.string(), "", std::string("not valid JSON: ") + e.what(), ""};
-    }
+    auto doc = read_json_file<json>(results.string(), "results file (run `hdrconform run` first)");
+    if (!doc) return doc.error();
+    b.doc = std::move(*doc);
   }
   const json* cases = get(b.doc, {"cases"});
   if (!cases || !cases->is_array())

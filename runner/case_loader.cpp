@@ -1,7 +1,5 @@
 #include "runner/case_loader.h"
 
-#include <fnmatch.h>
-
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -12,8 +10,10 @@
 #include <sstream>
 
 #include "core/nearest.h"
+#include "core/utf8.h"
 #include "reference/combine_luts.h"
 #include "reference/ue_cpp/resolve.h"
+#include "runner/json_read.h"
 #include "runner/pairwise.h"
 #include "runner/stimuli.h"
 #include "runner/tolerance.h"
@@ -28,8 +28,71 @@ Tolerance default_tolerance() {
   return default_tolerance_policy();
 }
 
+namespace {
+
+// One pattern element at glob[*i] against the character c: '?', a [...] class ('!' or '^'
+// negates, a-z ranges, ']' first is literal) or a literal (a backslash escapes). Advances *i past
+// the element.
+bool element_matches(const std::string& glob, size_t* i, char c) {
+  const char g = glob[*i];
+  if (g == '?') {
+    ++*i;
+    return true;
+  }
+  if (g == '[') {
+    size_t j = *i + 1;
+    const bool negate = j < glob.size() && (glob[j] == '!' || glob[j] == '^');
+    if (negate) ++j;
+    const size_t first = j;
+    bool hit = false;
+    for (; j < glob.size() && (glob[j] != ']' || j == first); ++j) {
+      if (j + 2 < glob.size() && glob[j + 1] == '-' && glob[j + 2] != ']') {
+        hit |= glob[j] <= c && c <= glob[j + 2];
+        j += 2;
+      } else {
+        hit |= glob[j] == c;
+      }
+    }
+    if (j < glob.size()) {  // a closed class
+      *i = j + 1;
+      return hit != negate;
+    }
+    // An unclosed '[' is a literal, as in fnmatch.
+  }
+  if (g == '\\' && *i + 1 < glob.size()) {
+    *i += 2;
+    return glob[*i - 1] == c;
+  }
+  ++*i;
+  return g == c;
+}
+
+}  // namespace
+
+// fnmatch(3) semantics without flags (no special '/', backslash escapes), matched in
+// O(|glob| * |id|) with the classic single-backtrack algorithm: glibc's fnmatch backtracks
+// exponentially on patterns such as '*a*a*a*a*a*a*a*a*a*b'.
 bool matches_filter(const std::string& id, const std::string& glob) {
-  return glob.empty() || fnmatch(glob.c_str(), id.c_str(), 0) == 0;
+  if (glob.empty()) return true;
+  size_t g = 0, s = 0, star = std::string::npos, star_s = 0;
+  while (s < id.size()) {
+    if (g < glob.size() && glob[g] == '*') {
+      star = ++g;
+      star_s = s;
+      continue;
+    }
+    size_t next = g;
+    if (g < glob.size() && element_matches(glob, &next, id[s])) {
+      g = next;
+      ++s;
+      continue;
+    }
+    if (star == std::string::npos) return false;
+    g = star;
+    s = ++star_s;
+  }
+  while (g < glob.size() && glob[g] == '*') ++g;
+  return g == glob.size();
 }
 
 bool is_suite_config_file(const std::string& cases_dir, const std::string& path) {
@@ -349,6 +412,13 @@ class Parser {
         }
         (std::string(key) == "width" ? in->width : in->height) = d.get<int>();
       }
+      if (errors_->size() == before &&
+          static_cast<size_t>(in->width) * static_cast<size_t>(in->height) > kMaxImagePixels) {
+        fail(pointer,
+             "a " + std::to_string(in->width) + "x" + std::to_string(in->height) +
+                 " stimulus has more pixels than the limit",
+             "width x height at most " + std::to_string(kMaxImagePixels) + " (4096x4096)");
+      }
       if (errors_->size() == before) {
         if (Status st = check_stimulus(*info, in->params, in->width, in->height); !st)
           fail(pointer, st.error().message, st.error().choices);
@@ -369,9 +439,11 @@ class Parser {
              "a relative path under " + cases_dir_);
         return false;
       }
-      if (!fs::is_regular_file(p)) {
+      if (!fs::is_regular_file(p, ec)) {
         fail(pointer + "/file",
-             "input file " + show(f) + " does not exist (looked for " + p.generic_string() + ")");
+             "input file " + show(f) +
+                 (fs::exists(p, ec) ? " is not a regular file" : " does not exist") +
+                 " (looked for " + valid_utf8(p.generic_string()) + ")");
         return false;
       }
       in->file = p.generic_string();
@@ -426,11 +498,11 @@ class Parser {
   bool ok_ = true;
 };
 
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
+// A suite configuration file is absent only when nothing at all is there: a dangling symlink or
+// a folder of that name is present, and reading it reports why it is unusable.
+bool config_file_present(const fs::path& p) {
+  std::error_code ec;
+  return fs::symlink_status(p, ec).type() != fs::file_type::not_found;
 }
 
 // One matrix dimension: a cvar, a setting, or the inputs.
@@ -457,16 +529,15 @@ std::string value_label(const json& v) {
 SuiteDefaults load_suite_defaults(const std::string& cases_dir, std::vector<Error>* errors) {
   SuiteDefaults d;
   const fs::path path = fs::path(cases_dir) / "defaults.json";
-  if (!fs::exists(path)) return d;
+  if (!config_file_present(path)) return d;
   d.file = path.generic_string();
   Parser p(d.file, cases_dir, errors);
-  json doc;
-  try {
-    doc = json::parse(read_text(path));
-  } catch (const json::parse_error& e) {
-    errors->push_back(Error{d.file, "", std::string("malformed JSON: ") + e.what(), ""});
+  auto parsed = read_json_file<json>(d.file, "defaults file");
+  if (!parsed) {
+    errors->push_back(parsed.error());
     return d;
   }
+  json doc = std::move(*parsed);
   if (!doc.is_object()) {
     p.fail("", "the defaults file is a JSON object, got " + json_type(doc));
     return d;
@@ -523,13 +594,12 @@ std::vector<Case> parse_case_file(const std::string& file, const std::string& te
                                   const SuiteDefaults& defaults, std::vector<Error>* errors) {
   std::vector<Case> out;
   Parser p(file, cases_dir, errors);
-  json doc;
-  try {
-    doc = json::parse(text);
-  } catch (const json::parse_error& e) {
-    errors->push_back(Error{file, "", std::string("malformed JSON: ") + e.what(), ""});
+  auto parsed = parse_json_text<json>(file, text);
+  if (!parsed) {
+    errors->push_back(parsed.error());
     return out;
   }
+  json doc = std::move(*parsed);
   if (!doc.is_object()) {
     p.fail("", "a case file is a JSON object, got " + json_type(doc));
     return out;
@@ -772,6 +842,31 @@ std::vector<Case> parse_case_file(const std::string& file, const std::string& te
       if (dims[d].name == f) full_idx.push_back(static_cast<int>(d));
     if (f == "inputs" && input_dim) full_idx.push_back(static_cast<int>(dims.size()));
   }
+  // Refuse a matrix too large before expanding it (a full matrix of 20 dimensions of 3 values
+  // is 3.5e9 cases). Pairwise (covering t-way): the full dimensions' product times the two (t)
+  // largest others'.
+  {
+    double estimate = 1;
+    std::vector<int> others;
+    for (size_t d = 0; d < sizes.size(); ++d) {
+      const bool full = mode == "full" || std::find(full_idx.begin(), full_idx.end(),
+                                                    static_cast<int>(d)) != full_idx.end();
+      if (full)
+        estimate *= sizes[d];
+      else
+        others.push_back(sizes[d]);
+    }
+    std::sort(others.rbegin(), others.rend());
+    const size_t t = mode == "covering" ? static_cast<size_t>(strength) : 2;
+    for (size_t i = 0; i < std::min<size_t>(t, others.size()); ++i) estimate *= others[i];
+    if (estimate > static_cast<double>(kMaxCasesPerFile)) {
+      p.fail(doc.contains("matrix") ? "/matrix" : "",
+             "the matrix expands to about " + format_number(estimate) + " cases (" + mode + ")",
+             "at most " + std::to_string(kMaxCasesPerFile) +
+                 " per file: fewer values, \"mode\": \"pairwise\", or several files");
+      return {};
+    }
+  }
   const std::vector<std::vector<int>> rows = mode == "pairwise" ? pairwise_rows(sizes, full_idx)
                                              : mode == "covering"
                                                  ? covering_rows(sizes, strength, full_idx)
@@ -833,6 +928,27 @@ std::vector<Case> parse_case_file(const std::string& file, const std::string& te
   return out;
 }
 
+Status check_case_id(const std::string& id) {
+  auto bad = [&](const std::string& why) {
+    return Error{"", "", "case id '" + valid_utf8(id) + "' " + why,
+                 "ids are relative paths of printable UTF-8 names, none of them '.' or '..'"};
+  };
+  if (id.empty()) return bad("is empty");
+  if (!is_valid_utf8(id)) return bad("is not valid UTF-8");
+  for (unsigned char c : id)
+    if (c < 0x20 || c == 0x7F || c == '\\') return bad("holds a control character or '\\'");
+  if (id.front() == '/') return bad("is an absolute path");
+  size_t at = 0;
+  for (;;) {
+    const size_t slash = id.find('/', at);
+    const std::string part = id.substr(at, slash == std::string::npos ? slash : slash - at);
+    if (part.empty() || part == "." || part == "..") return bad("has a '" + part + "' component");
+    if (slash == std::string::npos) break;
+    at = slash + 1;
+  }
+  return {};
+}
+
 const std::vector<std::string>& suite_names() {
   static const std::vector<std::string> names = {"quick", "exhaustive"};
   return names;
@@ -847,26 +963,88 @@ LoadedCases load_cases(const std::string& cases_dir, const std::string& suite) {
     return result;
   }
   std::error_code ec;
-  if (!fs::is_directory(cases_dir, ec)) {
-    result.errors.push_back(Error{cases_dir, "", "cases directory does not exist", ""});
+  const fs::file_status dir_status = fs::status(cases_dir, ec);
+  if (!fs::is_directory(dir_status)) {
+    result.errors.push_back(Error{valid_utf8(cases_dir), "",
+                                  fs::exists(dir_status) ? "the cases path is not a folder"
+                                                         : "the cases folder does not exist",
+                                  "a folder of case files"});
     return result;
   }
+  const fs::path root = fs::canonical(cases_dir, ec);
   result.defaults = load_suite_defaults(cases_dir, &result.errors);
+  auto skip = [&](const fs::path& p, const std::string& why) {
+    result.errors.push_back(Error{valid_utf8(p.generic_string()), "", why, ""});
+  };
   std::vector<fs::path> files;
-  for (auto it = fs::recursive_directory_iterator(cases_dir, ec);
-       it != fs::recursive_directory_iterator(); ++it) {
-    if (it->is_regular_file() && it->path().extension() == ".json" &&
-        !is_suite_config_file(cases_dir, it->path().string()))
-      files.push_back(it->path());
+  size_t visited = 0;
+  fs::recursive_directory_iterator it(cases_dir, ec), end;
+  if (ec) skip(cases_dir, "cannot list the cases folder: " + ec.message());
+  for (; !ec && it != end; it.increment(ec)) {
+    if (++visited > kMaxCaseDirEntries) {
+      skip(cases_dir, "more than " + std::to_string(kMaxCaseDirEntries) +
+                          " entries under the cases folder; nothing was loaded past them");
+      break;
+    }
+    const fs::path& p = it->path();
+    const bool json_name = p.extension() == ".json";
+    const fs::file_type type = it->symlink_status(ec).type();
+    if (ec) break;
+    if (type == fs::file_type::directory) continue;
+    if (type == fs::file_type::symlink) {
+      std::error_code tec;
+      const fs::file_status target = fs::status(p, tec);
+      if (!fs::exists(target)) {
+        skip(p, "dangling symlink (its target " +
+                    valid_utf8(fs::read_symlink(p, tec).generic_string()) +
+                    " does not exist); not loaded");
+        continue;
+      }
+      const fs::path real = fs::canonical(p, tec);
+      const fs::path rel = real.lexically_relative(root);
+      if (tec || rel.empty() || *rel.begin() == "..") {
+        skip(p, "symlink to " + valid_utf8(real.generic_string()) + ", outside the cases folder " +
+                    valid_utf8(root.generic_string()) + "; not loaded");
+        continue;
+      }
+      if (fs::is_directory(target)) {
+        skip(p, "symlinked folder: not followed; case files sit in the cases folder itself");
+        continue;
+      }
+      if (!fs::is_regular_file(target)) {
+        if (json_name) skip(p, "is a symlink to something that is not a regular file");
+        continue;
+      }
+    } else if (type != fs::file_type::regular) {
+      if (json_name) skip(p, "is not a regular file (a FIFO, socket or device); not loaded");
+      continue;
+    }
+    if (json_name && !is_suite_config_file(cases_dir, p.string())) files.push_back(p);
   }
+  if (ec) skip(cases_dir, "cannot list the cases folder: " + ec.message());
   std::sort(files.begin(), files.end());
   std::map<std::string, std::string> seen;  // id -> file
+  size_t total = 0;
   for (const auto& f : files) {
-    std::string name = fs::relative(f, cases_dir, ec).replace_extension().generic_string();
-    auto cases = parse_case_file(f.generic_string(), read_text(f), cases_dir, name, result.defaults,
-                                 &result.errors);
+    // Lexically: a symlink's own name, never its target's.
+    std::string name = f.lexically_relative(cases_dir).replace_extension().generic_string();
+    if (Status st = check_case_id(name); !st) {
+      skip(f, "the file's name is not a valid case id: " + st.error().message);
+      continue;
+    }
+    auto text = read_bounded_file(f.string(), kMaxJsonFileBytes, "case file");
+    if (!text) {
+      result.errors.push_back(text.error());
+      continue;
+    }
+    auto cases = parse_case_file(valid_utf8(f.generic_string()), *text, cases_dir, name,
+                                 result.defaults, &result.errors);
     for (auto& c : cases) {
       if (suite == "quick" && c.tier != "quick") continue;  // validated, not run
+      if (Status st = check_case_id(c.id); !st) {
+        result.errors.push_back(Error{c.file, "", st.error().message, st.error().choices});
+        continue;
+      }
       auto [it, inserted] = seen.emplace(c.id, c.file);
       if (!inserted) {
         result.errors.push_back(
@@ -874,8 +1052,15 @@ LoadedCases load_cases(const std::string& cases_dir, const std::string& suite) {
                   "give the inputs distinct \"name\"s or the matrix distinct values"});
         continue;
       }
+      if (++total > kMaxCases) {
+        result.errors.push_back(Error{
+            c.file, "", "the suite expands to more than " + std::to_string(kMaxCases) + " cases",
+            "at most " + std::to_string(kMaxCases) + " cases in all"});
+        break;
+      }
       result.cases.push_back(std::move(c));
     }
+    if (total > kMaxCases) break;
   }
   std::sort(result.cases.begin(), result.cases.end(),
             [](const Case& a, const Case& b) { return a.id < b.id; });
@@ -886,16 +1071,14 @@ std::vector<KnownLimit> load_known_limits(const std::string& cases_dir,
                                           std::vector<Error>* errors) {
   std::vector<KnownLimit> out;
   const fs::path file = fs::path(cases_dir) / "known_limits.json";
-  if (!fs::exists(file)) return out;
+  if (!config_file_present(file)) return out;
   Parser p(file.generic_string(), cases_dir, errors);
-  json doc;
-  try {
-    doc = json::parse(read_text(file));
-  } catch (const json::parse_error& e) {
-    errors->push_back(
-        Error{file.generic_string(), "", std::string("malformed JSON: ") + e.what(), ""});
+  auto parsed = read_json_file<json>(file.generic_string(), "known limits file");
+  if (!parsed) {
+    errors->push_back(parsed.error());
     return out;
   }
+  json doc = std::move(*parsed);
   if (!doc.is_object() || !doc.contains("limits") || !doc["limits"].is_array()) {
     p.fail("/limits", "expected {\"limits\": [{\"cases\", \"engine\", \"reason\"}, ...]}");
     return out;

@@ -40,13 +40,25 @@ struct LoadedCases {
   SuiteDefaults defaults;
 };
 
+// Bounds on what a case folder may ask for, checked before any expansion or allocation.
+inline constexpr size_t kMaxCases = 100000;           // cases in the whole suite
+inline constexpr size_t kMaxCasesPerFile = 20000;     // cases one file's matrix expands to
+inline constexpr size_t kMaxCaseDirEntries = 100000;  // files and folders under cases/
+
 // Loads every case file under `cases_dir` (every *.json except the suite configuration files).
+// Only regular files count, or symlinks to regular files inside `cases_dir` (named by the link);
+// a dangling symlink, a symlink leaving the folder, a symlinked folder, a *.json that is not a
+// regular file and a file whose name is no valid case id are errors (never silently skipped).
 // `suite` "quick" (the default suite) keeps the cases of tier "quick"; "exhaustive" keeps every
 // case (both tiers). Every file is validated whatever the suite.
 LoadedCases load_cases(const std::string& cases_dir, const std::string& suite = "quick");
 
 // The suite names `load_cases` accepts: quick, exhaustive.
 const std::vector<std::string>& suite_names();
+
+// A case id is a relative path of non-empty, printable UTF-8 names, none '.' or '..', so that
+// OUT/cases/<id> and <goldens>/<id>.exr stay inside their folders.
+Status check_case_id(const std::string& id);
 
 // Parses one case file's text (exposed for tests). `cases_dir` bounds input file paths; named
 // tolerance sets and presets come from `defaults`.

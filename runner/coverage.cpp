@@ -10,6 +10,7 @@
 
 #include "core/nearest.h"
 #include "reference/ue_cpp/resolve.h"
+#include "runner/json_read.h"
 
 namespace hdrc {
 
@@ -79,16 +80,12 @@ CoverageSpec load_coverage_spec(const std::string& cases_dir, std::vector<Error>
          "a coverage.json beside the case files (docs/cases.md)");
     return spec;
   }
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  json doc;
-  try {
-    doc = json::parse(text.str());
-  } catch (const json::parse_error& e) {
-    fail("", std::string("malformed JSON: ") + e.what());
+  auto parsed = read_json_file<json>(spec.file, "coverage file");
+  if (!parsed) {
+    errors->push_back(parsed.error());
     return spec;
   }
+  json doc = std::move(*parsed);
   const std::vector<std::string> names = all_names();
   auto name_ok = [&](const json& n, const std::string& ptr) {
     if (n.is_string() && known_name(n.get<std::string>())) return true;

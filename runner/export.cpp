@@ -10,6 +10,7 @@
 #include "reference/color/ue_matrices.h"
 #include "runner/case_loader.h"
 #include "runner/diff.h"
+#include "runner/json_read.h"
 #include "runner/run.h"
 
 namespace hdrc {
@@ -401,20 +402,13 @@ json case_export_json(const ResolvedCase& rc) {
 Status export_case(const ResolvedCase& rc, const std::string& dir) {
   for (const AuxImage& a : images_of(rc))
     if (Status st = write_exr(dir + "/" + a.name + ".exr", *a.image); !st) return st;
-  return write_file_atomic(dir + "/params.json", case_export_json(rc).dump(2) + "\n");
+  return write_file_atomic(dir + "/params.json", dump_json(case_export_json(rc), 2) + "\n");
 }
 
 Result<ResolvedCase> load_exported_case(const std::string& params_path) {
-  std::ifstream f(params_path);
-  if (!f) return Error{params_path, "", "cannot open the file", ""};
-  std::stringstream s;
-  s << f.rdbuf();
-  json doc;
-  try {
-    doc = json::parse(s.str());
-  } catch (const json::parse_error& e) {
-    return Error{params_path, "", std::string("malformed JSON: ") + e.what(), ""};
-  }
+  auto parsed = read_json_file<json>(params_path, "params file");
+  if (!parsed) return parsed.error();
+  json doc = std::move(*parsed);
   ResolvedCase rc;
   if (!doc.is_object() || !doc.contains("stage") || !doc["stage"].is_string() ||
       !find_stage(doc["stage"].get<std::string>()))
@@ -475,7 +469,7 @@ ExportSummary export_cases(const std::vector<Case>& cases, const std::string& ou
       {"format_version", kExportFormatVersion},
       {"format", "hdrconform case export " + std::to_string(kExportFormatVersion)},
       {"cases", list}};
-  if (Status st = write_file_atomic(out_dir + "/manifest.json", manifest.dump(2) + "\n"); !st)
+  if (Status st = write_file_atomic(out_dir + "/manifest.json", dump_json(manifest, 2) + "\n"); !st)
     summary.errors.push_back(st.error());
   return summary;
 }

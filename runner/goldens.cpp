@@ -18,8 +18,10 @@
 #include <thread>
 
 #include "core/atomic_file.h"
+#include "core/utf8.h"
 #include "reference/reference_engine.h"
 #include "runner/case_loader.h"
+#include "runner/json_read.h"
 
 namespace hdrc {
 
@@ -191,15 +193,7 @@ bool float_close(float a, float b, int ulps) {
 }
 
 Result<json> read_json(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f) return Error{path, "", "cannot read", ""};
-  std::stringstream s;
-  s << f.rdbuf();
-  try {
-    return json::parse(s.str());
-  } catch (const json::parse_error& e) {
-    return Error{path, "", std::string("malformed JSON: ") + e.what(), ""};
-  }
+  return read_json_file<json>(path, "golden sidecar");
 }
 
 const char* kChannel = "RGBA";
@@ -349,6 +343,95 @@ bool values_equal(const json& a, const std::map<std::string, double>& b) {
 
 }  // namespace
 
+namespace {
+
+// Whether `path` (a golden about to be written) stays inside `goldens_dir` once symlinks in its
+// existing parent folders are resolved.
+bool inside_goldens(const std::string& goldens_dir, const std::string& path) {
+  std::error_code ec;
+  const fs::path root = fs::weakly_canonical(goldens_dir, ec);
+  const fs::path p = fs::weakly_canonical(fs::path(path).parent_path(), ec);
+  const fs::path rel = p.lexically_relative(root);
+  return !ec && !rel.empty() && *rel.begin() != "..";
+}
+
+// A golden `goldens update` wrote: DIR/<id>.json, a regular file whose JSON names that same id
+// as "case" and has the provenance fields a sidecar has; its image is DIR/<id>.exr.
+bool is_our_sidecar(const fs::path& sidecar, const std::string& id) {
+  auto j = read_json(sidecar.string());
+  return j && j->is_object() && j->contains("case") && (*j)["case"].is_string() &&
+         (*j)["case"].get<std::string>() == id && j->contains("case_hash") &&
+         j->contains("reference_version");
+}
+
+// Goldens of degenerate cases, and with `prune` of cases no longer in the suite, go. Only pairs
+// this command wrote (is_our_sidecar) are touched; nothing behind a symlink; every removed file
+// is listed; only the folders those removals left empty are removed.
+void prune_goldens(const std::vector<Case>& cases, const std::vector<char>& degenerate,
+                   const std::string& goldens_dir, bool prune, GoldenUpdateReport* report) {
+  std::set<std::string> keep, listed;
+  for (size_t i = 0; i < cases.size(); ++i) {
+    listed.insert(cases[i].id);
+    if (!degenerate[i]) keep.insert(cases[i].id);
+  }
+  std::error_code ec;
+  if (!fs::is_directory(fs::symlink_status(goldens_dir, ec))) return;
+  std::vector<fs::path> sidecars;
+  size_t foreign = 0, visited = 0;
+  for (fs::recursive_directory_iterator it(goldens_dir, ec), end; !ec && it != end;
+       it.increment(ec)) {
+    if (++visited > 1000000) break;
+    const auto type = it->symlink_status(ec).type();
+    if (type == fs::file_type::directory) continue;
+    const fs::path& p = it->path();
+    if (type == fs::file_type::regular && p.extension() == ".json")
+      sidecars.push_back(p);
+    else if (p.extension() != ".exr")
+      ++foreign;
+  }
+  std::sort(sidecars.begin(), sidecars.end());
+  std::set<fs::path> parents;
+  for (const fs::path& side : sidecars) {
+    const std::string id =
+        side.lexically_relative(goldens_dir).replace_extension().generic_string();
+    const bool in_run = listed.count(id) != 0;
+    if (!((in_run && !keep.count(id)) || (prune && !in_run))) continue;
+    if (!is_our_sidecar(side, id)) {
+      ++foreign;
+      continue;
+    }
+    fs::path exr = side;
+    exr.replace_extension(".exr");
+    const auto exr_type = fs::symlink_status(exr, ec).type();
+    for (const fs::path& f : {exr, side}) {
+      if (f == exr && exr_type != fs::file_type::regular) continue;
+      if (fs::remove(f, ec))
+        report->lines.push_back("removed " + valid_utf8(f.generic_string()));
+      else if (ec)
+        report->errors.push_back(
+            Error{valid_utf8(f.generic_string()), "", "cannot remove: " + ec.message(), ""});
+    }
+    ++report->removed;
+    parents.insert(side.parent_path());
+  }
+  // Folders the removals left empty, up to (not including) the goldens folder.
+  const fs::path root = fs::path(goldens_dir).lexically_normal();
+  for (fs::path dir : parents) {
+    while (dir.lexically_normal() != root && !dir.empty() &&
+           dir.lexically_normal().lexically_relative(root).native().rfind("..", 0) != 0 &&
+           fs::is_directory(fs::symlink_status(dir, ec)) && fs::is_empty(dir, ec) &&
+           fs::remove(dir, ec)) {
+      report->lines.push_back("removed empty folder " + valid_utf8(dir.generic_string()));
+      dir = dir.parent_path();
+    }
+  }
+  if (foreign > 0)
+    report->lines.push_back("left alone: " + std::to_string(foreign) + " file(s) under " +
+                            valid_utf8(goldens_dir) + " that goldens update did not write");
+}
+
+}  // namespace
+
 GoldenUpdateReport update_goldens(const std::vector<Case>& cases, const std::string& goldens_dir,
                                   bool prune, int jobs) {
   GoldenUpdateReport report;
@@ -413,8 +496,16 @@ GoldenUpdateReport update_goldens(const std::vector<Case>& cases, const std::str
         continue;
       }
       side["date"] = date;
+      if (!inside_goldens(goldens_dir, paths.exr)) {
+        std::lock_guard<std::mutex> lock(mu);
+        report.errors.push_back(
+            Error{valid_utf8(paths.exr), "",
+                  "leaves the goldens folder (a symlinked folder?); not written",
+                  "golden paths inside " + valid_utf8(goldens_dir)});
+        continue;
+      }
       Status st = write_exr(paths.exr, *img);
-      if (st) st = write_file_atomic(paths.sidecar, side.dump(2) + "\n");
+      if (st) st = write_file_atomic(paths.sidecar, dump_json(side, 2) + "\n");
       std::lock_guard<std::mutex> lock(mu);
       if (!st) {
         report.errors.push_back(st.error());
@@ -430,44 +521,7 @@ GoldenUpdateReport update_goldens(const std::vector<Case>& cases, const std::str
   work();
   for (auto& t : pool) t.join();
 
-  // Goldens of degenerate cases, and with `prune` of cases no longer in the suite, go.
-  std::set<std::string> keep;
-  for (size_t i = 0; i < cases.size(); ++i)
-    if (!degenerate[i]) keep.insert(cases[i].id);
-  std::set<std::string> listed;
-  for (const Case& c : cases) listed.insert(c.id);
-  std::error_code ec;
-  if (fs::is_directory(goldens_dir, ec)) {
-    std::vector<fs::path> stale;
-    for (auto it = fs::recursive_directory_iterator(goldens_dir, ec);
-         it != fs::recursive_directory_iterator(); ++it) {
-      if (!it->is_regular_file()) continue;
-      const fs::path& p = it->path();
-      if (p.extension() != ".exr" && p.extension() != ".json") continue;
-      const std::string id = fs::relative(p, goldens_dir, ec).replace_extension().generic_string();
-      const bool in_run = listed.count(id) != 0;
-      if ((in_run && !keep.count(id)) || (prune && !in_run)) stale.push_back(p);
-    }
-    std::sort(stale.begin(), stale.end());
-    for (const auto& p : stale) {
-      fs::remove(p, ec);
-      if (p.extension() == ".exr") {
-        ++report.removed;
-        report.lines.push_back("removed " + p.generic_string());
-      }
-    }
-    // Folders left empty.
-    for (bool again = true; again;) {
-      again = false;
-      for (auto it = fs::recursive_directory_iterator(goldens_dir, ec);
-           it != fs::recursive_directory_iterator(); ++it)
-        if (it->is_directory() && fs::is_empty(it->path(), ec)) {
-          fs::remove(it->path(), ec);
-          again = true;
-          break;
-        }
-    }
-  }
+  prune_goldens(cases, degenerate, goldens_dir, prune, &report);
   std::sort(report.lines.begin(), report.lines.end());
   return report;
 }
@@ -537,7 +591,7 @@ GoldenRunSummary check_run_against_goldens(const std::vector<Case>& cases,
   report["cases"] = entries;
   report["checked"] = sum.checked;
   report["failed"] = sum.failed();
-  if (Status st = write_file_atomic(out_dir + "/goldens.json", report.dump(2) + "\n"); !st)
+  if (Status st = write_file_atomic(out_dir + "/goldens.json", dump_json(report, 2) + "\n"); !st)
     std::fprintf(stderr, "error: %s\n", st.error().to_string().c_str());
   std::printf("goldens: %d checked against %s: %d match, %d missing, %d stale, %d regressions\n",
               sum.checked, goldens_dir.c_str(), sum.checked - sum.failed(), sum.missing, sum.stale,

@@ -16,6 +16,7 @@
 #include "runner/export.h"
 #include "runner/goldens.h"
 #include "runner/merge.h"
+#include "runner/output_set.h"
 #include "runner/probe.h"
 #include "runner/provenance.h"
 #include "runner/results.h"
@@ -120,7 +121,7 @@ int main(int argc, char** argv) {
   const std::string shard_help =
       "run shard K of N (1-based): the cases are split into N parts of about equal cost (the "
       "last run's seconds with --timings, else a static cost model), deterministically";
-  run->add_option("-j,--jobs", jobs, jobs_help)->check(CLI::NonNegativeNumber);
+  run->add_option("-j,--jobs", jobs, jobs_help)->check(CLI::Range(0, 1024));
   run->add_option("--shard", shard, shard_help);
 
   // Goldens (runner/goldens.h): `run` checks the reference against them; `goldens update` is the
@@ -165,7 +166,7 @@ int main(int argc, char** argv) {
   add_filter(goldens_update);
   goldens_update->add_option("--goldens", goldens_dir,
                              "golden directory (default: the repository's goldens/)");
-  goldens_update->add_option("-j,--jobs", jobs, jobs_help)->check(CLI::NonNegativeNumber);
+  goldens_update->add_option("-j,--jobs", jobs, jobs_help)->check(CLI::Range(0, 1024));
 
   CLI::App* list = app.add_subcommand("list", "list the expanded case ids");
   list->footer(kExitCodes);
@@ -214,7 +215,7 @@ int main(int argc, char** argv) {
   verify->add_option("--timings", timings, timings_help);
   verify->add_option("--out", out_dir, "output directory for results.json, junit.xml, report/")
       ->capture_default_str();
-  verify->add_option("-j,--jobs", jobs, jobs_help)->check(CLI::NonNegativeNumber);
+  verify->add_option("-j,--jobs", jobs, jobs_help)->check(CLI::Range(0, 1024));
   verify->add_option("--shard", shard, shard_help);
   auto* dir_opt = verify->add_option("--candidate-dir", candidate_dir,
                                      "directory of candidate images DIR/<case id>.exr");
@@ -222,7 +223,7 @@ int main(int argc, char** argv) {
                                      "command TEMPLATE run per case (see below)");
   dir_opt->excludes(cmd_opt);
   verify->add_option("--timeout", cmd_timeout, "seconds a candidate command may take per case")
-      ->check(CLI::PositiveNumber)
+      ->check(CLI::Validator(hdrc::check_timeout_seconds, "SECONDS"))
       ->capture_default_str();
   hdrc::SuiteOptions suite;  // verify's candidate protocol options (runner/verify.h)
   verify->add_flag("--require-all", suite.require_all,
@@ -235,6 +236,10 @@ int main(int argc, char** argv) {
                    "LUT)")
       ->check(CLI::IsMember({"baked", "analytic"}))
       ->capture_default_str();
+  bool sandbox = false;
+  verify->add_flag("--sandbox", sandbox,
+                   "run each candidate command under bubblewrap (bwrap): the system read-only, "
+                   "no network, only its case folder writable");
 
   CLI::App* devices = app.add_subcommand("devices", "list the Vulkan physical devices");
   devices->footer(kExitCodes);
@@ -341,7 +346,12 @@ int main(int argc, char** argv) {
   }
 
   if (*report_cmd) {
-    auto info = hdrc::write_report(report_dir);
+    auto lock = hdrc::OutputLock::take(report_dir);  // not while a run publishes there
+    if (!lock) {
+      std::fprintf(stderr, "error: %s\n", lock.error().to_string().c_str());
+      return hdrc::kExitBadInput;
+    }
+    auto info = hdrc::write_report(hdrc::published_run_dir(report_dir));
     if (!info) {
       std::fprintf(stderr, "error: %s\n", info.error().to_string().c_str());
       return hdrc::kExitBadInput;
@@ -393,6 +403,17 @@ int main(int argc, char** argv) {
     goldens_dir = fs::weakly_canonical(fs::path(HDRC_SOURCE_CASES_DIR) / ".." / "goldens", gec)
                       .generic_string();
 
+  // Folders this command writes are checked before any work (runner/output_set.h); run and
+  // verify write a staging folder inside --out and publish it at the end (finish).
+  std::unique_ptr<hdrc::OutputSet> outset;
+  if (hdrc::Status st =
+          hdrc::check_output_folders(*run || *verify, bool(*export_cmd), bool(*goldens_update),
+                                     out_dir, cases_dir, goldens_dir, &outset);
+      !st) {
+    std::fprintf(stderr, "error: %s\n", st.error().to_string().c_str());
+    return hdrc::kExitBadInput;
+  }
+
   if (*coverage) {
     std::vector<hdrc::Error> errors;
     const hdrc::CoverageSpec spec = hdrc::load_coverage_spec(
@@ -432,7 +453,13 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "error: %s\n", sh.error().to_string().c_str());
       return hdrc::kExitBadInput;
     }
+    const size_t all = cases.size();
     cases = hdrc::select_shard(cases, *sh);
+    if (cases.empty()) {
+      std::fprintf(stderr, "error: --shard %s selects no case (there are %zu)\n", shard.c_str(),
+                   all);
+      return hdrc::kExitBadInput;
+    }
   }
 
   if (*list) {
@@ -455,12 +482,14 @@ int main(int argc, char** argv) {
   }
 
   suite.cases_dir = cases_dir;
-  suite.out_dir = out_dir;
+  suite.out_dir = outset ? outset->staging() : out_dir;
   // The run's last line names the report (README: the main job ends with the report's path).
   bool goldens_checked = false;
   auto finish = [&](int code) {
-    // Golden outcomes into results.json and junit, --images applied, then the report.
-    code = hdrc::finish_run_outputs(out_dir, code, goldens_checked, images);
+    // Golden outcomes into results.json and junit, --images applied, then the report, all in the
+    // staging folder; then the run is published as a whole (runner/output_set.h).
+    code = hdrc::finish_run_outputs(suite.out_dir, code, goldens_checked, images);
+    code = hdrc::publish_run(outset.get(), code);
     std::error_code ec;
     if (code != hdrc::kExitBadInput &&
         fs::exists(out_dir + "/results.json"))  // bad input writes nothing
@@ -525,8 +554,8 @@ int main(int argc, char** argv) {
     return finish(hdrc::run_suite(
         cases, limits,
         [&] {
-          return std::make_unique<hdrc::CandidateCommandEngine>(*argv_template, out_dir,
-                                                                cmd_timeout, declined);
+          return std::make_unique<hdrc::CandidateCommandEngine>(*argv_template, suite.out_dir,
+                                                                cmd_timeout, declined, sandbox);
         },
         suite));
   }
@@ -554,7 +583,7 @@ int main(int argc, char** argv) {
     // Goldens exist for the quick tier only (docs/cases.md).
     std::erase_if(checked, [](const hdrc::Case& c) { return c.tier != "quick"; });
     const hdrc::GoldenRunSummary g =
-        hdrc::check_run_against_goldens(checked, out_dir, goldens_dir, golden_extra);
+        hdrc::check_run_against_goldens(checked, suite.out_dir, goldens_dir, golden_extra);
     if (g.failed() > 0 && code != hdrc::kExitFail) code = hdrc::kExitFail;
     goldens_checked = true;
   }

@@ -105,6 +105,28 @@ std::string probe_stage_names() {
   return out;
 }
 
+namespace {
+
+constexpr size_t kMaxProbeLine = 4096;
+
+// std::getline that stops reading past kMaxProbeLine + 1 characters (the caller reports it).
+bool read_bounded_line(std::istream& in, std::string* line) {
+  line->clear();
+  std::streambuf* sb = in.rdbuf();
+  for (;;) {
+    const int c = sb->sbumpc();
+    if (c == std::char_traits<char>::eof()) {
+      in.setstate(std::ios::eofbit);
+      return !line->empty();
+    }
+    if (c == '\n') return true;
+    line->push_back(static_cast<char>(c));
+    if (line->size() > kMaxProbeLine) return true;
+  }
+}
+
+}  // namespace
+
 Status run_probe(const ProbeOptions& o, std::istream& in, std::ostream& out) {
   Case c;
   c.id = "probe";
@@ -182,7 +204,11 @@ Status run_probe(const ProbeOptions& o, std::istream& in, std::ostream& out) {
 
   nlohmann::json rows = nlohmann::json::array();
   std::string line;
-  for (int number = 1; std::getline(in, line); ++number) {
+  for (int number = 1; read_bounded_line(in, &line); ++number) {
+    if (line.size() > kMaxProbeLine)  // e.g. /dev/zero as standard input: no newline ever
+      return Error{"<stdin>", "line " + std::to_string(number),
+                   "longer than " + std::to_string(kMaxProbeLine) + " characters",
+                   "\"R G B\" lines"};
     const size_t first = line.find_first_not_of(" \t\r");
     if (first == std::string::npos || line[first] == '#') continue;
     double fast[3];

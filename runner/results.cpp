@@ -8,8 +8,10 @@
 #include <sstream>
 
 #include "core/atomic_file.h"
+#include "core/utf8.h"
 #include "report/html_report.h"
 #include "runner/export.h"
+#include "runner/json_read.h"
 #include "runner/verify.h"
 
 namespace hdrc {
@@ -142,7 +144,8 @@ json case_json(const CaseResult& c, const RunReport& r) {
   };
 }
 
-std::string xml_escape(const std::string& s) {
+std::string xml_escape(const std::string& text) {
+  const std::string s = valid_utf8(text);  // XML text is well-formed UTF-8 or unreadable
   std::string out;
   for (char c : s) {
     switch (c) {
@@ -251,7 +254,7 @@ std::string results_json(const RunReport& r) {
       {"cases", cases},
   };
   add_candidate_protocol(doc, r);
-  return doc.dump() + "\n";
+  return dump_json(doc, -1) + "\n";
 }
 
 namespace {
@@ -488,7 +491,7 @@ int finish_run_outputs(const std::string& out_dir, int code, bool goldens_checke
     }
   (*doc)["summary"]["exit_code"] = code;
   Status s = apply_image_policy(*doc, out_dir, images);
-  if (s) s = write_file_atomic(out_dir + "/results.json", doc->dump() + "\n");
+  if (s) s = write_file_atomic(out_dir + "/results.json", dump_json(*doc, -1) + "\n");
   if (s) s = write_file_atomic(out_dir + "/junit.xml", junit_from_results(*doc));
   if (s) {
     auto report = write_report(out_dir);

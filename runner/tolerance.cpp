@@ -1,12 +1,13 @@
 #include "runner/tolerance.h"
 
-#include <fnmatch.h>
-
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+
+#include "runner/case_loader.h"
+#include "runner/json_read.h"
 
 namespace hdrc {
 
@@ -57,7 +58,7 @@ Result<double> limit_value(const json& v, const std::string& file, const std::st
 }
 
 bool glob_match(const std::string& glob, const std::string& s) {
-  return glob.empty() || fnmatch(glob.c_str(), s.c_str(), 0) == 0;
+  return matches_filter(s, glob);  // runner/case_loader.h: linear time on any pattern
 }
 
 }  // namespace
@@ -190,13 +191,12 @@ std::vector<ToleranceOverlay> parse_tolerance_overlays(const std::string& file,
                                                        const std::string& text,
                                                        std::vector<Error>* errors) {
   std::vector<ToleranceOverlay> out;
-  json doc;
-  try {
-    doc = json::parse(text);
-  } catch (const json::parse_error& e) {
-    errors->push_back(Error{file, "", std::string("malformed JSON: ") + e.what(), ""});
+  auto parsed = parse_json_text<json>(file, text);
+  if (!parsed) {
+    errors->push_back(parsed.error());
     return out;
   }
+  json doc = std::move(*parsed);
   if (!doc.is_object()) {
     errors->push_back(Error{file, "", "an overlay file is a JSON object, got " + show(doc),
                             "{\"overlays\": [...]}"});
@@ -280,15 +280,14 @@ std::vector<ToleranceOverlay> load_tolerance_overlays(const std::string& cases_d
                                                       std::vector<Error>* errors) {
   const std::string path = cases_dir + "/tolerance_overlays.json";
   std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) return {};
-  std::ifstream f(path);
-  std::stringstream s;
-  s << f.rdbuf();
-  if (!f) {
-    errors->push_back(Error{path, "", "cannot read the file", ""});
+  if (std::filesystem::symlink_status(path, ec).type() == std::filesystem::file_type::not_found)
+    return {};
+  auto text = read_bounded_file(path, kMaxJsonFileBytes, "tolerance overlay file");
+  if (!text) {
+    errors->push_back(text.error());
     return {};
   }
-  return parse_tolerance_overlays(path, s.str(), errors);
+  return parse_tolerance_overlays(path, *text, errors);
 }
 
 bool overlay_matches(const ToleranceOverlay& o, const Case& c, const std::string& engine,

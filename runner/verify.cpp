@@ -1,14 +1,18 @@
 #include "runner/verify.h"
 
 #include <fcntl.h>
+#include <poll.h>
 #include <signal.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -17,6 +21,8 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
+#include "core/atomic_file.h"
+#include "core/utf8.h"
 #include "reference/reference_engine.h"
 #include "runner/export.h"
 #include "runner/provenance.h"
@@ -34,8 +40,12 @@ std::string CandidateDirEngine::image_path(const std::string& case_id) const {
 
 Status CandidateDirEngine::init() {
   std::error_code ec;
-  if (!fs::is_directory(dir_, ec))
-    return Error{dir_, "", "the candidate directory does not exist", "a directory of ID.exr files"};
+  const auto st = fs::status(dir_, ec);
+  if (!fs::is_directory(st))
+    return Error{valid_utf8(dir_), "",
+                 fs::exists(st) ? "the candidate path is not a folder"
+                                : "the candidate folder does not exist",
+                 "a folder of ID.exr files"};
   return {};
 }
 
@@ -47,8 +57,9 @@ DeviceInfo CandidateDirEngine::device() const {
 std::string CandidateDirEngine::missing(const std::string& case_id) const {
   std::error_code ec;
   const std::string path = image_path(case_id);
-  if (fs::exists(path, ec)) return "";
-  return "missing candidate image " + path;
+  // Present in any form (a FIFO, a dangling symlink): reading it says what is wrong with it.
+  if (fs::exists(fs::symlink_status(path, ec))) return "";
+  return "missing candidate image " + valid_utf8(path);
 }
 
 Result<Image> CandidateDirEngine::run(const ResolvedCase& c) {
@@ -125,58 +136,169 @@ std::vector<std::string> expand_placeholders(const std::vector<std::string>& arg
   return out;
 }
 
+std::string check_timeout_seconds(std::string& text) {
+  char* end = nullptr;
+  errno = 0;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || end != text.c_str() + text.size() || errno == ERANGE || !std::isfinite(v) ||
+      v <= 0 || v > kMaxTimeoutSeconds)
+    return "--timeout '" + valid_utf8(text.substr(0, 40)) + "' is not a number of seconds in (0, " +
+           std::to_string(static_cast<int>(kMaxTimeoutSeconds)) + "]";
+  return "";
+}
+
+namespace {
+
+// Appends what is readable from `fd` now (non-blocking) to `keep` up to `max_keep` bytes; the
+// rest is counted in `*dropped`. Returns false at end of file.
+bool drain(int fd, std::string* keep, size_t max_keep, size_t* dropped) {
+  char buf[65536];
+  for (;;) {
+    const ssize_t n = ::read(fd, buf, sizeof buf);
+    if (n > 0) {
+      const size_t room = max_keep - std::min(max_keep, keep->size());
+      keep->append(buf, std::min(room, static_cast<size_t>(n)));
+      *dropped += static_cast<size_t>(n) - std::min(room, static_cast<size_t>(n));
+      continue;
+    }
+    if (n == 0) return false;
+    if (errno == EINTR) continue;
+    return errno == EAGAIN || errno == EWOULDBLOCK ? true : false;
+  }
+}
+
+}  // namespace
+
 CommandResult run_command(const std::vector<std::string>& argv, const std::string& log_path,
-                          double timeout_s) {
+                          double timeout_s, const CommandLimits& limits) {
   CommandResult r;
   // Everything the child needs is prepared before fork: after it, in a multi-threaded process,
   // the child may only call async-signal-safe functions until exec.
   std::vector<char*> args;
   for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
+  int pipe_fd[2];
+  if (::pipe2(pipe_fd, O_CLOEXEC) != 0) {
+    r.error = std::string("pipe failed: ") + std::strerror(errno);
+    return r;
+  }
+  const rlim_t fsize = static_cast<rlim_t>(limits.max_file_bytes);
   const pid_t pid = fork();
   if (pid < 0) {
     r.error = std::string("fork failed: ") + std::strerror(errno);
+    ::close(pipe_fd[0]);
+    ::close(pipe_fd[1]);
     return r;
   }
   if (pid == 0) {
-    setpgid(0, 0);  // its own group: a timeout kills it and its children; Ctrl-C reaches us only
-    const int fd = open(log_path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+    setpgid(0, 0);  // its own group: it and its children are killed together; Ctrl-C reaches us
     const int null_in = open("/dev/null", O_RDONLY);
     if (null_in >= 0) dup2(null_in, 0);
-    if (fd >= 0) {
-      dup2(fd, 1);
-      dup2(fd, 2);
-    }
+    dup2(pipe_fd[1], 1);  // dup2 clears O_CLOEXEC on 1 and 2 only
+    dup2(pipe_fd[1], 2);
+    // No file it writes (its image included) may grow past the limit: SIGXFSZ ends it.
+    const struct rlimit fl = {fsize, fsize};
+    setrlimit(RLIMIT_FSIZE, &fl);
+    const struct rlimit no_core = {0, 0};
+    setrlimit(RLIMIT_CORE, &no_core);
     execvp(args[0], args.data());
     const char msg[] = "hdrconform: exec failed\n";
     (void)!write(2, msg, sizeof msg - 1);
     _exit(127);
   }
+  ::close(pipe_fd[1]);
   setpgid(pid, pid);  // also from the parent, so the group exists before any kill below
+  const int out_fd = pipe_fd[0];
+  fcntl(out_fd, F_SETFL, fcntl(out_fd, F_GETFL) | O_NONBLOCK);
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
-  int status = 0;
+  std::string captured;
+  size_t dropped = 0;
+  bool open_pipe = true;
   for (;;) {
-    const pid_t w = waitpid(pid, &status, WNOHANG);
-    if (w == pid) break;
-    if (w < 0 && errno != EINTR) {
-      r.error = std::string("waitpid failed: ") + std::strerror(errno);
-      return r;
+    if (open_pipe) {
+      pollfd pfd{out_fd, POLLIN, 0};
+      (void)::poll(&pfd, 1, 10);
+      open_pipe = drain(out_fd, &captured, limits.max_log_bytes, &dropped);
+    } else {
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
     }
+    // Exited? Not reaped yet (WNOWAIT): while the leader is a zombie its group id cannot be
+    // reused, so the group kill below reaches only its own processes.
+    siginfo_t info{};
+    if (::waitid(P_PID, static_cast<id_t>(pid), &info, WEXITED | WNOHANG | WNOWAIT) == 0 &&
+        info.si_pid == pid)
+      break;
     if (std::chrono::steady_clock::now() >= deadline) {
-      kill(-pid, SIGKILL);
-      waitpid(pid, &status, 0);
       r.timed_out = true;
-      return r;
+      break;
     }
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
-  if (WIFEXITED(status)) r.exit_status = WEXITSTATUS(status);
-  if (WIFSIGNALED(status)) r.signal = WTERMSIG(status);
+  // The whole group goes, on a normal exit too: nothing it started outlives the case.
+  kill(-pid, SIGKILL);
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  if (open_pipe) drain(out_fd, &captured, limits.max_log_bytes, &dropped);
+  ::close(out_fd);
+  if (!r.timed_out) {
+    if (WIFEXITED(status)) r.exit_status = WEXITSTATUS(status);
+    if (WIFSIGNALED(status)) r.signal = WTERMSIG(status);
+  }
+  r.output = valid_utf8(captured);
+  r.output_dropped = dropped;
+  std::string log = captured;
+  if (dropped)
+    log += "\n[hdrconform: " + std::to_string(dropped) + " more bytes of output dropped; limit " +
+           std::to_string(limits.max_log_bytes) + "]\n";
+  if (!log_path.empty()) (void)write_file_atomic(log_path, log);
   return r;
+}
+
+std::string sandbox_program() {
+  for (const char* dir : {"/usr/bin", "/bin", "/usr/local/bin"}) {
+    const std::string p = std::string(dir) + "/bwrap";
+    if (::access(p.c_str(), X_OK) == 0) return p;
+  }
+  return "";
+}
+
+std::vector<std::string> sandbox_argv(const std::vector<std::string>& argv,
+                                      const std::string& case_dir) {
+  std::error_code ec;
+  const std::string dir = fs::absolute(case_dir, ec).lexically_normal().string();
+  // A read-only view of the whole system, no network, its own session; only the case's own
+  // folder is writable (and is its TMPDIR).
+  std::vector<std::string> out = {sandbox_program(),
+                                  "--ro-bind",
+                                  "/",
+                                  "/",
+                                  "--dev",
+                                  "/dev",
+                                  "--proc",
+                                  "/proc",
+                                  "--bind",
+                                  dir,
+                                  dir,
+                                  "--unshare-net",
+                                  "--unshare-ipc",
+                                  "--new-session",
+                                  "--die-with-parent",
+                                  "--setenv",
+                                  "TMPDIR",
+                                  dir,
+                                  "--chdir",
+                                  dir,
+                                  "--"};
+  out.insert(out.end(), argv.begin(), argv.end());
+  return out;
 }
 
 Status CandidateCommandEngine::init() {
   if (argv_.empty()) return Error{"", "--candidate-cmd", "the command template is empty", ""};
+  if (sandbox_ && sandbox_program().empty())
+    return Error{"", "--sandbox",
+                 "bubblewrap (bwrap) is not installed, so candidate commands cannot be sandboxed",
+                 "install Debian's package bubblewrap, or run without --sandbox"};
   return {};
 }
 
@@ -199,14 +321,12 @@ std::string first_line_of(const std::string& path) {
   return "";
 }
 
-std::string tail_of(const std::string& path, size_t max_chars) {
-  std::ifstream f(path);
-  std::string s((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+std::string tail_of(std::string s, size_t max_chars) {
   while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
   if (s.size() > max_chars) s = "..." + s.substr(s.size() - max_chars);
   for (char& c : s)
-    if (c == '\n') c = '|';
-  return s;
+    if (c == '\n' || (static_cast<unsigned char>(c) < 0x20 && c != '\t')) c = '|';
+  return valid_utf8(s);  // the cut may split a character; the output may be any bytes
 }
 }  // namespace
 
@@ -254,8 +374,10 @@ Result<Image> CandidateCommandEngine::run(const ResolvedCase& c) {
   std::error_code ec;
   fs::remove(output, ec);
   fs::remove(log, ec);
-  const auto argv =
+  const auto t0 = std::chrono::steady_clock::now();
+  auto argv =
       expand_placeholders(argv_, dir + "/input.exr", dir + "/params.json", output, c.spec.id);
+  if (sandbox_) argv = sandbox_argv(argv, dir);
   const CommandResult r = run_command(argv, log, timeout_s_);
   if (r.error.empty() && !r.timed_out && r.signal == 0 &&
       (r.exit_status == kCandidateDeclinesCase || r.exit_status == kCandidateDeclinesStage))
@@ -264,20 +386,31 @@ Result<Image> CandidateCommandEngine::run(const ResolvedCase& c) {
   if (!r.error.empty())
     why = r.error;
   else if (r.timed_out)
-    why = "timed out after " + std::to_string(timeout_s_) + " s (killed)";
+    why = "timed out after " + format_number(timeout_s_) + " s (killed with its process group)";
+  else if (r.signal == SIGXFSZ)
+    why = "wrote a file over the size limit of " + std::to_string(kMaxImageFileBytes) +
+          " bytes (killed by SIGXFSZ)";
   else if (r.signal != 0)
     why = "killed by signal " + std::to_string(r.signal);
   else if (r.exit_status != 0)
     why = "exited with status " + std::to_string(r.exit_status);
   if (!why.empty()) {
-    const std::string out = tail_of(log, 300);
-    return Error{argv[0], "", "candidate command " + why + (out.empty() ? "" : "; output: " + out),
-                 ""};
+    const std::string out = tail_of(r.output, 300);
+    return Error{valid_utf8(argv_[0]), "",
+                 "candidate command " + why + (out.empty() ? "" : "; output: " + out), ""};
   }
-  if (!fs::exists(output, ec))
-    return Error{argv[0], "", "candidate command exited 0 but wrote no image at " + output, ""};
+  if (!fs::exists(fs::symlink_status(output, ec)))
+    return Error{valid_utf8(argv_[0]), "",
+                 "candidate command exited 0 but wrote no image at " + valid_utf8(output), ""};
   auto img = read_image(output);
   fs::remove(output, ec);
+  // --timeout covers the command and the reading of what it wrote.
+  if (img &&
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() > timeout_s_)
+    return Error{valid_utf8(argv_[0]), "",
+                 "candidate command and the reading of its image took over --timeout " +
+                     format_number(timeout_s_) + " s",
+                 ""};
   if (!img) {
     Error e = img.error();
     e.message = "bad candidate image: " + e.message;
@@ -510,7 +643,15 @@ int run_suite(std::vector<Case> cases, const std::vector<KnownLimit>& limits,
       std::fprintf(stderr, "error: %s\n", shard.error().to_string().c_str());
       return kExitBadInput;
     }
+    const size_t all = cases.size();
     cases = select_shard(cases, *shard);
+    if (cases.empty()) {
+      std::fprintf(stderr,
+                   "error: --shard %s selects no case: there are only %zu case(s) to share; "
+                   "nothing was run\n",
+                   options.shard.c_str(), all);
+      return kExitBadInput;
+    }
   }
   ro.jobs = options.jobs;
   ro.known_limits = all_limits;

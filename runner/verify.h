@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/engine.h"
+#include "core/image.h"
 #include "runner/case_loader.h"
 #include "runner/run.h"
 
@@ -48,12 +49,32 @@ struct CommandResult {
   int exit_status = -1;  // the exit status, or -1 when killed by a signal or timed out
   int signal = 0;        // the signal that ended it (0: none)
   bool timed_out = false;
-  std::string error;  // fork/exec failure
+  std::string error;          // fork/exec failure
+  std::string output;         // stdout and stderr, the first CommandLimits::max_log_bytes, UTF-8
+  size_t output_dropped = 0;  // bytes of output past that limit (read and dropped)
 };
-// Runs argv (fork/exec, PATH search, no shell) in its own process group with stdout and stderr
-// appended to `log_path`; kills the group after `timeout_s`.
+struct CommandLimits {
+  size_t max_log_bytes = size_t{1} << 20;      // output kept (and written to the log)
+  size_t max_file_bytes = kMaxImageFileBytes;  // RLIMIT_FSIZE: no file it writes grows past this
+};
+// Runs argv (fork/exec, PATH search, no shell) in its own process group, reading its stdout and
+// stderr through a pipe (kept up to the limit, the rest dropped) and writing them to `log_path`
+// ("" : nowhere). `timeout_s` covers the whole command and the reading of its output. When the
+// command ends (exit, signal or timeout) its whole process group is killed, so no child it
+// started survives the case.
 CommandResult run_command(const std::vector<std::string>& argv, const std::string& log_path,
-                          double timeout_s);
+                          double timeout_s, const CommandLimits& limits = {});
+
+// verify --timeout: seconds, finite, > 0 and <= kMaxTimeoutSeconds (NaN and inf are refused).
+// A CLI11 validator: "" when valid, else the message.
+inline constexpr double kMaxTimeoutSeconds = 86400;
+std::string check_timeout_seconds(std::string& text);
+
+// verify --sandbox: the bubblewrap program ("" when not installed), and argv wrapped in it so the
+// command sees the system read-only, a private /tmp, no network, and can write only `case_dir`.
+std::string sandbox_program();
+std::vector<std::string> sandbox_argv(const std::vector<std::string>& argv,
+                                      const std::string& case_dir);
 
 // The candidate protocol's exit statuses (README, "Verifying a port"): besides 0 (image written)
 // a candidate command may decline. Declined cases are UNSUPPORTED: never a pass, counted apart,
@@ -81,11 +102,12 @@ class DeclinedStages {
 class CandidateCommandEngine final : public Engine {
  public:
   CandidateCommandEngine(std::vector<std::string> argv, std::string out_dir, double timeout_s,
-                         std::shared_ptr<DeclinedStages> declined = nullptr)
+                         std::shared_ptr<DeclinedStages> declined = nullptr, bool sandbox = false)
       : argv_(std::move(argv)),
         out_dir_(std::move(out_dir)),
         timeout_s_(timeout_s),
-        declined_(declined ? std::move(declined) : std::make_shared<DeclinedStages>()) {}
+        declined_(declined ? std::move(declined) : std::make_shared<DeclinedStages>()),
+        sandbox_(sandbox) {}
   std::string name() const override { return "candidate-cmd"; }
   Status init() override;
   DeviceInfo device() const override;
@@ -99,6 +121,7 @@ class CandidateCommandEngine final : public Engine {
   double timeout_s_;
   std::shared_ptr<DeclinedStages> declined_;
   std::string declined_case_, declined_reason_;  // the last case this engine's command declined
+  bool sandbox_ = false;
 };
 
 // verify --candidate-limits FILE: a port's declared deviations, in known_limits.json's form

@@ -8,7 +8,7 @@ packages=(
   libopenimageio-dev openimageio-tools libopenexr-dev libimath-dev
   libgtest-dev nlohmann-json3-dev libcli11-dev
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers glslang-dev glslang-tools spirv-tools
-  libopencolorio-dev ccache
+  libopencolorio-dev ccache bubblewrap
 )
 # The report's browser test (report/browser_test): Debian's Chromium, and Node.js with npm unless
 # a node/npm is already on the PATH (e.g. NodeSource's nodejs, which bundles npm and conflicts

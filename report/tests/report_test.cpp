@@ -172,7 +172,7 @@ TEST_F(WriteReport, InvalidJsonIsAnError) {
   std::ofstream(dir_ / "results.json") << "{\"cases\": [";
   auto r = hdrc::write_report(dir_.string());
   ASSERT_FALSE(r);
-  EXPECT_NE(r.error().to_string().find("not valid JSON"), std::string::npos);
+  EXPECT_NE(r.error().to_string().find("malformed JSON"), std::string::npos);
 }
 
 TEST_F(WriteReport, SparseResultsAndHostileTextAreShownEscaped) {

@@ -1,0 +1,343 @@
+// The output folder as a whole (runner/output_set.h): kill -9 at random moments of a run leaves
+// either the previous complete run or the new complete run; two runs into one folder are refused;
+// the candidate's process group does not outlive its case; the helpers' own contracts.
+#include "runner/output_set.h"
+
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <sstream>
+#include <thread>
+
+#include "core/utf8.h"
+#include "runner/json_read.h"
+
+#ifndef HDRC_BINARY
+#error "HDRC_BINARY must be defined"
+#endif
+
+namespace fs = std::filesystem;
+
+namespace {
+
+void write(const fs::path& p, const std::string& text) {
+  fs::create_directories(p.parent_path());
+  std::ofstream f(p, std::ios::binary | std::ios::trunc);
+  f << text;
+}
+
+std::string read(const fs::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+fs::path temp_dir(const std::string& name) {
+  fs::path p = fs::temp_directory_path() / ("hdrc_outset_" + name + "_" + std::to_string(getpid()));
+  fs::remove_all(p);
+  fs::create_directories(p);
+  return p;
+}
+
+// Starts the binary with `args` (no shell), output to /dev/null; returns its pid.
+pid_t spawn(const std::vector<std::string>& args) {
+  std::vector<char*> argv;
+  std::string bin = HDRC_BINARY;
+  argv.push_back(bin.data());
+  std::vector<std::string> copy = args;
+  for (auto& a : copy) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  const pid_t pid = fork();
+  if (pid == 0) {
+    freopen("/dev/null", "w", stdout);
+    freopen("/dev/null", "w", stderr);
+    execv(argv[0], argv.data());
+    _exit(127);
+  }
+  return pid;
+}
+
+int wait_code(pid_t pid) {
+  int status = 0;
+  waitpid(pid, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+struct Ran {
+  int code;
+  std::string out;
+};
+
+Ran run(const std::string& args) {
+  FILE* p = popen(
+      ("timeout -s KILL 120 " + std::string(HDRC_BINARY) + " " + args + " 2>&1").c_str(), "r");
+  std::string out;
+  std::array<char, 4096> buf;
+  while (size_t n = fread(buf.data(), 1, buf.size(), p)) out.append(buf.data(), n);
+  const int status = pclose(p);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+// A suite of `n` cases that takes a noticeable time on the reference engine.
+void write_suite(const fs::path& cases, int n) {
+  std::string values;
+  for (int i = 0; i < n; ++i) values += (i ? "," : "") + std::to_string(0.3 + 0.05 * i);
+  write(cases / "k.json",
+        R"({"stage": "shaper", "input": {"stimulus": "log_ramp", "width": 256, "height": 64},
+            "matrix": {"settings": {"FilmSlope": [)" +
+            values + "]}}}");
+}
+
+// What a reader of OUT sees: the published run, complete, every file of it from one run.
+// Returns the run's started_utc + wall_seconds (its identity), or "" with a failure recorded.
+std::string check_complete(const fs::path& out, size_t cases) {
+  const fs::path current = out / "current";
+  EXPECT_TRUE(fs::is_symlink(current));
+  EXPECT_TRUE(fs::is_directory(current));
+  auto doc = hdrc::read_json_file<nlohmann::json>((out / "results.json").string());
+  EXPECT_TRUE(doc.ok()) << (doc ? "" : doc.error().to_string());
+  if (!doc) return "";
+  EXPECT_EQ((*doc)["cases"].size(), cases);
+  for (const auto& c : (*doc)["cases"])
+    for (const auto& [k, v] : c["images"].items())
+      EXPECT_TRUE(fs::is_regular_file(out / v.get<std::string>())) << v;
+  const std::string junit = read(out / "junit.xml");
+  EXPECT_NE(junit.find("tests=\"" + std::to_string(cases) + "\""), std::string::npos);
+  EXPECT_NE(junit.find("</testsuites>"), std::string::npos);
+  EXPECT_TRUE(fs::is_regular_file(out / "report/index.html"));
+  // results.json, junit.xml and report/ are the same run's: all in the folder `current` names.
+  EXPECT_EQ(fs::canonical(out / "results.json").parent_path(), fs::canonical(current));
+  EXPECT_EQ(fs::canonical(out / "junit.xml").parent_path(), fs::canonical(current));
+  EXPECT_EQ(fs::canonical(out / "report").parent_path(), fs::canonical(current));
+  return (*doc)["started_utc"].dump() + (*doc)["wall_seconds"].dump();
+}
+
+TEST(OutputSet, KillNineAtRandomMomentsLeavesPreviousOrNewCompleteRun) {
+  const fs::path t = temp_dir("kill");
+  const int n = 12;
+  write_suite(t / "cases", n);
+  const std::vector<std::string> args = {
+      "run",   "--engine",           "reference", "--cases", (t / "cases").string(),
+      "--out", (t / "out").string(), "-j",        "1"};
+  // The previous complete run, and how long a run takes.
+  const auto t0 = std::chrono::steady_clock::now();
+  ASSERT_EQ(wait_code(spawn(args)), 0);
+  const double full_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  std::string previous = check_complete(t / "out", n);
+  ASSERT_FALSE(previous.empty());
+
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<double> when(0.0, full_ms * 1.1);
+  int kept_previous = 0, got_new = 0;
+  const int kills = 16;
+  for (int i = 0; i < kills; ++i) {
+    const pid_t pid = spawn(args);
+    std::this_thread::sleep_for(std::chrono::duration<double, std::milli>(when(rng)));
+    kill(pid, SIGKILL);
+    wait_code(pid);
+    SCOPED_TRACE("kill " + std::to_string(i));
+    const std::string seen = check_complete(t / "out", n);
+    ASSERT_FALSE(seen.empty());
+    if (seen == previous) {
+      ++kept_previous;
+    } else {
+      ++got_new;
+      previous = seen;
+    }
+  }
+  std::printf(
+      "kill -9 at %d random moments over %.0f ms runs: %d left the previous run, %d the "
+      "new one; every time complete\n",
+      kills, full_ms, kept_previous, got_new);
+  EXPECT_GT(kept_previous, 0);  // some kills hit a run before it published
+  // The next run cleans the killed runs' staging folders: one run folder remains.
+  ASSERT_EQ(wait_code(spawn(args)), 0);
+  check_complete(t / "out", n);
+  size_t runs = 0;
+  for (const auto& e : fs::directory_iterator(t / "out/.runs")) runs += e.is_directory();
+  EXPECT_EQ(runs, 1u);
+  if (!::testing::Test::HasFailure()) fs::remove_all(t);
+}
+
+TEST(OutputSet, ConcurrentRunsIntoOneFolderAreRefused) {
+  const fs::path t = temp_dir("lock");
+  write(t / "cases/a.json",
+        R"({"stage": "shaper", "input": {"stimulus": "log_ramp", "width": 8, "height": 2}})");
+  write(t / "slow.sh", "#!/bin/sh\nsleep 10\nexit 1\n");
+  const pid_t first =
+      spawn({"verify", "--cases", (t / "cases").string(), "--out", (t / "out").string(),
+             "--candidate-cmd", "sh " + (t / "slow.sh").string() + " {output}"});
+  // Wait until the first run holds the lock.
+  for (int i = 0; i < 200 && !fs::exists(t / "out/.lock"); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  const Ran second = run("run --engine reference --cases " + (t / "cases").string() + " --out " +
+                         (t / "out").string());
+  EXPECT_EQ(second.code, 2) << second.out;
+  EXPECT_NE(second.out.find("another hdrconform run (pid " + std::to_string(first) +
+                            ") is writing to this output folder"),
+            std::string::npos)
+      << second.out;
+  const Ran report = run("report " + (t / "out").string());
+  EXPECT_EQ(report.code, 2) << report.out;
+  EXPECT_EQ(wait_code(first), 1);  // the first run finished undisturbed (its candidate fails)
+  check_complete(t / "out", 1);
+  // Free again: a run now works.
+  EXPECT_EQ(run("run --engine reference --cases " + (t / "cases").string() + " --out " +
+                (t / "out").string())
+                .code,
+            0);
+  if (!::testing::Test::HasFailure()) fs::remove_all(t);
+}
+
+TEST(OutputSet, CandidateProcessGroupIsKilledWhenTheCommandEnds) {
+  const fs::path t = temp_dir("pgroup");
+  write(t / "cases/a.json",
+        R"({"stage": "shaper", "input": {"stimulus": "log_ramp", "width": 8, "height": 2}})");
+  // Leaves a child behind and exits at once (normal exit, status 1).
+  write(t / "cand.sh",
+        "#!/bin/sh\nsleep 300 &\necho $! > " + (t / "child.pid").string() + "\nexit 1\n");
+  const Ran r = run("verify --cases " + (t / "cases").string() + " --out " + (t / "out").string() +
+                    " --candidate-cmd 'sh " + (t / "cand.sh").string() + " {output}'");
+  EXPECT_EQ(r.code, 1) << r.out;
+  const pid_t child = std::stoi(read(t / "child.pid"));
+  ASSERT_GT(child, 1);
+  bool gone = false;
+  for (int i = 0; i < 100 && !gone; ++i) {
+    gone = kill(child, 0) != 0 && errno == ESRCH;
+    if (!gone) {
+      // A zombie reparented to a reaper that has not reaped yet counts as gone.
+      const std::string stat = read("/proc/" + std::to_string(child) + "/stat");
+      gone = stat.find(") Z ") != std::string::npos;
+    }
+    if (!gone) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  EXPECT_TRUE(gone) << "the candidate's child " << child << " outlived it";
+  if (!gone) kill(child, SIGKILL);
+  if (!::testing::Test::HasFailure()) fs::remove_all(t);
+}
+
+TEST(OutputSet, ValidateRefusesProtectedFoldersWithReasons) {
+  const fs::path t = temp_dir("validate");
+  fs::create_directories(t / "cases");
+  const std::vector<std::string> prot = {(t / "cases").string()};
+  EXPECT_FALSE(hdrc::validate_output_dir("", "--out", prot));
+  EXPECT_FALSE(hdrc::validate_output_dir((t / "cases").string(), "--out", prot));
+  EXPECT_FALSE(hdrc::validate_output_dir((t / "cases/x").string(), "--out", prot));
+  EXPECT_FALSE(hdrc::validate_output_dir(t.string(), "--out", prot));
+  fs::create_directory_symlink(t / "cases", t / "l");
+  auto e = hdrc::validate_output_dir((t / "l").string(), "--out", prot);
+  ASSERT_FALSE(e);
+  EXPECT_NE(e.error().message.find("itself"), std::string::npos);
+  EXPECT_TRUE(hdrc::validate_output_dir((t / "out").string(), "--out", prot));
+  EXPECT_TRUE(fs::is_directory(t / "out"));
+  EXPECT_TRUE(fs::is_empty(t / "out"));  // the probe file is gone
+  write(t / "file", "x");
+  e = hdrc::validate_output_dir((t / "file").string(), "--out", prot);
+  ASSERT_FALSE(e);
+  EXPECT_NE(e.error().message.find("not a folder"), std::string::npos);
+  fs::remove_all(t);
+}
+
+TEST(OutputSet, TreeDigestSeesEveryChange) {
+  const fs::path t = temp_dir("digest");
+  write(t / "a/b.json", "1");
+  const auto d0 = hdrc::tree_digest(t.string());
+  write(t / "a/b.json", "2");
+  auto d1 = hdrc::tree_digest(t.string());
+  EXPECT_EQ(hdrc::digest_changes(d0, d1), std::vector<std::string>{"a/b.json (changed)"});
+  write(t / "c", "");
+  fs::create_symlink("x", t / "s");
+  const auto d2 = hdrc::tree_digest(t.string());
+  EXPECT_EQ(hdrc::digest_changes(d1, d2), (std::vector<std::string>{"c (added)", "s (added)"}));
+  fs::remove_all(t);
+}
+
+TEST(JsonRead, NestingAndOverflowAreErrorsNamingTheFile) {
+  auto deep = hdrc::parse_json_text<nlohmann::json>("f.json", std::string(200000, '['));
+  ASSERT_FALSE(deep);
+  EXPECT_EQ(deep.error().file, "f.json");
+  EXPECT_EQ(deep.error().pointer, "line 1");
+  auto ok = hdrc::parse_json_text<nlohmann::json>("f.json",
+                                                  std::string(100, '[') + std::string(100, ']'));
+  EXPECT_TRUE(ok);
+  auto big = hdrc::parse_json_text<nlohmann::json>("f.json", "[1e999]");
+  ASSERT_FALSE(big);
+  EXPECT_NE(big.error().message.find("number overflow"), std::string::npos);
+  auto bad = hdrc::parse_json_text<nlohmann::json>("f.json", "\"\xff\"");
+  ASSERT_FALSE(bad);
+  EXPECT_EQ(bad.error().file, "f.json");
+  // Brackets inside strings do not count.
+  EXPECT_TRUE(
+      hdrc::parse_json_text<nlohmann::json>("f.json", "\"" + std::string(500, '[') + "\\\"\""));
+}
+
+TEST(Utf8, ValidatesAndReplacesLikeRfc3629) {
+  EXPECT_TRUE(hdrc::is_valid_utf8("plain"));
+  EXPECT_TRUE(hdrc::is_valid_utf8("\xC3\xA9\xE2\x82\xAC\xF0\x9F\x98\x80"));  // é € 😀
+  EXPECT_FALSE(hdrc::is_valid_utf8("\xC0\xAF"));                             // overlong '/'
+  EXPECT_FALSE(hdrc::is_valid_utf8("\xED\xA0\x80"));                         // a UTF-16 surrogate
+  EXPECT_FALSE(hdrc::is_valid_utf8("\xF4\x90\x80\x80"));                     // over U+10FFFF
+  EXPECT_FALSE(hdrc::is_valid_utf8("\xE2\x82"));                             // truncated
+  EXPECT_EQ(hdrc::valid_utf8("a\xff"
+                             "b"),
+            "a\xEF\xBF\xBD"
+            "b");
+  EXPECT_EQ(hdrc::valid_utf8("\xC3\xA9"), "\xC3\xA9");
+  EXPECT_EQ(hdrc::valid_utf8(std::string("a\0b", 3)),
+            "a\xEF\xBF\xBD"
+            "b");
+  // The result always dumps as JSON.
+  nlohmann::json j = hdrc::valid_utf8("\xfe\xff\xC3");
+  EXPECT_NO_THROW((void)j.dump());
+}
+
+}  // namespace
+
+#include <fnmatch.h>
+
+#include "runner/case_loader.h"
+
+namespace {
+
+// The linear-time glob agrees with fnmatch(3) (flags 0), and stays fast where glibc backtracks.
+TEST(Glob, AgreesWithFnmatchAndIsLinear) {
+  const std::vector<std::string> ids = {
+      "tonemap/display/hdr1_dev5",      "a", "", "abc", "a*b", "x/y/z", "[a]", "a\\b", "ab]c",
+      "tonemap/shaper_pq/dev3_log_ramp"};
+  const std::vector<std::string> globs = {"",           "*",
+                                          "a",          "?",
+                                          "a*",         "*b*",
+                                          "*/*",        "tonemap/*",
+                                          "[ab]*",      "[!a]*",
+                                          "[^a]*",      "[a-c]bc",
+                                          "a\\*b",      "\\[a]",
+                                          "[]]",        "ab[]]c",
+                                          "[",          "a[",
+                                          "*[",         "**",
+                                          "*?*",        "t*/d*/h*_d?v5",
+                                          "*_log_ramp", "tonemap/shaper_pq/dev3_[ls]*_ramp",
+                                          "[!]]*"};
+  for (const auto& id : ids)
+    for (const auto& g : globs)
+      if (!g.empty()) {
+        EXPECT_EQ(hdrc::matches_filter(id, g), fnmatch(g.c_str(), id.c_str(), 0) == 0)
+            << "id '" << id << "' glob '" << g << "'";
+      }
+  const std::string id(160, 'a');
+  const auto t0 = std::chrono::steady_clock::now();
+  EXPECT_FALSE(hdrc::matches_filter(id, "*a*a*a*a*a*a*a*a*a*a*a*a*a*a*a*a*a*a*b"));
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 1.0);
+}
+
+}  // namespace
