@@ -193,7 +193,12 @@ Vec3 TexelEvaluator::operator()(const Vec3& lattice) const {
   const Mat3& to_output = p.ap1_to_output;
   Vec3 out;
   if (device >= 3 && device <= 8) {
-    const Vec3 graded = grading::apply_fade(p.wcs_from_ap1 * corrected, fade_);
+    // In float32's range, as texel() does (the ColorGamma-0.01 overflow, issue 11).
+    const Vec3 graded_ap1 = p.wcs_from_ap1 * corrected;
+    const Vec3 graded = grading::apply_fade(
+        {grading::hlsl::f32_range(graded_ap1[0]), grading::hlsl::f32_range(graded_ap1[1]),
+         grading::hlsl::f32_range(graded_ap1[2])},
+        fade_);
     if (device <= 6) {
       const Vec3 nits = aces::aces_output_transforms_1000(graded, p.wcs_to_ap0, aces_);
       out = pq_encode(device <= 4 ? to_output * nits : nits);

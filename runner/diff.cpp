@@ -241,6 +241,9 @@ double OutputEncoding::to_nits(double v) const {
 bool OutputEncoding::nan_marks_negative() const {
   const bool after_luts = stage == StageId::kCombineLuts || stage == StageId::kTonemap ||
                           stage == StageId::kDither || stage == StageId::kVisualizeHdr;
+  // linear_device 7 (LinearEXR) is the PQ encode and decode of the output-gamut value: its NaN
+  // marks a negative channel too.
+  if (stage == StageId::kLinearDevice) return device == 7;
   return after_luts && device >= 2 && device <= 7;
 }
 
