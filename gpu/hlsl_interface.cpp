@@ -1,5 +1,6 @@
 #include "gpu/hlsl_interface.h"
 
+#include <cstdio>
 #include <sstream>
 
 #include "core/shader_interface.h"
@@ -46,9 +47,33 @@ std::string generated_interface_hlsl() {
   binding(kBindingLut2d, "Texture2D<float4> lut_2d");
   s << "SamplerState lut_sampler;\n";
   s << "#endif\n";
-  // The shared constants, as the GLSL include prints them ("const float" → "static const float").
-  std::istringstream constants(glsl_shared_constants());
-  for (std::string line; std::getline(constants, line);) s << "static " << line << "\n";
+  // The shared constants and matrices, the same float values the GLSL include holds.
+  auto lit = [](double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.9g", static_cast<double>(static_cast<float>(v)));
+    std::string t = buf;
+    if (t.find_first_of(".en") == std::string::npos) t += ".0";
+    return t;
+  };
+  for (const auto& c : shared_constants())
+    s << "static const float " << c.name << " = " << lit(c.value) << ";\n";
+  for (const auto& m : shared_matrices()) {
+    s << "// " << m.source << "\n";
+    if (m.form == SharedMatrix::kHlslLiteral) {
+      // UE's HLSL literal, row-major as UE writes it (float3x3's constructor takes rows).
+      s << "static const float3x3 " << m.name << " = float3x3(";
+      for (int i = 0; i < 9; ++i) s << (i ? ", " : "") << lit(m.value.m[i]);
+      s << ");\n";
+    } else {
+      s << "static const float3 " << m.name << "[3] = {";
+      for (int r = 0; r < 3; ++r) {
+        s << (r ? ", " : "") << "float3(";
+        for (int c = 0; c < 3; ++c) s << (c ? ", " : "") << lit(m.value(r, c));
+        s << ")";
+      }
+      s << "};\n";
+    }
+  }
   return s.str();
 }
 

@@ -39,8 +39,12 @@ float round_trip(int device, float x) {
     if (!isnan(e)) e = clamp(e, 0.0, 1.0);
     return st2084_to_linear(e) / LINEAR_TO_NITS_SCALE;
   }
+  // LogToLin(e) - LogToLin(0): exactly 0 at e = 0 (IEEE x - x). The compiler folds LogToLin(0)
+  // with the host's exp2 and the device's run-time exp2 may differ by an ulp, so the black code
+  // is decoded as 0 explicitly (as gpu/shaders/lib/lut_shaper.glsl does).
   float black = log_to_lin(0.0);
-  return log_to_lin(lin_to_log(x + black)) - black;
+  float e = lin_to_log(x + black);
+  return e == 0.0 ? 0.0 : log_to_lin(e) - black;
 }
 
 [numthreads(HDRC_LOCAL_SIZE_X, 1, 1)]
