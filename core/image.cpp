@@ -8,9 +8,13 @@
 #include <filesystem>
 #include <memory>
 
+#include "core/exr_header.h"
+
 namespace hdrc {
 
 Result<Image> read_image(const std::string& path) {
+  // OpenEXR allocates what a header declares before reading it (core/exr_header.h).
+  if (Status st = check_exr_header(path); !st) return st.error();
   auto in = OIIO::ImageInput::open(path);
   if (!in) {
     return Error{path, "", "cannot open image: " + OIIO::geterror(), ""};
