@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <memory>
 
+#include "core/exr_header.h"
 #include "core/utf8.h"
 
 namespace hdrc {
@@ -47,6 +48,14 @@ Result<Image> read_image(const std::string& path) {
     if (n != 4 || magic[0] != 0x76 || magic[1] != 0x2f || magic[2] != 0x31 || magic[3] != 0x01)
       return Error{name, "", "not an OpenEXR file (no EXR magic number)", "an OpenEXR image"};
   }
+  // OpenEXR allocates what a header declares before reading it (core/exr_header.h).
+  if (exr_name)
+    if (Status hs = check_exr_header(path); !hs) {
+      Error e = hs.error();
+      e.file = name;
+      e.message = valid_utf8(e.message);
+      return e;
+    }
   auto in = OIIO::ImageInput::open(path);
   if (!in) return Error{name, "", "cannot open image: " + oiio_error(OIIO::geterror()), ""};
   const OIIO::ImageSpec& spec = in->spec();

@@ -10,6 +10,9 @@ packages=(
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers glslang-dev glslang-tools spirv-tools
   libopencolorio-dev ccache bubblewrap
 )
+# The sanitizer build and the fuzzers (scripts/sanitize.sh, fuzz/): clang with its ASan, UBSan and
+# libFuzzer runtimes (Debian puts those in libclang-rt-14-dev, which `clang` does not pull in).
+packages+=(clang libclang-rt-14-dev)
 # The report's browser test (report/browser_test): Debian's Chromium, and Node.js with npm unless
 # a node/npm is already on the PATH (e.g. NodeSource's nodejs, which bundles npm and conflicts
 # with Debian's npm package).

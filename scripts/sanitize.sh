@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# The sanitizer stage of the test command (CTest test `sanitize`, scripts/test.sh): configures once
+# and builds build-sanitize with clang, AddressSanitizer, UndefinedBehaviorSanitizer and the
+# libFuzzer harnesses (cmake/Sanitize.cmake), then runs there under CTest: every unit test, the
+# conformance suite (which checks the goldens: this is the test command's second compiler and
+# configuration, docs/goldens.md) and a bounded run of each fuzzer (fuzz/). Any sanitizer report
+# fails its test. Extra arguments go to ctest (e.g. -R fuzz. or -L unit).
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+build="${HDRC_SANITIZE_BUILD_DIR:-$root/build-sanitize}"
+
+# UBSan: every report is an error (the build also uses -fno-sanitize-recover). LeakSanitizer:
+# leaks inside third-party libraries only are suppressed, each for a stated reason
+# (scripts/lsan.supp). These variables reach the tests run at build time too (gtest discovery).
+export ASAN_OPTIONS="detect_leaks=1:detect_stack_use_after_return=1:check_initialization_order=1:strict_init_order=1"
+export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+export LSAN_OPTIONS="suppressions=$root/scripts/lsan.supp:print_suppressions=0"
+
+command -v clang++ >/dev/null || { echo "sanitize: clang++ is missing (scripts/setup.sh installs it)" >&2; exit 1; }
+if [ ! -f "$build/CMakeCache.txt" ]; then
+  cmake -S "$root" -B "$build" -G Ninja -DCMAKE_CXX_COMPILER=clang++ \
+    -DCMAKE_BUILD_TYPE=RelWithDebInfo -DHDRC_SANITIZE=ON -DHDRC_FUZZ=ON -DHDRC_SANITIZE_TEST=OFF >/dev/null
+fi
+cmake --build "$build" -- -j"$(nproc)" | { grep -vE '^\[[0-9]+/[0-9]+\] ' || true; }
+cd "$build"
+exec ctest --output-on-failure -j"$(nproc)" -L 'unit|conformance|fuzz' "$@"
