@@ -450,7 +450,7 @@ SuiteDefaults load_suite_defaults(const std::string& cases_dir, std::vector<Erro
   json doc;
   try {
     doc = json::parse(read_text(path));
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {
     errors->push_back(Error{d.file, "", std::string("malformed JSON: ") + e.what(), ""});
     return d;
   }
@@ -513,7 +513,7 @@ std::vector<Case> parse_case_file(const std::string& file, const std::string& te
   json doc;
   try {
     doc = json::parse(text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {
     errors->push_back(Error{file, "", std::string("malformed JSON: ") + e.what(), ""});
     return out;
   }
@@ -822,7 +822,7 @@ std::vector<KnownLimit> load_known_limits(const std::string& cases_dir,
   json doc;
   try {
     doc = json::parse(read_text(file));
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {
     errors->push_back(
         Error{file.generic_string(), "", std::string("malformed JSON: ") + e.what(), ""});
     return out;

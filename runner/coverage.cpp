@@ -84,7 +84,7 @@ CoverageSpec load_coverage_spec(const std::string& cases_dir, std::vector<Error>
   json doc;
   try {
     doc = json::parse(text.str());
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {
     fail("", std::string("malformed JSON: ") + e.what());
     return spec;
   }

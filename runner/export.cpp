@@ -208,7 +208,7 @@ Result<ResolvedCase> load_exported_case(const std::string& params_path) {
   json doc;
   try {
     doc = json::parse(s.str());
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {
     return Error{params_path, "", std::string("malformed JSON: ") + e.what(), ""};
   }
   ResolvedCase rc;

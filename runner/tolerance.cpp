@@ -193,7 +193,7 @@ std::vector<ToleranceOverlay> parse_tolerance_overlays(const std::string& file,
   json doc;
   try {
     doc = json::parse(text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {
     errors->push_back(Error{file, "", std::string("malformed JSON: ") + e.what(), ""});
     return out;
   }
