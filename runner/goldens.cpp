@@ -22,6 +22,7 @@
 #include "reference/reference_engine.h"
 #include "runner/case_loader.h"
 #include "runner/json_read.h"
+#include "runner/golden_compare.h"
 
 namespace hdrc {
 
@@ -307,23 +308,27 @@ GoldenCheck check_golden(const std::string& goldens_dir, const Case& c,
                   std::to_string(golden->height) + versions + "; if intended: " + cmd;
     return out;
   }
-  size_t differ = 0, first = 0;
-  for (size_t i = 0; i < reference.data.size(); ++i) {
-    if (float_close(static_cast<float>(reference.data[i]), static_cast<float>(golden->data[i]), 2))
-      continue;
-    if (differ++ == 0) first = i;
-  }
-  if (differ) {
-    const size_t px = first / 4;
-    char buf[256];
-    std::snprintf(buf, sizeof buf, "(%zu, %zu) %c: golden %.9g, reference %.9g",
-                  px % static_cast<size_t>(reference.width),
-                  px / static_cast<size_t>(reference.width), kChannel[first % 4],
-                  static_cast<float>(golden->data[first]),
-                  static_cast<float>(reference.data[first]));
+  // The bound: runner/golden_compare.h, docs/goldens.md.
+  const GoldenDiff diff = compare_with_golden(*golden, reference);
+  out.deviation = diff.largest;
+  if (diff.differ) {
+    const size_t first = diff.first, px = first / 4;
+    char buf[320];
+    std::snprintf(
+        buf, sizeof buf,
+        "(%zu, %zu) %c: golden %.9g, reference %.9g (%.3g times the bound; the largest "
+        "is %.3g)",
+        px % static_cast<size_t>(reference.width), px / static_cast<size_t>(reference.width),
+        kChannel[first % 4], static_cast<float>(golden->data[first]),
+        static_cast<float>(reference.data[first]),
+        golden_deviation(
+            static_cast<float>(golden->data[first]), static_cast<float>(reference.data[first]),
+            first % 4 == 3 ? golden_scale(*golden).alpha : golden_scale(*golden).colour),
+        diff.largest);
     out.outcome = GoldenCheck::kRegression;
-    out.message = "golden regression: " + std::to_string(differ) + " value(s) differ, first at " +
-                  buf + versions + "; if the change is intended: " + cmd;
+    out.message = "golden regression: " + std::to_string(diff.differ) +
+                  " value(s) differ, first at " + buf + versions +
+                  "; if the change is intended: " + cmd;
     return out;
   }
   return out;
@@ -535,6 +540,7 @@ GoldenRunSummary check_run_against_goldens(const std::vector<Case>& cases,
   report["goldens_dir"] = goldens_dir;
   report["reference_version"] = reference_version();
   json entries = json::array();
+  std::pair<double, std::string> largest{0.0, ""};  // the largest deviation and its case
   auto results = read_json(out_dir + "/results.json");
   std::map<std::string, const json*> by_id;
   if (results && results->contains("cases") && (*results)["cases"].is_array())
@@ -586,16 +592,24 @@ GoldenRunSummary check_run_against_goldens(const std::vector<Case>& cases,
     }
     if (check.outcome != GoldenCheck::kMatch)
       std::printf("GOLDEN %-10s %s  %s\n", outcome, c.id.c_str(), check.message.c_str());
-    entries.push_back({{"id", c.id}, {"outcome", outcome}, {"message", check.message}});
+    entries.push_back({{"id", c.id},
+                       {"outcome", outcome},
+                       {"message", check.message},
+                       {"deviation", check.deviation}});
+    if (check.deviation > largest.first) largest = {check.deviation, c.id};
   }
   report["cases"] = entries;
   report["checked"] = sum.checked;
   report["failed"] = sum.failed();
+  report["largest_deviation"] = {{"deviation", largest.first}, {"id", largest.second}};
   if (Status st = write_file_atomic(out_dir + "/goldens.json", dump_json(report, 2) + "\n"); !st)
     std::fprintf(stderr, "error: %s\n", st.error().to_string().c_str());
   std::printf("goldens: %d checked against %s: %d match, %d missing, %d stale, %d regressions\n",
               sum.checked, goldens_dir.c_str(), sum.checked - sum.failed(), sum.missing, sum.stale,
               sum.regressions);
+  if (!largest.second.empty())
+    std::printf("goldens: largest deviation %.3g of the bound (%s; docs/goldens.md)\n",
+                largest.first, largest.second.c_str());
   std::fflush(stdout);
   return sum;
 }

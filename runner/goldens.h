@@ -58,12 +58,15 @@ std::string golden_update_command(const std::string& case_id, const std::string&
 struct GoldenCheck {
   enum Outcome { kMatch, kMissing, kStale, kRegression } outcome = kMatch;
   std::string message;  // for all but kMatch: what differs, where, and the command to run
+  double deviation =
+      0;  // the largest deviation of a pixel value in units of the bound (≤ 1: match)
 };
 
 // Compares the reference's output for `c` with its golden. `reference` is the reference engine's
 // image (as the run wrote it), `values` its named numbers, `resolved` the case's inputs.
-// Pixels must be equal as float32 up to 2 ULPs (room for libm differences across platforms);
-// NaN matches NaN, infinities match by sign.
+// Pixels must be equal as float32 within the bound of runner/golden_compare.h (docs/goldens.md:
+// 2 ULPs, or a fraction of the image's scale, measured across compilers and optimisation
+// levels); NaN matches NaN, infinities match by sign.
 GoldenCheck check_golden(const std::string& goldens_dir, const Case& c,
                          const ResolvedCase& resolved, const Image& reference,
                          const std::string& update_extra = "");

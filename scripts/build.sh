@@ -1,11 +1,15 @@
 #!/usr/bin/env bash
-# Installs missing dependencies, configures once and builds incrementally (Release-with-debug-info).
+# Installs missing dependencies, configures once and builds incrementally. HDRC_BUILD_DIR: the
+# build folder (default build/); HDRC_BUILD_TYPE: CMake's build type (default RelWithDebInfo;
+# Release, Debug, ... — a folder configured with another type is reconfigured).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 "$root/scripts/setup.sh"
 build="${HDRC_BUILD_DIR:-$root/build}"
-if [ ! -f "$build/CMakeCache.txt" ]; then
-  cmake -S "$root" -B "$build" -G Ninja >/dev/null
+type="${HDRC_BUILD_TYPE:-}"
+configured_type="$(sed -n 's/^CMAKE_BUILD_TYPE:STRING=//p' "$build/CMakeCache.txt" 2>/dev/null || true)"
+if [ ! -f "$build/CMakeCache.txt" ] || { [ -n "$type" ] && [ "$type" != "$configured_type" ]; }; then
+  cmake -S "$root" -B "$build" -G Ninja ${type:+-DCMAKE_BUILD_TYPE="$type"} >/dev/null
 fi
 cmake --build "$build" -- -j"$(nproc)" | grep -vE '^\[[0-9]+/[0-9]+\] ' || true
 test -x "$build/runner/hdrconform"
