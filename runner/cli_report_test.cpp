@@ -15,44 +15,20 @@
 #include <set>
 #include <sstream>
 
+#include "runner/test_support.h"
+
 #ifndef HDRC_BINARY
 #error "HDRC_BINARY must be defined"
 #endif
 
 namespace fs = std::filesystem;
+using hdrc::test::Ran;
+using hdrc::test::read;
+using hdrc::test::run;
+using hdrc::test::temp_dir;
 using json = nlohmann::json;
 
 namespace {
-
-struct Ran {
-  int code;
-  std::string out;
-};
-
-Ran run(const std::string& args, const std::string& env = "") {
-  const std::string cmd = env + std::string(HDRC_BINARY) + " " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  std::string out;
-  std::array<char, 4096> buf;
-  while (size_t n = fread(buf.data(), 1, buf.size(), p)) out.append(buf.data(), n);
-  const int status = pclose(p);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
-}
-
-fs::path temp_dir(const std::string& name) {
-  fs::path p =
-      fs::temp_directory_path() / ("hdrc_cli14_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(p);
-  fs::create_directories(p);
-  return p;
-}
-
-std::string read(const fs::path& p) {
-  std::ifstream f(p);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
 
 std::vector<std::string> lines(const std::string& text) {
   std::vector<std::string> out;
@@ -239,6 +215,28 @@ TEST(CliGoldens, GoldenFailuresAreRecordedAndRerun) {
                           " --out " + (root / "third").string());
   EXPECT_EQ(nothing.code, 0) << nothing.out;
   EXPECT_NE(nothing.out.find("nothing to rerun"), std::string::npos) << nothing.out;
+  fs::remove_all(root);
+}
+
+// The CI environment variable changes one default: only failing cases keep their images; an
+// explicit --images wins, and CI=false / CI=0 mean not CI. (Every other test runs with CI unset:
+// runner/test_support.h.)
+TEST(CliImages, CiKeepsOnlyFailingImagesByDefault) {
+  const fs::path root = temp_dir("ci_images");
+  const std::string args = "run --engine reference --filter 'tonemap/shaper_pq/dev3_log_ramp' ";
+  const fs::path image = "cases/tonemap/shaper_pq/dev3_log_ramp/reference.exr";
+  struct Want {
+    std::string env, flag, policy;
+  };
+  for (const Want& w :
+       {Want{"CI=true", "", "failing"}, Want{"CI=1", "--images all", "all"},
+        Want{"CI=false", "", "all"}, Want{"CI=0", "", "all"}, Want{"", "", "all"}}) {
+    const fs::path out = root / ("out" + w.env + w.flag);
+    const Ran r = run(args + w.flag + " --out '" + out.string() + "'", w.env);
+    ASSERT_EQ(r.code, 0) << w.env << " " << r.out;
+    EXPECT_EQ(json::parse(read(out / "results.json"))["images_policy"], w.policy) << w.env;
+    EXPECT_EQ(fs::exists(out / image), w.policy == "all") << w.env << " " << w.flag;
+  }
   fs::remove_all(root);
 }
 

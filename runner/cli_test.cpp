@@ -15,6 +15,7 @@
 #include <sstream>
 
 #include "core/image.h"
+#include "runner/test_support.h"
 
 #ifndef HDRC_BINARY
 #error "HDRC_BINARY must be defined"
@@ -24,37 +25,12 @@
 #endif
 
 namespace fs = std::filesystem;
+using hdrc::test::Ran;
+using hdrc::test::read;
+using hdrc::test::run;
+using hdrc::test::temp_dir;
 
 namespace {
-
-struct Ran {
-  int code;
-  std::string out;  // stdout and stderr
-};
-
-Ran run(const std::string& args, const std::string& env = "") {
-  const std::string cmd = env + std::string(HDRC_BINARY) + " " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  std::string out;
-  std::array<char, 4096> buf;
-  while (size_t n = fread(buf.data(), 1, buf.size(), p)) out.append(buf.data(), n);
-  const int status = pclose(p);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
-}
-
-fs::path temp_dir(const std::string& name) {
-  fs::path p = fs::temp_directory_path() / ("hdrc_cli_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(p);
-  fs::create_directories(p);
-  return p;
-}
-
-std::string read(const fs::path& p) {
-  std::ifstream f(p);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
 
 TEST(Cli, HelpExplainsOptionsAndExitCodes) {
   for (const char* sub :

@@ -12,6 +12,7 @@
 #include <fstream>
 
 #include "runner/case_loader.h"
+#include "runner/test_support.h"
 
 #ifndef HDRC_SOURCE_DIR
 #error "HDRC_SOURCE_DIR must be defined"
@@ -20,6 +21,7 @@
 namespace {
 
 namespace fs = std::filesystem;
+using hdrc::test::run;
 const std::string kCasesDir = std::string(HDRC_SOURCE_DIR) + "/cases";
 
 TEST(Coverage, TheDefaultSuiteCoversEverythingItDeclares) {
@@ -141,17 +143,9 @@ TEST(Coverage, DeclarationErrorsAreLocated) {
 
 // `hdrconform coverage` exits 0 on the default suite and 1 when a declared value is uncovered.
 TEST(Coverage, CommandExitCodes) {
-  auto run = [](const std::string& args) {
-    FILE* p = popen((std::string(HDRC_BINARY) + " " + args + " 2>&1").c_str(), "r");
-    std::string out;
-    std::array<char, 4096> buf;
-    while (size_t n = fread(buf.data(), 1, buf.size(), p)) out.append(buf.data(), n);
-    const int st = pclose(p);
-    return std::pair{WIFEXITED(st) ? WEXITSTATUS(st) : -1, out};
-  };
   const auto ok = run("coverage");
-  EXPECT_EQ(ok.first, 0) << ok.second;
-  EXPECT_NE(ok.second.find("(100.0 %), combinations"), std::string::npos) << ok.second;
+  EXPECT_EQ(ok.code, 0) << ok.out;
+  EXPECT_NE(ok.out.find("(100.0 %), combinations"), std::string::npos) << ok.out;
   const fs::path dir = fs::temp_directory_path() / ("hdrc_covcli_" + std::to_string(::getpid()));
   fs::create_directories(dir / "s");
   std::ofstream(dir / "s/a.json")
@@ -159,9 +153,9 @@ TEST(Coverage, CommandExitCodes) {
   std::ofstream(dir / "coverage.json") << R"({"values": {"r.HDR.Display.OutputDevice": [3, 4]},
       "requirements": [{"name": "devices", "stages": ["shaper"], "of": ["r.HDR.Display.OutputDevice"], "with": ["r.HDR.Display.OutputDevice"]}]})";
   const auto missing = run("coverage --cases " + dir.string());
-  EXPECT_EQ(missing.first, 1) << missing.second;
-  EXPECT_NE(missing.second.find("value r.HDR.Display.OutputDevice=4"), std::string::npos)
-      << missing.second;
+  EXPECT_EQ(missing.code, 1) << missing.out;
+  EXPECT_NE(missing.out.find("value r.HDR.Display.OutputDevice=4"), std::string::npos)
+      << missing.out;
   fs::remove_all(dir);
 }
 

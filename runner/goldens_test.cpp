@@ -15,6 +15,7 @@
 #include <sstream>
 
 #include "runner/case_loader.h"
+#include "runner/test_support.h"
 
 #ifndef HDRC_BINARY
 #error "HDRC_BINARY must be defined"
@@ -23,6 +24,8 @@
 namespace {
 
 namespace fs = std::filesystem;
+using hdrc::test::Ran;
+using hdrc::test::run;
 using json = nlohmann::json;
 
 TEST(Goldens, Sha256MatchesTheStandardsExamples) {
@@ -43,20 +46,6 @@ TEST(Goldens, ReferenceVersionIsStable) {
   EXPECT_EQ(v.rfind(std::to_string(hdrc::kReferenceVersion) + "/", 0), 0u) << v;
   EXPECT_EQ(v.size(), std::to_string(hdrc::kReferenceVersion).size() + 1 + 12);
   EXPECT_EQ(hdrc::reference_version(), v);
-}
-
-struct Ran {
-  int code;
-  std::string out;
-};
-
-Ran run(const std::string& args) {
-  FILE* p = popen((std::string(HDRC_BINARY) + " " + args + " 2>&1").c_str(), "r");
-  std::string out;
-  std::array<char, 4096> buf;
-  while (size_t n = fread(buf.data(), 1, buf.size(), p)) out.append(buf.data(), n);
-  const int st = pclose(p);
-  return {WIFEXITED(st) ? WEXITSTATUS(st) : -1, out};
 }
 
 json read_json(const fs::path& p) {

@@ -24,6 +24,7 @@
 #include "core/image.h"
 #include "core/utf8.h"
 #include "runner/output_set.h"
+#include "runner/test_support.h"
 
 #ifndef HDRC_BINARY
 #error "HDRC_BINARY must be defined"
@@ -33,41 +34,15 @@
 #endif
 
 namespace fs = std::filesystem;
+using hdrc::test::Ran;
+using hdrc::test::read;
+using hdrc::test::write;
 
 namespace {
 
-struct Ran {
-  int code;
-  std::string out;
-  double seconds;
-};
-
-// Runs the binary with a hard limit: a hang is killed (exit 137) and reported as such.
-Ran run_binary(const std::string& args, int limit_s = 60) {
-  const std::string cmd = "timeout -s KILL " + std::to_string(limit_s) + " " +
-                          std::string(HDRC_BINARY) + " " + args + " 2>&1" +
-                          (args.find('<') == std::string::npos ? " </dev/null" : "");
-  const auto t0 = std::chrono::steady_clock::now();
-  FILE* p = popen(cmd.c_str(), "r");
-  std::string out;
-  std::array<char, 4096> buf;
-  while (size_t n = fread(buf.data(), 1, buf.size(), p)) out.append(buf.data(), n);
-  const int status = pclose(p);
-  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status), out, s};
-}
-
-void write(const fs::path& p, const std::string& text) {
-  fs::create_directories(p.parent_path());
-  std::ofstream f(p, std::ios::binary | std::ios::trunc);
-  f << text;
-}
-
-std::string read(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
+// Every row runs under a hard limit of 60 s: a hang is killed (exit 137) and reported as such.
+Ran run_limited(const std::string& args) {
+  return hdrc::test::run(args, "", 60);
 }
 
 // A small valid case: the shaper on an 8x2 log ramp (id "base/log_ramp").
@@ -893,15 +868,27 @@ void PrintTo(const Row& row, std::ostream* os) {
 
 class HostileInput : public ::testing::TestWithParam<Row> {
  protected:
+  // The reference's own image of the base case, for candidates that pass. Made once; a failure
+  // here is recorded and fails every row (GoogleTest reports a fatal failure in SetUpTestSuite as
+  // the rows being skipped, and a skipped row must never read as a pass).
   static void SetUpTestSuite() {
-    // The reference's own image of the base case, for candidates that pass.
+    setup_error() = "";
     const fs::path dir = ref_image().parent_path();
     fs::remove_all(dir);
     write(dir / "cases/base.json", kBaseCase);
-    const Ran r = run_binary("run --engine reference --cases " + (dir / "cases").string() +
-                             " --out " + (dir / "out").string());
-    ASSERT_EQ(r.code, 0) << r.out;
-    fs::copy_file(dir / "out/cases/base/log_ramp/reference.exr", ref_image());
+    const Ran r = run_limited("run --engine reference --images all --cases " +
+                              (dir / "cases").string() + " --out " + (dir / "out").string());
+    std::error_code ec;
+    if (r.code != 0)
+      setup_error() =
+          "the reference run of the base case exited " + std::to_string(r.code) + ": " + r.out;
+    else if (!fs::copy_file(dir / "out/cases/base/log_ramp/reference.exr", ref_image(), ec))
+      setup_error() = "cannot copy the base case's reference image: " + ec.message();
+  }
+  void SetUp() override { ASSERT_EQ(setup_error(), "") << "suite set-up failed"; }
+  static std::string& setup_error() {
+    static std::string e;
+    return e;
   }
 };
 
@@ -915,7 +902,7 @@ TEST_P(HostileInput, ClearErrorNoCrashNoHangNothingOutsideChanged) {
   if (row.setup) row.setup(t);
   const auto repo_before = hdrc::tree_digest(std::string(HDRC_SOURCE_DIR) + "/cases");
   const auto before = snapshot(t, row.writable);
-  const Ran r = run_binary(subst(row.args, t));
+  const Ran r = run_limited(subst(row.args, t));
   SCOPED_TRACE(r.out.substr(0, 3000));
   EXPECT_NE(r.code, 137) << "hang: killed after the time limit";
   EXPECT_LT(r.code, 128) << "crash: killed by a signal";

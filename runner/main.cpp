@@ -89,10 +89,16 @@ int main(int argc, char** argv) {
     sub->add_option("--filter", filter, filter_help)
         ->multi_option_policy(CLI::MultiOptionPolicy::Join);
   };
-  std::string rerun_failed, images = std::getenv("CI") ? "failing" : "all", timings;
+  // CI systems set CI (GitHub Actions, GitLab, Jenkins' plugins: "true"); CI=0 / CI=false / CI=""
+  // mean not CI.
+  const char* ci = std::getenv("CI");
+  const bool in_ci = ci && *ci && std::string(ci) != "0" && std::string(ci) != "false";
+  std::string rerun_failed, images = in_ci ? "failing" : "all", timings;
   const std::string images_help =
       "case images kept in OUT/cases and shown in the report: failing (FAIL, ERROR, MISSING or a "
-      "failed golden), all, none (default: failing when CI is set, else all)";
+      "failed golden), all, none (default: failing when CI is set to other than \"\", 0 or false, "
+      "else "
+      "all)";
   const std::string timings_help =
       "a results.json whose per-case seconds balance --shard (default: OUT/results.json when "
       "present; without timings a static cost model); give every shard the same file";

@@ -20,33 +20,23 @@
 
 #include "core/utf8.h"
 #include "runner/json_read.h"
+#include "runner/test_support.h"
 
 #ifndef HDRC_BINARY
 #error "HDRC_BINARY must be defined"
 #endif
 
 namespace fs = std::filesystem;
+using hdrc::test::Ran;
+using hdrc::test::read;
+using hdrc::test::temp_dir;
+using hdrc::test::write;
 
 namespace {
 
-void write(const fs::path& p, const std::string& text) {
-  fs::create_directories(p.parent_path());
-  std::ofstream f(p, std::ios::binary | std::ios::trunc);
-  f << text;
-}
-
-std::string read(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
-
-fs::path temp_dir(const std::string& name) {
-  fs::path p = fs::temp_directory_path() / ("hdrc_outset_" + name + "_" + std::to_string(getpid()));
-  fs::remove_all(p);
-  fs::create_directories(p);
-  return p;
+// Every run here is bounded at 120 s: a hang fails the test instead of stalling CI.
+Ran run(const std::string& args) {
+  return hdrc::test::run(args, "", 120);
 }
 
 // Starts the binary with `args` (no shell), output to /dev/null; returns its pid.
@@ -61,6 +51,7 @@ pid_t spawn(const std::vector<std::string>& args) {
   if (pid == 0) {
     freopen("/dev/null", "w", stdout);
     freopen("/dev/null", "w", stderr);
+    unsetenv("CI");  // hermetic, as hdrc::test::run (runner/test_support.h)
     execv(argv[0], argv.data());
     _exit(127);
   }
@@ -71,21 +62,6 @@ int wait_code(pid_t pid) {
   int status = 0;
   waitpid(pid, &status, 0);
   return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-}
-
-struct Ran {
-  int code;
-  std::string out;
-};
-
-Ran run(const std::string& args) {
-  FILE* p = popen(
-      ("timeout -s KILL 120 " + std::string(HDRC_BINARY) + " " + args + " 2>&1").c_str(), "r");
-  std::string out;
-  std::array<char, 4096> buf;
-  while (size_t n = fread(buf.data(), 1, buf.size(), p)) out.append(buf.data(), n);
-  const int status = pclose(p);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
 }
 
 // A suite of `n` cases that takes a noticeable time on the reference engine.

@@ -15,44 +15,19 @@
 
 #include "runner/diff.h"
 #include "runner/json_schema.h"
+#include "runner/test_support.h"
 
 #ifndef HDRC_BINARY
 #error "HDRC_BINARY must be defined"
 #endif
 
 namespace fs = std::filesystem;
+using hdrc::test::Ran;
+using hdrc::test::read;
+using hdrc::test::run;
+using hdrc::test::temp_dir;
 
 namespace {
-
-struct Ran {
-  int code;
-  std::string out;  // stdout and stderr
-};
-
-Ran hdrconform(const std::string& args) {
-  const std::string cmd = std::string(HDRC_BINARY) + " " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  std::string out;
-  std::array<char, 4096> buf;
-  while (size_t n = fread(buf.data(), 1, buf.size(), p)) out.append(buf.data(), n);
-  const int status = pclose(p);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
-}
-
-fs::path temp_dir(const std::string& name) {
-  fs::path p =
-      fs::temp_directory_path() / ("hdrc_verify_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(p);
-  fs::create_directories(p);
-  return p;
-}
-
-std::string read(const fs::path& p) {
-  std::ifstream f(p);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
 
 nlohmann::ordered_json results(const fs::path& out) {
   return nlohmann::ordered_json::parse(read(out / "results.json"));
@@ -74,7 +49,7 @@ TEST(CandidateProtocol, DeclinedCaseIsUnsupportedAndOnlyFailsUnderRequireAll) {
       "--candidate-cmd \"sh -c 'echo not my device; exit 77' {output}\" --filter "
       "'tonemap/shaper_pq/dev3_*' -j 1 --out " +
       out.string();
-  Ran r = hdrconform("verify " + cmd);
+  Ran r = run("verify " + cmd);
   EXPECT_EQ(r.code, 0) << r.out;
   auto j = results(out);
   const int n = static_cast<int>(j["cases"].size());
@@ -89,7 +64,7 @@ TEST(CandidateProtocol, DeclinedCaseIsUnsupportedAndOnlyFailsUnderRequireAll) {
   EXPECT_NE(junit.find("skipped=\"" + std::to_string(n) + "\""), std::string::npos) << junit;
   EXPECT_NE(junit.find("<skipped message=\"UNSUPPORTED: the candidate declined this case"),
             std::string::npos);
-  r = hdrconform("verify --require-all " + cmd);
+  r = run("verify --require-all " + cmd);
   EXPECT_EQ(r.code, 1) << r.out;
   EXPECT_EQ(results(out)["require_all"], true);
   fs::remove_all(out);
@@ -100,9 +75,9 @@ TEST(CandidateProtocol, DeclinedCaseIsUnsupportedAndOnlyFailsUnderRequireAll) {
 TEST(CandidateProtocol, DeclinedStageStartsNoLaterCaseOfIt) {
   const fs::path out = temp_dir("decline_stage");
   const fs::path log = out / "starts.log";
-  const Ran r = hdrconform("verify --candidate-cmd \"sh -c 'echo {id} >> " + log.string() +
-                           "; echo no shaper here; exit 78' {output}\" --filter " + kShaperPq +
-                           " -j 2 --out " + out.string());
+  const Ran r = run("verify --candidate-cmd \"sh -c 'echo {id} >> " + log.string() +
+                    "; echo no shaper here; exit 78' {output}\" --filter " + kShaperPq +
+                    " -j 2 --out " + out.string());
   EXPECT_EQ(r.code, 0) << r.out;
   auto j = results(out);
   const int n = static_cast<int>(j["cases"].size());
@@ -134,7 +109,7 @@ TEST(CandidateProtocol, DevicesThreeAndFourOnlyOverTheWholeSuite) {
   const std::string cmd = "--candidate-cmd '" + std::string(HDRC_STANDALONE_CANDIDATE) +
                           " --params {params} --output {output} --devices 3,4' -j 2 --out " +
                           out.string();
-  Ran r = hdrconform("verify " + cmd);
+  Ran r = run("verify " + cmd);
   EXPECT_EQ(r.code, 0) << r.out.substr(r.out.size() > 4000 ? r.out.size() - 4000 : 0);
   const auto j = results(out);
   const int total = static_cast<int>(j["cases"].size());
@@ -152,7 +127,7 @@ TEST(CandidateProtocol, DevicesThreeAndFourOnlyOverTheWholeSuite) {
   RecordProperty("cases", std::to_string(total));
   RecordProperty("pass", std::to_string(pass));
   RecordProperty("unsupported", std::to_string(unsupported));
-  r = hdrconform("verify --require-all " + cmd);
+  r = run("verify --require-all " + cmd);
   EXPECT_EQ(r.code, 1) << r.out.substr(r.out.size() > 2000 ? r.out.size() - 2000 : 0);
   EXPECT_NE(r.out.find("--require-all: they fail the run"), std::string::npos);
   fs::remove_all(out);
@@ -169,7 +144,7 @@ TEST(CandidateProtocol, CandidateLimitsAreValidatedAndShown) {
                                         {"cases": "", "engine": "candidate-cmd"}]})";
   const std::string base = "verify --candidate-cmd \"sh -c 'exit 1' {output}\" --filter " +
                            kShaperPq + " -j 1 --out " + (out / "run").string();
-  Ran r = hdrconform(base + " --candidate-limits " + bad.string());
+  Ran r = run(base + " --candidate-limits " + bad.string());
   EXPECT_EQ(r.code, 2) << r.out;
   EXPECT_NE(r.out.find(bad.string() + ": /limits/0/engine: unknown engine \"vulkan\"; valid "
                                       "choices: candidate-cmd, candidate-dir"),
@@ -183,7 +158,7 @@ TEST(CandidateProtocol, CandidateLimitsAreValidatedAndShown) {
 
   std::ofstream(good) << R"J({"limits": [{"cases": "tonemap/shaper_pq/*", "engine": "candidate-cmd",
                                           "reason": "our PQ uses a 4096-entry table (issue 7)"}]})J";
-  r = hdrconform(base + " --candidate-limits " + good.string());
+  r = run(base + " --candidate-limits " + good.string());
   EXPECT_EQ(r.code, 0) << r.out;
   const auto j = results(out / "run");
   EXPECT_EQ(count_verdict(j, "KNOWN_LIMIT"), static_cast<int>(j["cases"].size()));
@@ -205,10 +180,10 @@ TEST(CandidateProtocol, CandidateLimitsAreValidatedAndShown) {
 // (UNSUPPORTED and the protocol fields included) is valid under runner/results.schema.json.
 TEST(CandidateProtocol, FailuresPrintAReproduceCommandAndResultsMatchTheSchema) {
   const fs::path out = temp_dir("repro");
-  const Ran r = hdrconform(
-      "verify --candidate-cmd \"sh -c 'exit 3' {output}\" --filter "
-      "'tonemap/shaper_pq/dev3_log_ramp' --out " +
-      out.string());
+  const Ran r =
+      run("verify --candidate-cmd \"sh -c 'exit 3' {output}\" --filter "
+          "'tonemap/shaper_pq/dev3_log_ramp' --out " +
+          out.string());
   EXPECT_EQ(r.code, 1) << r.out;
   const std::string repro =
       "reproduce: hdrconform verify --filter =tonemap/shaper_pq/dev3_log_ramp --out out/repro "
@@ -266,8 +241,8 @@ TEST(Messages, PlantedLutDefectNamesLatticeTripletAndDeltaE) {
   text.replace(at, from.size(), "  if (texel == ivec3(6, 0, 1)) stored.g += 0.01;\n" + from);
   std::ofstream(shaders / "stages/combine_luts.comp") << text;
   const std::string id = "lut/devices/dev3_gamut2";
-  const Ran r = hdrconform("run --no-goldens --filter '" + id + "' --shader-dir " +
-                           shaders.string() + " --out " + out.string());
+  const Ran r = run("run --no-goldens --filter '" + id + "' --shader-dir " + shaders.string() +
+                    " --out " + out.string());
   EXPECT_EQ(r.code, 1) << r.out;
   // Lattice point (6, 0, 1) of a 16³ LUT is pixel (6 + 16·1, 0) = (22, 0).
   EXPECT_NE(r.out.find("at lattice (r 6, g 0, b 1) = pixel (22, 0) G"), std::string::npos) << r.out;
@@ -290,9 +265,8 @@ namespace {
 // place of stages/shaper.comp, passes every shaper case (log and PQ shapers, all ten devices).
 TEST(HlslPort, ShaperStageInHlslPassesItsCases) {
   const fs::path out = temp_dir("hlsl");
-  const Ran r =
-      hdrconform("run --no-goldens --filter 'tonemap/shaper_*' --shader-dir " +
-                 std::string(HDRC_SOURCE_DIR) + "/examples/hlsl_shaders --out " + out.string());
+  const Ran r = run("run --no-goldens --filter 'tonemap/shaper_*' --shader-dir " +
+                    std::string(HDRC_SOURCE_DIR) + "/examples/hlsl_shaders --out " + out.string());
   ASSERT_NE(r.code, 3) << "no Vulkan device: " << r.out;
   EXPECT_EQ(r.code, 0) << r.out;
   const auto j = results(out);
@@ -313,11 +287,11 @@ TEST(AnalyticReference, PerPixelPortPassesAnalyticAndFailsBaked) {
   const std::string src = HDRC_SOURCE_DIR;
   const fs::path out = temp_dir("analytic");
   const std::string filter = " --filter 'tonemap/tonemap/*' -j 2 ";
-  const Ran a = hdrconform(
-      "verify --reference analytic --candidate-limits " + src +
-      "/examples/per_pixel_shaders/candidate_limits.json" + filter + "--out " +
-      (out / "analytic").string() + " --candidate-cmd '" + HDRC_EXAMPLE_CANDIDATE +
-      " --params {params} --output {output} --shader-dir " + src + "/examples/per_pixel_shaders'");
+  const Ran a = run("verify --reference analytic --candidate-limits " + src +
+                    "/examples/per_pixel_shaders/candidate_limits.json" + filter + "--out " +
+                    (out / "analytic").string() + " --candidate-cmd '" + HDRC_EXAMPLE_CANDIDATE +
+                    " --params {params} --output {output} --shader-dir " + src +
+                    "/examples/per_pixel_shaders'");
   EXPECT_EQ(a.code, 0) << a.out;
   const auto ja = results(out / "analytic");
   const int n = static_cast<int>(ja["cases"].size());
@@ -334,8 +308,8 @@ TEST(AnalyticReference, PerPixelPortPassesAnalyticAndFailsBaked) {
   RecordProperty("analytic_max_pq_code10", std::to_string(worst_pq));
 
   // The same shaders against the baked reference (in process: the same engine and shaders).
-  const Ran b = hdrconform("run --no-goldens --shader-dir " + src + "/examples/per_pixel_shaders" +
-                           filter + "--out " + (out / "baked").string());
+  const Ran b = run("run --no-goldens --shader-dir " + src + "/examples/per_pixel_shaders" +
+                    filter + "--out " + (out / "baked").string());
   EXPECT_EQ(b.code, 1) << b.out;
   const auto jb = results(out / "baked");
   // Measured: 17 of the 20 fail (up to 131 10-bit PQ codes on device 0, 35 on scRGB); the three

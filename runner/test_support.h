@@ -1,0 +1,76 @@
+// Shared by the tests that drive the hdrconform binary (cli, cli_report, verify, hostile input,
+// output set, coverage, goldens): one way to run it, hermetic and bounded, and the small file
+// helpers those tests need.
+//
+// Hermetic: the binary's defaults may depend on the environment (CI=1 keeps only failing cases'
+// images, runner/main.cpp), and a test must mean the same on a developer's machine and in CI. So
+// every run starts from the caller's environment with CI removed; a test that means to exercise
+// such a default passes it explicitly in `env` ("CI=1").
+// Bounded: a hang is killed after `limit_s` seconds and reads as exit 137; a crash reads as
+// 128 + the signal's number, never as an exit code the binary could have chosen.
+#pragma once
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#ifndef HDRC_BINARY
+#error "HDRC_BINARY must be defined"
+#endif
+
+namespace hdrc::test {
+
+struct Ran {
+  int code;         // exit status; 128 + signal for a crash; 137 for a run killed at its limit
+  std::string out;  // stdout and stderr, interleaved as written
+  double seconds;   // wall time
+};
+
+// Runs `hdrconform ARGS` through /bin/sh (ARGS may quote and redirect). Stdin is /dev/null unless
+// ARGS redirects it. `env` is "VAR=value ..." added to the environment.
+inline Ran run(const std::string& args, const std::string& env = "", int limit_s = 600) {
+  const std::string cmd = "env -u CI " + env + " timeout -s KILL " + std::to_string(limit_s) + " " +
+                          std::string(HDRC_BINARY) + " " + args + " 2>&1" +
+                          (args.find('<') == std::string::npos ? " </dev/null" : "");
+  const auto t0 = std::chrono::steady_clock::now();
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return {-1, "popen failed for: " + cmd, 0};
+  std::string out;
+  std::array<char, 4096> buf;
+  while (size_t n = fread(buf.data(), 1, buf.size(), p)) out.append(buf.data(), n);
+  const int status = pclose(p);
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status), out, s};
+}
+
+// A fresh, empty folder for this process: TMP/hdrc_<name>_<pid>.
+inline std::filesystem::path temp_dir(const std::string& name) {
+  std::filesystem::path p =
+      std::filesystem::temp_directory_path() / ("hdrc_" + name + "_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(p);
+  std::filesystem::create_directories(p);
+  return p;
+}
+
+inline std::string read(const std::filesystem::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+// Writes `text` to `p`, creating its folders.
+inline void write(const std::filesystem::path& p, const std::string& text) {
+  std::filesystem::create_directories(p.parent_path());
+  std::ofstream f(p, std::ios::binary | std::ios::trunc);
+  f << text;
+}
+
+}  // namespace hdrc::test
