@@ -2,7 +2,7 @@
 # ASan + UBSan, fuzzers) beside this build and runs its unit tests, its conformance run (checking
 # the goldens with another compiler and configuration) and a bounded run of each fuzzer. Off in the
 # sanitizer build itself.
-option(HDRC_SANITIZE_TEST "Add the CTest test that runs scripts/sanitize.sh (its CI time is not measured yet: opt-in)" OFF)
+option(HDRC_SANITIZE_TEST "Add the CTest test that runs scripts/sanitize.sh (part of the test command)" ON)
 if(HDRC_SANITIZE_TEST AND NOT HDRC_SANITIZE AND NOT HDRC_FUZZ)
   add_test(NAME sanitize COMMAND ${CMAKE_SOURCE_DIR}/scripts/sanitize.sh)
   # Started first (it is the longest), in parallel with the other tests; 25 minutes at most.

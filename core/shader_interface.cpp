@@ -2,6 +2,7 @@
 
 #include <cstring>
 #include <sstream>
+#include <type_traits>
 
 namespace hdrc {
 
@@ -15,24 +16,18 @@ uint32_t align_up(uint32_t v, uint32_t a) {
 std::vector<FieldLayout> compute_layout() {
   std::vector<FieldLayout> out;
   uint32_t offset = 0;
-  auto add = [&](char type, const char* name) {
+  const ParamBlock block;
+  for_each_param(block, [&](FieldKind kind, const char* name, const auto&) {
+    const char type = kind == FieldKind::I    ? 'I'
+                      : kind == FieldKind::F  ? 'F'
+                      : kind == FieldKind::V4 ? 'V'
+                                              : 'M';
     const uint32_t align = (type == 'M' || type == 'V') ? 16 : 4;
     const uint32_t size = type == 'M' ? 48 : (type == 'V' ? 16 : 4);
     offset = align_up(offset, align);
     out.push_back({name, type, offset});
     offset += size;
-  };
-#define HDRC_X_I(name) add('I', #name);
-#define HDRC_X_F(name) add('F', #name);
-#define HDRC_X_V4(name) add('V', #name);
-#define HDRC_X_M3(name) add('M', #name);
-#define HDRC_X(type, name, doc) HDRC_X_##type(name)
-  HDRC_PARAM_BLOCK(HDRC_X)
-#undef HDRC_X
-#undef HDRC_X_I
-#undef HDRC_X_F
-#undef HDRC_X_V4
-#undef HDRC_X_M3
+  });
   return out;
 }
 
@@ -51,38 +46,41 @@ std::vector<uint8_t> pack_std430(const ParamBlock& p) {
   const auto layout = param_block_layout();
   std::vector<uint8_t> bytes(block_size(layout), 0);
   size_t i = 0;
-  auto put_i = [&](int32_t v) { std::memcpy(&bytes[layout[i++].offset], &v, 4); };
-  auto put_f = [&](double v) {
+  auto put_float = [&](uint32_t at, double v) {
     const float f = static_cast<float>(v);
-    std::memcpy(&bytes[layout[i++].offset], &f, 4);
+    std::memcpy(&bytes[at], &f, 4);
   };
-  auto put_v = [&](const std::array<double, 4>& v) {
+  for_each_param(p, [&](FieldKind, const char*, const auto& v) {
+    using T = std::decay_t<decltype(v)>;
     const uint32_t base = layout[i++].offset;
-    for (int c = 0; c < 4; ++c) {
-      const float f = static_cast<float>(v[c]);
-      std::memcpy(&bytes[base + c * 4], &f, 4);
+    if constexpr (std::is_same_v<T, int32_t>) {
+      std::memcpy(&bytes[base], &v, 4);
+    } else if constexpr (std::is_same_v<T, double>) {
+      put_float(base, v);
+    } else if constexpr (std::is_same_v<T, std::array<double, 4>>) {
+      for (int c = 0; c < 4; ++c) put_float(base + c * 4, v[c]);
+    } else {
+      static_assert(std::is_same_v<T, ref::Mat3>);
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) put_float(base + r * 16 + c * 4, v(r, c));
     }
-  };
-  auto put_m = [&](const ref::Mat3& m) {
-    const uint32_t base = layout[i++].offset;
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) {
-        const float f = static_cast<float>(m(r, c));
-        std::memcpy(&bytes[base + r * 16 + c * 4], &f, 4);
-      }
-  };
-#define HDRC_X_I(name) put_i(p.name);
-#define HDRC_X_F(name) put_f(p.name);
-#define HDRC_X_V4(name) put_v(p.name);
-#define HDRC_X_M3(name) put_m(p.name);
-#define HDRC_X(type, name, doc) HDRC_X_##type(name)
-  HDRC_PARAM_BLOCK(HDRC_X)
-#undef HDRC_X
-#undef HDRC_X_I
-#undef HDRC_X_F
-#undef HDRC_X_V4
-#undef HDRC_X_M3
+  });
   return bytes;
+}
+
+std::string shader_field_decl(FieldKind kind, const char* name, bool hlsl) {
+  const std::string n = name;
+  switch (kind) {
+    case FieldKind::I:
+      return "int " + n + ";";
+    case FieldKind::F:
+      return "float " + n + ";";
+    case FieldKind::V4:
+      return (hlsl ? "float4 " : "vec4 ") + n + ";";
+    case FieldKind::M3:
+      return (hlsl ? "float4 " : "vec4 ") + n + "[3];";
+  }
+  return "";
 }
 
 std::string glsl_param_block() {
@@ -93,17 +91,10 @@ std::string glsl_param_block() {
   s << "#define HDRC_BINDING_OUTPUT " << kBindingOutput << "\n";
   s << "#define HDRC_LOCAL_SIZE_X " << kLocalSizeX << "\n";
   s << "layout(std430, set = 0, binding = HDRC_BINDING_PARAMS) readonly buffer HdrcParams {\n";
-#define HDRC_X_I(name) s << "  int " #name ";\n";
-#define HDRC_X_F(name) s << "  float " #name ";\n";
-#define HDRC_X_V4(name) s << "  vec4 " #name ";\n";
-#define HDRC_X_M3(name) s << "  vec4 " #name "[3];\n";
-#define HDRC_X(type, name, doc) HDRC_X_##type(name)
-  HDRC_PARAM_BLOCK(HDRC_X)
-#undef HDRC_X
-#undef HDRC_X_I
-#undef HDRC_X_F
-#undef HDRC_X_V4
-#undef HDRC_X_M3
+  const ParamBlock block;
+  for_each_param(block, [&](FieldKind kind, const char* name, const auto&) {
+    s << "  " << shader_field_decl(kind, name, false) << "\n";
+  });
   s << "} P;\n";
   s << "layout(std430, set = 0, binding = HDRC_BINDING_INPUT) readonly buffer HdrcInput "
        "{ vec4 in_px[]; };\n";

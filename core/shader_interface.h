@@ -118,6 +118,24 @@ struct ParamBlock {
 #undef HDRC_X_M3
 };
 
+// The kinds of field, as the block declares them: int32_t, double, std::array<double, 4>, Mat3.
+enum class FieldKind { I, F, V4, M3 };
+
+// Calls f(kind, name, field) for every field of `p` in declaration order (the std430 order), with
+// `field` a reference to p's member. The one walk over the block that everything else uses: the
+// layout, std430 packing, the generated GLSL and HLSL declarations, params.json both ways and the
+// LUT cache's key. `Block` is ParamBlock or const ParamBlock.
+template <class Block, class F>
+void for_each_param(Block& p, F&& f) {
+#define HDRC_X(type, name, doc) f(FieldKind::type, #name, p.name);
+  HDRC_PARAM_BLOCK(HDRC_X)
+#undef HDRC_X
+}
+
+// A field's declaration in the generated shader interface: "int", "float", "vec4"/"float4", and
+// a matrix as three rows ("vec4 name[3]"/"float4 name[3]"), ending in ";".
+std::string shader_field_decl(FieldKind kind, const char* name, bool hlsl);
+
 // Descriptor bindings of every stage shader (set 0). One layout serves every pass of every stage;
 // an engine binds all of them (a 1-texel dummy where a pass has nothing to bind). Documented in
 // docs/gpu-interface.md.

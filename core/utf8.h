@@ -69,4 +69,41 @@ inline std::string valid_utf8(std::string_view s) {
   return out;
 }
 
+// `text` made safe as XML or HTML character data and attribute values alike: valid UTF-8
+// (valid_utf8), & < > " ' as entity references, a line feed as &#10; (kept inside attributes),
+// and every other C0 control but tab and CR as a space (XML 1.0 allows none of them).
+inline std::string escape_markup(std::string_view text) {
+  const std::string s = valid_utf8(text);
+  std::string out;
+  out.reserve(s.size());
+  for (char c : s) {
+    switch (c) {
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '&':
+        out += "&amp;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&#39;";
+        break;
+      case '\n':
+        out += "&#10;";
+        break;
+      default:
+        if (static_cast<unsigned char>(c) < 0x20 && c != '\t' && c != '\r')
+          out += ' ';
+        else
+          out += c;
+    }
+  }
+  return out;
+}
+
 }  // namespace hdrc

@@ -15,17 +15,10 @@ std::string generated_interface_hlsl() {
   // Member for member the GLSL block's: int, float, float4, and a matrix as three float4 rows.
   // A StructuredBuffer of this struct has std430 layout, as the GLSL buffer block does.
   s << "struct HdrcParams {\n";
-#define HDRC_X_I(name) s << "  int " #name ";\n";
-#define HDRC_X_F(name) s << "  float " #name ";\n";
-#define HDRC_X_V4(name) s << "  float4 " #name ";\n";
-#define HDRC_X_M3(name) s << "  float4 " #name "[3];\n";
-#define HDRC_X(type, name, doc) HDRC_X_##type(name)
-  HDRC_PARAM_BLOCK(HDRC_X)
-#undef HDRC_X
-#undef HDRC_X_I
-#undef HDRC_X_F
-#undef HDRC_X_V4
-#undef HDRC_X_M3
+  const ParamBlock block;
+  for_each_param(block, [&](FieldKind kind, const char* name, const auto&) {
+    s << "  " << shader_field_decl(kind, name, true) << "\n";
+  });
   s << "};\n";
   auto binding = [&](uint32_t b, const char* decl) {
     s << "[[vk::binding(" << b << ", 0)]] " << decl << ";\n";

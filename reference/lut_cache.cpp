@@ -79,10 +79,9 @@ size_t lut_bytes(const ParamBlock& p) {
 std::string lut_cache_key(const ParamBlock& p) {
   std::string key;
   key.reserve(sizeof(ParamBlock));
-#define HDRC_X(type, name, doc) \
-  if (bake_input(#name)) append(key, p.name);
-  HDRC_PARAM_BLOCK(HDRC_X)
-#undef HDRC_X
+  for_each_param(p, [&](FieldKind, const char* name, const auto& v) {
+    if (bake_input(name)) append(key, v);
+  });
   return key;
 }
 

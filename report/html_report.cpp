@@ -15,6 +15,7 @@
 #include "core/cvars.h"
 #include "core/settings.h"
 #include "core/stage.h"
+#include "core/utf8.h"
 #include "reference/color/st2084.h"
 #include "reference/ue_cpp/resolve.h"
 #include "reference/visualize/histogram.h"
@@ -29,30 +30,7 @@ namespace fs = std::filesystem;
 using json = nlohmann::json;
 
 std::string html_escape(const std::string& s) {
-  std::string out;
-  out.reserve(s.size());
-  for (char c : s) {
-    switch (c) {
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '&':
-        out += "&amp;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      case '\'':
-        out += "&#39;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
+  return escape_markup(s);
 }
 
 namespace report {

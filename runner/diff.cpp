@@ -451,7 +451,11 @@ DiffStats diff_images(const Image& input, const Image& reference, const Image& c
         // abs > 0 over a zero denominator (rel_floor 0, reference 0) is an infinite relative
         // error.
         const double rel = abs == 0 ? 0.0 : abs / std::fmax(std::fabs(r[ch]), tol.rel_floor);
-        const double pq = std::fabs(pq_signal(cand_nits[ch]) - pq_signal(ref_nits[ch]));
+        // PQ's slope is unbounded at 0, so it is evaluated no lower than the pixel's float32
+        // noise floor (docs/diff-metrics.md, "PQ noise floor"): values both below it agree.
+        const double floor_nits = kSignBoundaryNoise * pixel_scale;
+        const double pq = std::fabs(pq_signal(std::fmax(cand_nits[ch], floor_nits)) -
+                                    pq_signal(std::fmax(ref_nits[ch], floor_nits)));
         auto& a = acc[band];
         a[static_cast<int>(Metric::kLinearAbs)].add(abs, at);
         a[static_cast<int>(Metric::kLinearRel)].add(rel, at);

@@ -7,7 +7,8 @@
 // Per pixel and colour channel (RGB; alpha is judged for non-finite consistency only):
 //   linear_abs = |cand − ref|                               (the output's own units)
 //   linear_rel = linear_abs / max(|ref|, rel_floor)          (+Inf over a zero denominator)
-//   pq_code10  = |PQ(nits(cand)) − PQ(nits(ref))| · 1023, pq_code12 the same · 4095
+//   pq_code10  = |PQ(max(nits(cand), f)) − PQ(max(nits(ref), f))| · 1023, pq_code12 the same
+//                · 4095, with f = kSignBoundaryNoise · the pixel's largest |nits| (float32 noise)
 // Per pixel: delta_e_itp = ΔE_ITP of ITU-R BT.2124 between the two colours, each converted to
 // BT.2020 RGB in nits and to ICtCp (BT.2100). ≈ 1 is a just-noticeable difference.
 //
@@ -99,7 +100,8 @@ struct NonFiniteCensus {
   std::string rule;
 };
 
-// The sign-boundary rule's bound: 2^-20, 16 float32 ulps (2^-24) of the pixel's largest channel.
+// The float32 noise bound of a pixel, relative to its largest |nits|: 2^-20, 16 float32 ulps
+// (2^-24). It bounds the sign-boundary rule and is the PQ metric's floor.
 inline constexpr double kSignBoundaryNoise = 1.0 / 1048576.0;
 
 struct DiffStats {

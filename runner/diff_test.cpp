@@ -399,6 +399,34 @@ TEST(Diff, SignBoundaryNaNAgainstNoiseOfZero) {
   EXPECT_EQ(hdrc::diff_images(in, ref, cnd, lut3, tol(1, 1e-6, 100)).nonfinite.mismatch, 1u);
 }
 
+// The PQ metric's noise floor: a channel that is zero in a bright pixel carries float32 noise of
+// ~1e-6 of the pixel; PQ, unbounded in slope at 0, must not read that as codes. The floor is
+// relative: in a dark pixel the same values are far apart, and a real error in the bright
+// pixel's small channel above the floor is still measured.
+TEST(Diff, PqNoiseFloorIsRelativeToThePixel) {
+  const OutputEncoding linear7{StageId::kLinearDevice, 7};  // values are nits
+  auto pq10 = [&](double big, double r, double c) {
+    hdrc::Image in = grey(1, 0.0), ref = grey(1, 0.0), cnd = grey(1, 0.0);
+    ref.px(0, 0)[1] = cnd.px(0, 0)[1] = big;
+    ref.px(0, 0)[2] = r;
+    cnd.px(0, 0)[2] = c;
+    const auto s = hdrc::diff_images(in, ref, cnd, linear7, tol(1, 1e-6, 100));
+    return s[hdrc::Metric::kPqCode10].max;
+  };
+  // Measured on lavapipe (tonemap/linear_dev7/gamut0_log_ramp): 6.9e-9 vs 1.9e-6 nits beside
+  // 83.5 nits: 0.16 codes without the floor (f = 83.5 * 2^-20 = 8.0e-5 nits), 0 with it.
+  EXPECT_EQ(pq10(83.5, 6.91e-9, 1.91e-6), 0.0);
+  EXPECT_EQ(pq10(83.5, -1e-9, 3e-5), 0.0);
+  // Without a bright channel the same pair is measured (f = 1.9e-6 nits here): PQ's full slope.
+  EXPECT_GT(pq10(0.0, 6.91e-9, 1.91e-6), 0.1);
+  // A real error above the floor is measured against it: 1e-3 vs 2e-3 nits beside 83.5 nits.
+  const double f = 83.5 * hdrc::kSignBoundaryNoise;
+  auto pq = [](double nits) { return hdrc::ref::st2084::pq_from_nits(nits); };
+  const double want = (pq(2e-3) - pq(1e-3)) * 1023.0;
+  EXPECT_NEAR(pq10(83.5, 1e-3, 2e-3), want, 1e-12);
+  EXPECT_NEAR(pq10(83.5, 0.0, 2e-3), (pq(2e-3) - pq(f)) * 1023.0, 1e-12);
+}
+
 // A case that compares no finite value cannot fail, so it must not pass: an ERROR naming the
 // count. A case that declares it pins non-finite behaviour is judged by the census instead, and
 // is an ERROR when there is nothing non-finite to pin.

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <limits>
 #include <sstream>
+#include <type_traits>
 
 #include "core/atomic_file.h"
 #include "reference/color/ue_matrices.h"
@@ -36,17 +37,17 @@ json vec4(const std::array<double, 4>& v) {
 
 json params_json(const ParamBlock& p) {
   json j = json::object();
-#define HDRC_J_I(name) j[#name] = p.name;
-#define HDRC_J_F(name) j[#name] = number(p.name);
-#define HDRC_J_V4(name) j[#name] = vec4(p.name);
-#define HDRC_J_M3(name) j[#name] = json::array({row(p.name, 0), row(p.name, 1), row(p.name, 2)});
-#define HDRC_X(type, name, doc) HDRC_J_##type(name)
-  HDRC_PARAM_BLOCK(HDRC_X)
-#undef HDRC_X
-#undef HDRC_J_I
-#undef HDRC_J_F
-#undef HDRC_J_V4
-#undef HDRC_J_M3
+  for_each_param(p, [&](FieldKind, const char* name, const auto& v) {
+    using T = std::decay_t<decltype(v)>;
+    if constexpr (std::is_same_v<T, int32_t>)
+      j[name] = v;
+    else if constexpr (std::is_same_v<T, double>)
+      j[name] = number(v);
+    else if constexpr (std::is_same_v<T, std::array<double, 4>>)
+      j[name] = vec4(v);
+    else
+      j[name] = json::array({row(v, 0), row(v, 1), row(v, 2)});
+  });
   return j;
 }
 
@@ -100,33 +101,29 @@ Result<ParamBlock> params_from_json(const json& j, const std::string& file,
                                     const std::string& pointer) {
   if (!j.is_object()) return Error{file, pointer, "expected an object of parameters", ""};
   ParamBlock p;
-  double v = 0;
-#define HDRC_R_I(name)                                                              \
-  if (Status st = read_number(j, #name, file, pointer, &v); !st) return st.error(); \
-  p.name = static_cast<int32_t>(v);
-#define HDRC_R_F(name)                                                              \
-  if (Status st = read_number(j, #name, file, pointer, &v); !st) return st.error(); \
-  p.name = v;
-#define HDRC_R_V4(name)                                                                            \
-  if (!j.contains(#name)) return Error{file, pointer + "/" #name, "missing parameter " #name, ""}; \
-  if (Status st = read_array(j[#name], file, pointer + "/" #name, 4, p.name.data()); !st)          \
-    return st.error();
-#define HDRC_R_M3(name)                                                                            \
-  if (!j.contains(#name)) return Error{file, pointer + "/" #name, "missing parameter " #name, ""}; \
-  if (!j[#name].is_array() || j[#name].size() != 3)                                                \
-    return Error{file, pointer + "/" #name, "expected 3 rows of 3 numbers", ""};                   \
-  for (int r = 0; r < 3; ++r)                                                                      \
-    if (Status st = read_array(j[#name][r], file, pointer + "/" #name "/" + std::to_string(r), 3,  \
-                               &p.name.m[r * 3]);                                                  \
-        !st)                                                                                       \
-      return st.error();
-#define HDRC_X(type, name, doc) HDRC_R_##type(name)
-  HDRC_PARAM_BLOCK(HDRC_X)
-#undef HDRC_X
-#undef HDRC_R_I
-#undef HDRC_R_F
-#undef HDRC_R_V4
-#undef HDRC_R_M3
+  Status status;  // the first error; the fields after it are not read
+  for_each_param(p, [&](FieldKind, const char* name, auto& field) {
+    if (!status) return;
+    using T = std::decay_t<decltype(field)>;
+    const std::string at = pointer + "/" + name;
+    if constexpr (std::is_same_v<T, int32_t> || std::is_same_v<T, double>) {
+      double v = 0;
+      status = read_number(j, name, file, pointer, &v);
+      field = static_cast<T>(v);
+    } else if (!j.contains(name)) {
+      status = Error{file, at, std::string("missing parameter ") + name, ""};
+    } else if constexpr (std::is_same_v<T, std::array<double, 4>>) {
+      status = read_array(j[name], file, at, 4, field.data());
+    } else {
+      if (!j[name].is_array() || j[name].size() != 3) {
+        status = Error{file, at, "expected 3 rows of 3 numbers", ""};
+        return;
+      }
+      for (int r = 0; r < 3 && status; ++r)
+        status = read_array(j[name][r], file, at + "/" + std::to_string(r), 3, &field.m[r * 3]);
+    }
+  });
+  if (!status) return status.error();
   return p;
 }
 

@@ -26,13 +26,12 @@ std::vector<std::vector<int>> full_rows(const std::vector<int>& sizes) {
 
 namespace {
 constexpr int kFree = -1;  // a "don't care" cell
-}
 
-std::vector<std::vector<int>> pairwise_rows(const std::vector<int>& sizes,
-                                            const std::vector<int>& full) {
+// The processing order of the generators below: the full dimensions (as listed, each once, valid
+// ones only), then the rest by decreasing size (stable). `n_full` receives how many are full.
+std::vector<int> processing_order(const std::vector<int>& sizes, const std::vector<int>& full,
+                                  size_t& n_full) {
   const int n = static_cast<int>(sizes.size());
-  if (n == 0) return {{}};
-  // Processing order: the full dimensions (as listed), then the rest by decreasing size.
   std::vector<int> order;
   std::vector<bool> is_full(n, false);
   for (int d : full)
@@ -40,22 +39,40 @@ std::vector<std::vector<int>> pairwise_rows(const std::vector<int>& sizes,
       is_full[d] = true;
       order.push_back(d);
     }
+  n_full = order.size();
   std::vector<int> rest;
   for (int d = 0; d < n; ++d)
     if (!is_full[d]) rest.push_back(d);
   std::stable_sort(rest.begin(), rest.end(), [&](int a, int b) { return sizes[a] > sizes[b]; });
   order.insert(order.end(), rest.begin(), rest.end());
-  const size_t seed_dims = std::max<size_t>(std::min<size_t>(2, order.size()), full.size());
+  return order;
+}
 
-  // 1. The seed: the cross product of the first `seed_dims` dimensions in processing order.
+// The seed rows: the cross product of the first `seed_dims` dimensions of `order`, the other
+// cells free.
+std::vector<std::vector<int>> seed_rows(const std::vector<int>& sizes,
+                                        const std::vector<int>& order, size_t seed_dims) {
   std::vector<int> seed_sizes;
   for (size_t i = 0; i < seed_dims; ++i) seed_sizes.push_back(sizes[order[i]]);
   std::vector<std::vector<int>> rows;
   for (const auto& s : full_rows(seed_sizes)) {
-    std::vector<int> row(n, kFree);
+    std::vector<int> row(sizes.size(), kFree);
     for (size_t i = 0; i < seed_dims; ++i) row[order[i]] = s[i];
     rows.push_back(std::move(row));
   }
+  return rows;
+}
+}  // namespace
+
+std::vector<std::vector<int>> pairwise_rows(const std::vector<int>& sizes,
+                                            const std::vector<int>& full) {
+  const int n = static_cast<int>(sizes.size());
+  if (n == 0) return {{}};
+  size_t n_full = 0;
+  const std::vector<int> order = processing_order(sizes, full, n_full);
+  const size_t seed_dims = std::max<size_t>(std::min<size_t>(2, order.size()), n_full);
+  // 1. The seed: the cross product of the first `seed_dims` dimensions in processing order.
+  std::vector<std::vector<int>> rows = seed_rows(sizes, order, seed_dims);
 
   for (size_t step = seed_dims; step < order.size(); ++step) {
     const int k = order[step];
@@ -151,28 +168,10 @@ std::vector<std::vector<int>> covering_rows(const std::vector<int>& sizes, int s
   if (strength <= 2) return pairwise_rows(sizes, full);
   if (strength >= n) return full_rows(sizes);
   const int t = strength;
-  std::vector<int> order;
-  std::vector<bool> is_full(n, false);
-  for (int d : full)
-    if (d >= 0 && d < n && !is_full[d]) {
-      is_full[d] = true;
-      order.push_back(d);
-    }
-  std::vector<int> rest;
-  for (int d = 0; d < n; ++d)
-    if (!is_full[d]) rest.push_back(d);
-  std::stable_sort(rest.begin(), rest.end(), [&](int a, int b) { return sizes[a] > sizes[b]; });
-  order.insert(order.end(), rest.begin(), rest.end());
-  const size_t seed_dims = std::max<size_t>(static_cast<size_t>(t), order.size() - rest.size());
-
-  std::vector<int> seed_sizes;
-  for (size_t i = 0; i < seed_dims; ++i) seed_sizes.push_back(sizes[order[i]]);
-  std::vector<std::vector<int>> rows;
-  for (const auto& s : full_rows(seed_sizes)) {
-    std::vector<int> row(n, kFree);
-    for (size_t i = 0; i < seed_dims; ++i) row[order[i]] = s[i];
-    rows.push_back(std::move(row));
-  }
+  size_t n_full = 0;
+  const std::vector<int> order = processing_order(sizes, full, n_full);
+  const size_t seed_dims = std::max<size_t>(static_cast<size_t>(t), n_full);
+  std::vector<std::vector<int>> rows = seed_rows(sizes, order, seed_dims);
 
   for (size_t step = seed_dims; step < order.size(); ++step) {
     const int k = order[step];

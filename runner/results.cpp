@@ -144,40 +144,6 @@ json case_json(const CaseResult& c, const RunReport& r) {
   };
 }
 
-std::string xml_escape(const std::string& text) {
-  const std::string s = valid_utf8(text);  // XML text is well-formed UTF-8 or unreadable
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '&':
-        out += "&amp;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      case '\'':
-        out += "&apos;";
-        break;
-      case '\n':
-        out += "&#10;";
-        break;
-      default:
-        // XML 1.0 allows no other control characters.
-        if (static_cast<unsigned char>(c) < 0x20 && c != '\t' && c != '\r')
-          out += ' ';
-        else
-          out += c;
-    }
-  }
-  return out;
-}
-
 // verify's candidate protocol (runner/verify.h): which reference the candidate was judged
 // against, whether UNSUPPORTED fails the run, and the deviations the candidate declared.
 void add_candidate_protocol(json& doc, const RunReport& r) {
@@ -278,30 +244,32 @@ std::string junit_case(const json& c) {
   const std::string reason = str_of(c, "reason");
   double seconds = 0;
   if (auto it = c.find("seconds"); it != c.end() && it->is_object()) seconds = num_of(*it, "total");
-  std::string x = "  <testcase classname=\"hdrconform." + xml_escape(stage) + "\" name=\"" +
-                  xml_escape(id) + "\" time=\"" + seconds_text(seconds) + "\"";
+  std::string x = "  <testcase classname=\"hdrconform." + escape_markup(stage) + "\" name=\"" +
+                  escape_markup(id) + "\" time=\"" + seconds_text(seconds) + "\"";
   const std::string page = "report/" + case_page_path(id);
-  const std::string repro =
-      str_of(c, "reproduce").empty() ? "" : "&#10;reproduce: " + xml_escape(str_of(c, "reproduce"));
+  const std::string repro = str_of(c, "reproduce").empty()
+                                ? ""
+                                : "&#10;reproduce: " + escape_markup(str_of(c, "reproduce"));
   std::string body;
   if (verdict == "FAIL" || verdict == "MISSING") {
     const std::string msg = (verdict == "MISSING" ? "MISSING: " : "") + reason;
     std::string source;
     if (auto t = c.find("tolerance"); t != c.end() && t->is_object()) source = str_of(*t, "source");
-    body = "    <failure message=\"" + xml_escape(msg) + "\">" + xml_escape(msg) +
-           "&#10;tolerance: " + xml_escape(source) + "&#10;case page: " + xml_escape(page) + repro +
-           "</failure>\n";
+    body = "    <failure message=\"" + escape_markup(msg) + "\">" + escape_markup(msg) +
+           "&#10;tolerance: " + escape_markup(source) + "&#10;case page: " + escape_markup(page) +
+           repro + "</failure>\n";
   } else if (verdict == "ERROR") {
-    body = "    <error message=\"" + xml_escape(reason) + "\">" + xml_escape(reason) +
-           "&#10;case page: " + xml_escape(page) + repro + "</error>\n";
+    body = "    <error message=\"" + escape_markup(reason) + "\">" + escape_markup(reason) +
+           "&#10;case page: " + escape_markup(page) + repro + "</error>\n";
   } else if (verdict != "PASS") {
-    body = "    <skipped message=\"" + xml_escape(verdict) + ": " + xml_escape(reason) + "\"/>\n";
+    body = "    <skipped message=\"" + escape_markup(verdict) + ": " + escape_markup(reason) +
+           "\"/>\n";
   }
   std::string w;
   if (auto ws = c.find("warnings"); ws != c.end() && ws->is_array())
     for (const auto& s : *ws)
       if (s.is_string()) w += "warning: " + s.get<std::string>() + "\n";
-  if (!w.empty()) body += "    <system-out>" + xml_escape(w) + "</system-out>\n";
+  if (!w.empty()) body += "    <system-out>" + escape_markup(w) + "</system-out>\n";
   return x + (body.empty() ? "/>\n" : ">\n" + body + "  </testcase>\n");
 }
 
@@ -328,7 +296,7 @@ std::string junit_from_results(const nlohmann::ordered_json& doc) {
   x += "<testsuite name=\"hdrconform\" tests=\"" + std::to_string(cases.size()) + "\" failures=\"" +
        std::to_string(failures) + "\" errors=\"" + std::to_string(errors) + "\" skipped=\"" +
        std::to_string(skipped) + "\" time=\"" + seconds_text(num_of(doc, "wall_seconds")) + "\">\n";
-  x += "  <properties><property name=\"candidate.device\" value=\"" + xml_escape(device) +
+  x += "  <properties><property name=\"candidate.device\" value=\"" + escape_markup(device) +
        "\"/></properties>\n";
   for (const auto& c : cases) x += junit_case(c);
   x += "</testsuite>\n";
@@ -342,14 +310,14 @@ std::string junit_from_results(const nlohmann::ordered_json& doc) {
          "\" failures=\"" + std::to_string(gf) + "\" errors=\"0\" skipped=\"0\">\n";
     for (const auto& e : gc) {
       const std::string outcome = str_of(e, "outcome");
-      x += "  <testcase classname=\"hdrconform.goldens\" name=\"" + xml_escape(str_of(e, "id")) +
+      x += "  <testcase classname=\"hdrconform.goldens\" name=\"" + escape_markup(str_of(e, "id")) +
            "\"";
       if (outcome == "match") {
         x += "/>\n";
         continue;
       }
       const std::string msg = "golden " + outcome + ": " + str_of(e, "message");
-      x += ">\n    <failure message=\"" + xml_escape(msg) + "\">" + xml_escape(msg) +
+      x += ">\n    <failure message=\"" + escape_markup(msg) + "\">" + escape_markup(msg) +
            "</failure>\n  </testcase>\n";
     }
     x += "</testsuite>\n";

@@ -19,8 +19,26 @@ export LSAN_OPTIONS="suppressions=$root/scripts/lsan.supp:print_suppressions=0"
 command -v clang++ >/dev/null || { echo "sanitize: clang++ is missing (scripts/setup.sh installs it)" >&2; exit 1; }
 if [ ! -f "$build/CMakeCache.txt" ]; then
   cmake -S "$root" -B "$build" -G Ninja -DCMAKE_CXX_COMPILER=clang++ \
-    -DCMAKE_BUILD_TYPE=RelWithDebInfo -DHDRC_SANITIZE=ON -DHDRC_FUZZ=ON -DHDRC_SANITIZE_TEST=OFF >/dev/null
+    -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g -DNDEBUG" \
+    -DHDRC_SANITIZE=ON -DHDRC_FUZZ=ON -DHDRC_SANITIZE_TEST=OFF >/dev/null
 fi
 cmake --build "$build" -- -j"$(nproc)" | { grep -vE '^\[[0-9]+/[0-9]+\] ' || true; }
+# The Vulkan loader dlopens each installed driver (ICD) and dlcloses it at vkDestroyInstance; a
+# driver's globals then vanish, and LeakSanitizer, which scans the memory still mapped at exit,
+# reports what only they pointed to as leaked, with the frames of an "<unknown module>"
+# (measured: 128 bytes from lavapipe in every Vulkan test). Preloading the drivers keeps them
+# mapped to the end, so their memory is reachable and nothing needs suppressing. (Not during the
+# build: every compiler process would load them.)
+manifests="${VK_ICD_FILENAMES:-$(ls /usr/share/vulkan/icd.d/*.json /etc/vulkan/icd.d/*.json 2>/dev/null || true)}"
+preload=""
+for lib in $(cat ${manifests//:/ } /dev/null 2>/dev/null |
+             sed -n 's/.*"library_path"[^"]*"\([^"]*\)".*/\1/p' | sort -u); do
+  if [ -f "$lib" ]; then preload="$preload${preload:+:}$lib"; fi
+done
+export LD_PRELOAD="$preload${LD_PRELOAD:+:$LD_PRELOAD}"
 cd "$build"
-exec ctest --output-on-failure -j"$(nproc)" -L 'unit|conformance|fuzz' "$@"
+# Left out here (they run in the main build): whole-suite replays through a candidate command and
+# through shards, the same code paths as the conformance run at 3x its cost under ASan (measured:
+# 192 s and 33 s of the 1,330 s the sanitized tests took).
+exec ctest --output-on-failure -j"$(nproc)" -L 'unit|conformance|fuzz' \
+  -E 'DevicesThreeAndFourOnlyOverTheWholeSuite|ThreeShardsMergedEqualOneUnshardedRun' "$@"
