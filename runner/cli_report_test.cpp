@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <regex>
@@ -124,35 +125,44 @@ TEST(CliMerge, ThreeShardsMergedEqualOneUnshardedRun) {
 // recorded so shards of different plans are never merged.
 TEST(CliShard, TimingsBalanceTheShards) {
   const fs::path root = temp_dir("timings");
-  // A results.json whose seconds make an index split unbalanced: one case costs 10 s.
   const auto all = lines(run("list --filter tonemap/shaper_pq").out);
   ASSERT_GT(all.size(), 6u);
-  json t = {{"cases", json::array()}};
-  for (size_t i = 0; i < all.size(); ++i)
-    t["cases"].push_back({{"id", all[i]}, {"seconds", {{"total", i == 0 ? 10.0 : 1.0}}}});
-  std::ofstream(root / "t.json") << t.dump();
-  std::map<std::string, double> cost;
-  for (const auto& c : t["cases"]) cost[c["id"]] = c["seconds"]["total"];
-  std::vector<double> load;
-  std::multiset<std::string> seen;
-  for (int k = 1; k <= 3; ++k) {
-    const Ran r = run("list --filter tonemap/shaper_pq --shard " + std::to_string(k) +
-                      "/3 --timings " + (root / "t.json").string());
-    ASSERT_EQ(r.code, 0) << r.out;
-    double sum = 0;
-    for (const auto& id : lines(r.out)) {
-      sum += cost.at(id);
-      seen.insert(id);
+  // The shards' loads under `timings`, a results.json giving case 0 `first` seconds and every
+  // other case 1 s; each case counted at `counted(its seconds)`.
+  auto loads = [&](double first, const std::function<double(double)>& counted) {
+    json t = {{"cases", json::array()}};
+    for (size_t i = 0; i < all.size(); ++i)
+      t["cases"].push_back({{"id", all[i]}, {"seconds", {{"total", i == 0 ? first : 1.0}}}});
+    std::ofstream(root / "t.json") << t.dump();
+    std::vector<double> load;
+    std::multiset<std::string> seen;
+    for (int k = 1; k <= 3; ++k) {
+      const Ran r = run("list --filter tonemap/shaper_pq --shard " + std::to_string(k) +
+                        "/3 --timings " + (root / "t.json").string());
+      EXPECT_EQ(r.code, 0) << r.out;
+      double sum = 0;
+      for (const auto& id : lines(r.out)) {
+        sum += counted(id == all[0] ? first : 1.0);
+        seen.insert(id);
+      }
+      load.push_back(sum);
     }
-    load.push_back(sum);
-  }
-  EXPECT_EQ(seen, std::multiset<std::string>(all.begin(), all.end()));
-  const double hi = *std::max_element(load.begin(), load.end());
-  const double lo = *std::min_element(load.begin(), load.end());
-  // Greedy: the 10 s case first, the 1 s cases after it each to the least loaded shard, so the
-  // loads end within one 1 s case of each other (an index split leaves the 10 s case's shard
-  // about 9 s over the others).
-  EXPECT_LE(hi - lo, 1.0 + 1e-9) << load[0] << " " << load[1] << " " << load[2];
+    EXPECT_EQ(seen, std::multiset<std::string>(all.begin(), all.end()));
+    return load;
+  };
+  auto spread = [](const std::vector<double>& l) {
+    return *std::max_element(l.begin(), l.end()) - *std::min_element(l.begin(), l.end());
+  };
+  // Greedy: the 2.5 s case first, the 1 s cases after it each to the least loaded shard, so the
+  // loads end within one 1 s case of each other (an index split leaves the slow case's shard
+  // 1.5 s over the others).
+  auto l = loads(2.5, [](double s) { return s; });
+  EXPECT_LE(spread(l), 1.0 + 1e-9) << l[0] << " " << l[1] << " " << l[2];
+  // A recorded time far over the others of its kind (here 100x: one-time costs such as shader
+  // compilation fall on one case) counts at most 3x the typical seconds of the static model's
+  // estimate (runner/run.cpp, shard_cost): its shard still gets its share of the other cases.
+  l = loads(100.0, [](double s) { return std::min(s, 3.0); });
+  EXPECT_LE(spread(l), 1.0 + 1e-9) << l[0] << " " << l[1] << " " << l[2];
   EXPECT_EQ(run("list --shard 1/3 --timings " + (root / "nope.json").string()).code, 2);
   fs::remove_all(root);
 }

@@ -103,32 +103,47 @@ int main(int argc, char** argv) {
       "a results.json whose per-case seconds balance --shard (default: OUT/results.json when "
       "present; without timings a static cost model); give every shard the same file";
 
-  CLI::App* run = app.add_subcommand("run", "run cases on the reference and a candidate engine");
-  run->footer(kExitCodes);
-  run->add_option("--cases", cases_dir, "case directory")->capture_default_str();
-  add_filter(run);
-  run->add_option("--rerun-failed", rerun_failed,
-                  "only the cases DIR/results.json lists as failed (FAIL, ERROR, MISSING, golden)");
-  run->add_option("--images", images, images_help)
-      ->check(CLI::IsMember({"failing", "all", "none"}));
-  run->add_option("--timings", timings, timings_help);
-  run->add_option("--engine", engine, "candidate engine")
-      ->check(CLI::IsMember({"vulkan", "reference"}))
-      ->capture_default_str();
-  run->add_option("--out", out_dir, "output directory for results.json, junit.xml, report/")
-      ->capture_default_str();
-  run->add_option("--device", vk.device,
-                  "Vulkan device: index or name substring (default: lavapipe)");
-  run->add_option("--shader-dir", vk.shader_dir, "GLSL shader directory (default: gpu/shaders)");
-  run->add_flag("--vk-validation", vk.validation, "enable the Khronos validation layer");
   int jobs = 0;
   std::string shard;
   const std::string jobs_help = "worker threads, each with its own engines (default: every core)";
   const std::string shard_help =
       "run shard K of N (1-based): the cases are split into N parts of about equal cost (the "
       "last run's seconds with --timings, else a static cost model), deterministically";
-  run->add_option("-j,--jobs", jobs, jobs_help)->check(CLI::Range(0, 1024));
-  run->add_option("--shard", shard, shard_help);
+  // The options several subcommands share.
+  auto add_cases = [&](CLI::App* sub) {
+    sub->add_option("--cases", cases_dir, "case directory")->capture_default_str();
+    add_filter(sub);
+  };
+  auto add_jobs = [&](CLI::App* sub) {
+    sub->add_option("-j,--jobs", jobs, jobs_help)->check(CLI::Range(0, 1024));
+  };
+  auto add_shard = [&](CLI::App* sub) {
+    sub->add_option("--shard", shard, shard_help);
+    sub->add_option("--timings", timings, timings_help);
+  };
+  // run and verify: which cases, and what their output folder keeps.
+  auto add_run_outputs = [&](CLI::App* sub, const std::string& failed) {
+    add_cases(sub);
+    sub->add_option("--rerun-failed", rerun_failed,
+                    "only the cases DIR/results.json lists as failed (" + failed + ")");
+    sub->add_option("--images", images, images_help)
+        ->check(CLI::IsMember({"failing", "all", "none"}));
+    sub->add_option("--out", out_dir, "output directory for results.json, junit.xml, report/")
+        ->capture_default_str();
+    add_jobs(sub);
+    add_shard(sub);
+  };
+
+  CLI::App* run = app.add_subcommand("run", "run cases on the reference and a candidate engine");
+  run->footer(kExitCodes);
+  add_run_outputs(run, "FAIL, ERROR, MISSING, golden");
+  run->add_option("--engine", engine, "candidate engine")
+      ->check(CLI::IsMember({"vulkan", "reference"}))
+      ->capture_default_str();
+  run->add_option("--device", vk.device,
+                  "Vulkan device: index or name substring (default: lavapipe)");
+  run->add_option("--shader-dir", vk.shader_dir, "GLSL shader directory (default: gpu/shaders)");
+  run->add_flag("--vk-validation", vk.validation, "enable the Khronos validation layer");
 
   // Goldens (runner/goldens.h): `run` checks the reference against them; `goldens update` is the
   // only command that writes them. Default: goldens/ beside the default cases/ directory.
@@ -168,19 +183,16 @@ int main(int argc, char** argv) {
       "are left as they are; without --filter, goldens of cases no longer in the suite are "
       "removed");
   goldens_update->footer(kExitCodes);
-  goldens_update->add_option("--cases", cases_dir, "case directory")->capture_default_str();
-  add_filter(goldens_update);
+  add_cases(goldens_update);
   goldens_update->add_option("--goldens", goldens_dir,
                              "golden directory (default: the repository's goldens/)");
-  goldens_update->add_option("-j,--jobs", jobs, jobs_help)->check(CLI::Range(0, 1024));
+  add_jobs(goldens_update);
 
   CLI::App* list = app.add_subcommand("list", "list the expanded case ids");
   list->footer(kExitCodes);
-  list->add_option("--cases", cases_dir, "case directory")->capture_default_str();
-  add_filter(list);
-  list->add_option("--shard", shard, shard_help);
+  add_cases(list);
+  add_shard(list);
   list->add_option("--suite", suite_name, suite_help)->capture_default_str();
-  list->add_option("--timings", timings, timings_help);
   bool list_long = false;
   list->add_flag("--long", list_long, "each id with its stage and input");
 
@@ -189,10 +201,8 @@ int main(int argc, char** argv) {
       "write each case's input image(s) and resolved parameters (params.json: every value the\n"
       "shaders need) under DIR/cases/<case id>/, so another engine can render the same cases");
   export_cmd->footer(kExitCodes);
-  export_cmd->add_option("--cases", cases_dir, "case directory")->capture_default_str();
-  add_filter(export_cmd);
-  export_cmd->add_option("--shard", shard, shard_help);
-  export_cmd->add_option("--timings", timings, timings_help);
+  add_cases(export_cmd);
+  add_shard(export_cmd);
   export_cmd->add_option("--out", out_dir, "output directory")->required();
 
   std::string candidate_dir, candidate_cmd;
@@ -212,17 +222,7 @@ int main(int argc, char** argv) {
           "Contract: docs/candidate-protocol.md, params.json schema: "
           "runner/params.schema.json.\n") +
       kExitCodes);
-  verify->add_option("--cases", cases_dir, "case directory")->capture_default_str();
-  add_filter(verify);
-  verify->add_option("--rerun-failed", rerun_failed,
-                     "only the cases DIR/results.json lists as failed (FAIL, ERROR, MISSING)");
-  verify->add_option("--images", images, images_help)
-      ->check(CLI::IsMember({"failing", "all", "none"}));
-  verify->add_option("--timings", timings, timings_help);
-  verify->add_option("--out", out_dir, "output directory for results.json, junit.xml, report/")
-      ->capture_default_str();
-  verify->add_option("-j,--jobs", jobs, jobs_help)->check(CLI::Range(0, 1024));
-  verify->add_option("--shard", shard, shard_help);
+  add_run_outputs(verify, "FAIL, ERROR, MISSING");
   auto* dir_opt = verify->add_option("--candidate-dir", candidate_dir,
                                      "directory of candidate images DIR/<case id>.exr");
   auto* cmd_opt = verify->add_option("--candidate-cmd", candidate_cmd,
@@ -506,28 +506,18 @@ int main(int argc, char** argv) {
   };
   suite.jobs = jobs;
   suite.shard = shard;
-  // What a failing case's reproduce command repeats (runner/verify.h: reproduce_command).
-  auto repro = [&](const std::string& option, const std::string& value) {
-    suite.reproduce_args +=
-        (suite.reproduce_args.empty() ? "" : " ") + option + " " + hdrc::shell_quote(value);
-  };
-  if (!default_cases) repro("--cases", cases_dir);
-  if (*run && engine != "vulkan") repro("--engine", engine);
-  if (*run && !vk.shader_dir.empty()) repro("--shader-dir", vk.shader_dir);
-  if (*run && run_reference != "baked") {
-    suite.reference = run_reference;
-    repro("--reference", run_reference);
-  }
+  if (*run && run_reference != "baked") suite.reference = run_reference;
   const std::string shader_dir = !*run || engine != "vulkan" ? ""
                                  : vk.shader_dir.empty()     ? hdrc::gpu::default_shader_dir()
                                                              : vk.shader_dir;
   suite.provenance = hdrc::run_provenance(argc, argv, cases, shader_dir, images);
+  // A failing case's reproduce command (runner/verify.h: reproduce_command) repeats every option
+  // of this command line but those choosing cases, outputs and parallelism: one list, made by
+  // run_provenance.
+  suite.reproduce_args = suite.provenance.reproduce_args;
   if (*verify) {
     suite.command = "verify";
     suite.candidate_engine = candidate_dir.empty() ? "candidate-cmd" : "candidate-dir";
-    if (!candidate_dir.empty()) repro("--candidate-dir", candidate_dir);
-    if (!candidate_cmd.empty()) repro("--candidate-cmd", candidate_cmd);
-    if (suite.reference != "baked") repro("--reference", suite.reference);
     if (candidate_dir.empty() == candidate_cmd.empty()) {
       std::fprintf(stderr,
                    "error: verify needs exactly one of --candidate-dir or --candidate-cmd\n");

@@ -118,7 +118,11 @@ RunProvenance run_provenance(int argc, char** argv, const std::vector<Case>& cas
       if (a.rfind(d + "=", 0) == 0 || (d == "-j" && a.size() > 2 && a.rfind("-j", 0) == 0))
         drop = true;
     }
-    if (!drop) p.reproduce += (p.reproduce.empty() ? "" : " ") + shell_quote(a);
+    if (drop) continue;
+    p.reproduce += (p.reproduce.empty() ? "" : " ") + shell_quote(a);
+    // argv[0] and the subcommand (the first word; CLI11 takes options after it) are not repeated.
+    if (i >= 2 || (i == 1 && !a.empty() && a[0] == '-'))
+      p.reproduce_args += (p.reproduce_args.empty() ? "" : " ") + shell_quote(a);
   }
   std::error_code ec;
   p.cwd = fs::current_path(ec).string();

@@ -72,9 +72,10 @@ struct CaseResult {
 
 // Where a run came from (runner/provenance.h fills it; results.json "provenance").
 struct RunProvenance {
-  std::string commit;        // git HEAD of the source tree (+ "-dirty"), or "unknown"
-  std::string command_line;  // shell-quoted argv
-  std::string reproduce;     // command_line without the options choosing cases and outputs
+  std::string commit;          // git HEAD of the source tree (+ "-dirty"), or "unknown"
+  std::string command_line;    // shell-quoted argv
+  std::string reproduce;       // command_line without the options choosing cases and outputs
+  std::string reproduce_args;  // the same after the subcommand: what a case's reproduce repeats
   std::string cwd;
   std::string shader_dir, shader_hash;  // the Vulkan engine's shaders (path, directory_hash)
   std::string build_type, compiler, tool_version;
