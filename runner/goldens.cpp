@@ -21,8 +21,8 @@
 #include "core/utf8.h"
 #include "reference/reference_engine.h"
 #include "runner/case_loader.h"
-#include "runner/json_read.h"
 #include "runner/golden_compare.h"
+#include "runner/json_read.h"
 
 namespace hdrc {
 
