@@ -149,8 +149,9 @@ Status SettingValues::set(std::string_view name, const Vec4d& value, int compone
   for (int c = 0; c < components; ++c) {
     if (!(value[c] >= info->min_value && value[c] <= info->max_value)) {
       std::ostringstream msg, range;
-      msg << "setting " << name << (components > 1 ? "[" + std::to_string(c) + "]" : "") << " = "
-          << value[c] << " is out of range";
+      msg << "setting " << name
+          << (components > 1 ? std::string("[") + std::to_string(c) + "]" : "") << " = " << value[c]
+          << " is out of range";
       range << info->min_value << " to " << info->max_value;
       return Error{"", "", msg.str(), range.str()};
     }

@@ -117,7 +117,8 @@ std::string InputSpec::describe() const {
     for (size_t i = 0; i < v.size(); ++i) {
       std::ostringstream s;
       s << v[i];
-      p += (i ? "," : "") + s.str();
+      p += i ? "," : "";
+      p += s.str();
     }
   }
   if (!p.empty()) p += "}";

@@ -25,10 +25,7 @@
 #endif
 
 namespace fs = std::filesystem;
-using hdrc::test::Ran;
-using hdrc::test::read;
-using hdrc::test::run;
-using hdrc::test::temp_dir;
+using namespace hdrc::test;  // runner/test_support.h
 
 namespace {
 

@@ -332,7 +332,8 @@ std::string CoverageReport::text() const {
       if (v.cases == 0)
         out << "UNCOVERED";
       else
-        out << v.cases << (v.degenerate ? "(" + std::to_string(v.degenerate) + "d)" : "");
+        out << v.cases
+            << (v.degenerate ? std::string("(") + std::to_string(v.degenerate) + "d)" : "");
     }
     out << "\n";
   }

@@ -547,7 +547,7 @@ Verdict judge(const DiffStats& s, const Tolerance& tol, bool pins_nonfinite) {
   const std::string boundary =
       s.nonfinite.sign_boundary == 0
           ? ""
-          : "; " + std::to_string(s.nonfinite.sign_boundary) +
+          : std::string("; ") + std::to_string(s.nonfinite.sign_boundary) +
                 " NaN vs zero within float32 noise (sign boundary), first at " +
                 describe_pixel(s.nonfinite.first_sign_boundary);
   if (pins_nonfinite && s.nonfinite.consistent == 0) {

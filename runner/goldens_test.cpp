@@ -24,8 +24,7 @@
 namespace {
 
 namespace fs = std::filesystem;
-using hdrc::test::Ran;
-using hdrc::test::run;
+using namespace hdrc::test;  // runner/test_support.h
 using json = nlohmann::json;
 
 TEST(Goldens, Sha256MatchesTheStandardsExamples) {

@@ -34,9 +34,7 @@
 #endif
 
 namespace fs = std::filesystem;
-using hdrc::test::Ran;
-using hdrc::test::read;
-using hdrc::test::write;
+using namespace hdrc::test;  // runner/test_support.h
 
 namespace {
 

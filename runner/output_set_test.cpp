@@ -27,10 +27,7 @@
 #endif
 
 namespace fs = std::filesystem;
-using hdrc::test::Ran;
-using hdrc::test::read;
-using hdrc::test::temp_dir;
-using hdrc::test::write;
+using namespace hdrc::test;  // runner/test_support.h
 
 namespace {
 
