@@ -315,8 +315,8 @@ std::string describe_pixel(const PixelRef& p) {
                     format_number(p.input) + " reference " + format_number(p.reference) +
                     " candidate " + format_number(p.candidate);
   auto rgb = [](const std::array<double, 3>& v) {
-    return "(" + format_number(v[0]) + ", " + format_number(v[1]) + ", " + format_number(v[2]) +
-           ")";
+    return std::string("(") + format_number(v[0]) + ", " + format_number(v[1]) + ", " +
+           format_number(v[2]) + ")";
   };
   out += "; pixel RGB input " + rgb(p.input_rgb) + " reference " + rgb(p.reference_rgb) +
          " candidate " + rgb(p.candidate_rgb);
