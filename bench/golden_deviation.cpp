@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "core/image.h"
+#include "runner/golden_compare.h"
 
 namespace fs = std::filesystem;
 
@@ -30,12 +31,7 @@ long long ulps(float a, float b) {
   if (std::isnan(a) || std::isnan(b)) return std::isnan(a) && std::isnan(b) ? 0 : INT32_MAX;
   if (a == b) return 0;
   if (std::isinf(a) || std::isinf(b)) return INT32_MAX;
-  int32_t ia, ib;
-  std::memcpy(&ia, &a, 4);
-  std::memcpy(&ib, &b, 4);
-  if (ia < 0) ia = INT32_MIN - ia;
-  if (ib < 0) ib = INT32_MIN - ib;
-  return std::llabs(static_cast<long long>(ia) - ib);
+  return hdrc::ulp_distance(a, b);
 }
 
 struct Worst {

@@ -9,9 +9,6 @@
 
 namespace hdrc {
 
-namespace {
-
-// Distance in float32 units in the last place (finite, non-NaN arguments).
 long long ulp_distance(float a, float b) {
   int32_t ia, ib;
   std::memcpy(&ia, &a, 4);
@@ -21,8 +18,6 @@ long long ulp_distance(float a, float b) {
   if (ib < 0) ib = INT32_MIN - ib;
   return std::llabs(static_cast<long long>(ia) - ib);
 }
-
-}  // namespace
 
 GoldenScale golden_scale(const Image& golden) {
   GoldenScale s;

@@ -23,6 +23,9 @@ inline constexpr int kGoldenUlps = 2;
 inline constexpr double kGoldenScaleFloor =
     8.0;  // measured: at most 4.56 (GCC -O3), docs/goldens.md
 
+// Distance in float32 units in the last place (finite, non-NaN arguments).
+long long ulp_distance(float a, float b);
+
 // The two scales of the absolute part: the golden's largest finite |colour value| (R, G, B) and
 // its largest finite |alpha| (0 when there is none).
 struct GoldenScale {

@@ -62,6 +62,18 @@ std::vector<std::vector<int>> seed_rows(const std::vector<int>& sizes,
   }
   return rows;
 }
+// The generators' last step: don't-care cells take value 0, and repeated rows are dropped
+// (keeping the first).
+std::vector<std::vector<int>> finished_rows(std::vector<std::vector<int>> rows) {
+  std::vector<std::vector<int>> out;
+  std::set<std::vector<int>> seen;
+  for (auto& row : rows) {
+    for (int& v : row)
+      if (v == kFree) v = 0;
+    if (seen.insert(row).second) out.push_back(row);
+  }
+  return out;
+}
 }  // namespace
 
 std::vector<std::vector<int>> pairwise_rows(const std::vector<int>& sizes,
@@ -131,14 +143,7 @@ std::vector<std::vector<int>> pairwise_rows(const std::vector<int>& sizes,
     }
   }
   // 4. Fill the don't-cares, drop duplicates (keeping the first).
-  std::vector<std::vector<int>> out;
-  std::set<std::vector<int>> seen;
-  for (auto& row : rows) {
-    for (int& v : row)
-      if (v == kFree) v = 0;
-    if (seen.insert(row).second) out.push_back(row);
-  }
-  return out;
+  return finished_rows(std::move(rows));
 }
 
 namespace {
@@ -241,14 +246,7 @@ std::vector<std::vector<int>> covering_rows(const std::vector<int>& sizes, int s
       }
     }
   }
-  std::vector<std::vector<int>> out;
-  std::set<std::vector<int>> seen;
-  for (auto& row : rows) {
-    for (int& v : row)
-      if (v == kFree) v = 0;
-    if (seen.insert(row).second) out.push_back(row);
-  }
-  return out;
+  return finished_rows(std::move(rows));
 }
 
 }  // namespace hdrc
