@@ -81,9 +81,6 @@ namespace {
 struct ShardTimings {
   std::map<std::string, double> seconds;
   std::string description = "static";
-  // The median of seconds / static_case_cost over the timed cases of the selection, set by
-  // select_shard: the static model in this machine's seconds.
-  double scale = 1.0;
 };
 ShardTimings& shard_timings() {
   static ShardTimings t;
@@ -173,26 +170,28 @@ namespace {
 // another on 2 cores: the slowest shard 21 % over the fastest uncapped, 15 % capped, 10 % with
 // the static model alone; docs/performance.md).
 constexpr double kOneTimeClip = 3.0;
-double shard_cost(const Case& c, const ShardTimings& t) {
+// `scale`: the median of seconds / static_case_cost over the timed cases of the selection, the
+// static model in this machine's seconds.
+double shard_cost(const Case& c, const ShardTimings& t, double scale) {
   const double model = static_case_cost(c);
   const auto it = t.seconds.find(c.id);
-  return it == t.seconds.end() ? model * t.scale
-                               : std::min(it->second, kOneTimeClip * t.scale * model);
+  return it == t.seconds.end() ? model * scale : std::min(it->second, kOneTimeClip * scale * model);
 }
 }  // namespace
 
 std::vector<Case> select_shard(const std::vector<Case>& cases, const Shard& shard) {
-  ShardTimings t = shard_timings();
+  const ShardTimings& t = shard_timings();
+  double scale = 1.0;
   std::vector<double> ratios;
   for (const Case& c : cases)
     if (auto it = t.seconds.find(c.id); it != t.seconds.end())
       ratios.push_back(it->second / static_case_cost(c));
   if (!ratios.empty()) {
     std::nth_element(ratios.begin(), ratios.begin() + ratios.size() / 2, ratios.end());
-    t.scale = ratios[ratios.size() / 2];
+    scale = ratios[ratios.size() / 2];
   }
   std::vector<std::pair<double, size_t>> order;  // (cost, index)
-  for (size_t i = 0; i < cases.size(); ++i) order.push_back({shard_cost(cases[i], t), i});
+  for (size_t i = 0; i < cases.size(); ++i) order.push_back({shard_cost(cases[i], t, scale), i});
   std::stable_sort(order.begin(), order.end(), [&](const auto& a, const auto& b) {
     if (a.first != b.first) return a.first > b.first;
     return cases[a.second].id < cases[b.second].id;
