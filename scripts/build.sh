@@ -11,5 +11,7 @@ configured_type="$(sed -n 's/^CMAKE_BUILD_TYPE:STRING=//p' "$build/CMakeCache.tx
 if [ ! -f "$build/CMakeCache.txt" ] || { [ -n "$type" ] && [ "$type" != "$configured_type" ]; }; then
   cmake -S "$root" -B "$build" -G Ninja ${type:+-DCMAKE_BUILD_TYPE="$type"} >/dev/null
 fi
-cmake --build "$build" -- -j"$(nproc)" | grep -vE '^\[[0-9]+/[0-9]+\] ' || true
+# Ninja's progress lines are filtered out; a failed build fails this script (pipefail carries
+# cmake's status; grep's "nothing left to print" is not a failure).
+cmake --build "$build" -- -j"$(nproc)" | { grep -vE '^\[[0-9]+/[0-9]+\] ' || true; }
 test -x "$build/runner/hdrconform"
