@@ -2,7 +2,9 @@
 // type: the reference computes in double, the GPU engine's float32 results are widened exactly.
 #pragma once
 
+#include <array>
 #include <cstddef>
+#include <cstdint>
 #include <map>
 #include <string>
 #include <vector>
@@ -10,6 +12,21 @@
 #include "core/result.h"
 
 namespace hdrc {
+
+// A reference pixel whose value float32 cannot decide: a channel within float32 noise of zero
+// reached a function that is steep or undefined there (PQ and pow of a negative are NaN; pow(x,
+// 1/10) turns 1e-7 into 0.2), so a correct float32 evaluation may give any value in [lo, hi] per
+// channel, or NaN where the channel's bit is set in nan_ok. The diff judges the candidate against
+// the nearest admissible value (docs/diff-metrics.md, "Admissible ranges").
+//
+// kFloat32Noise: the float32 noise bound of a value relative to the largest |channel| of its
+// pixel: 2^-20, 16 float32 ulps (2^-24). A channel within it of zero has no reliable sign.
+inline constexpr double kFloat32Noise = 1.0 / 1048576.0;
+struct AdmissibleRange {
+  size_t pixel = 0;  // y * width + x
+  std::array<double, 4> lo{}, hi{};
+  uint8_t nan_ok = 0;  // bit ch: NaN is admissible in channel ch
+};
 
 struct Image {
   int width = 0;
@@ -19,6 +36,9 @@ struct Image {
   // Named numbers a stage outputs besides pixels (e.g. the values VisualizeHDR prints as text),
   // recorded in results.json so a port can be checked without pixel-exact text.
   std::map<std::string, double> values;
+  // Reference images only: the pixels with an admissible range, in increasing pixel order (empty
+  // for almost every image). Not written to image files.
+  std::vector<AdmissibleRange> admissible;
 
   Image() = default;
   Image(int w, int h) : width(w), height(h), data(static_cast<size_t>(w) * h * kChannels, 0.0) {}

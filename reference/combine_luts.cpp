@@ -9,6 +9,7 @@
 #include "reference/color/d3d_math.h"
 #include "reference/color/fast_paths.h"
 #include "reference/color/gamma_correction.h"
+#include "reference/color/noise_range.h"
 #include "reference/color/st2084.h"
 #include "reference/color/ue_matrices.h"
 #include "reference/grading/color_correct.h"
@@ -166,6 +167,56 @@ Vec3 combine_luts_texel(const ParamBlock& p, const Vec3& lattice, CombineLutsTra
   return t.stored;
 }
 
+TexelRange stored_range(const ParamBlock& p, const grading::InverseGamma& inverse_gamma,
+                        const Vec3& film, const Vec3& pq_in) {
+  TexelRange t;
+  const int device = p.output_device;
+  const Mat3& to_output = p.ap1_to_output;
+  Range3 r;
+  bool ambiguous = false;
+  if (device <= 2) {
+    // FilmColor = pow(max(0, FilmColorNoGamma), InverseGamma.y): steep at 0 for gammas over 1.
+    r = Range3::point(film);
+    ambiguous = widen_near_zero(film, kFloat32Noise, &r);
+    // Device 2's explicit-gamma encode, pow(x, 1/gamma): NaN below 0.
+    Vec3 x{};
+    Range3 x_widened;
+    bool x_ambiguous = false;
+    if (device == 2) {
+      x = to_output * (p.wcs_to_ap1 * grading::apply_film_gamma(film, inverse_gamma));
+      x_widened = Range3::point(x);
+      x_ambiguous = widen_near_zero(x, kFloat32Noise, &x_widened);
+    }
+    if (!ambiguous && !x_ambiguous) return t;
+    r = map_nondecreasing(r, [&](double v) {
+      return grading::apply_film_gamma({v, v, v}, inverse_gamma)[0];
+    });
+    if (device != 0 || !p.wcs_is_srgb) r = apply_matrix(to_output, apply_matrix(p.wcs_to_ap1, r));
+    if (device == 0) {
+      r = map_nondecreasing(r, [](double v) { return linear_to_srgb(v); });
+    } else if (device == 1) {
+      r = map_nondecreasing(r, [](double v) { return linear_to_rec709_branchless(v); });
+    } else {
+      for (int c = 0; c < 3; ++c) {
+        r.lo[c] = std::fmin(r.lo[c], x_widened.lo[c]);
+        r.hi[c] = std::fmax(r.hi[c], x_widened.hi[c]);
+      }
+      const double g = p.inverse_gamma[2];
+      r = map_nonnegative(r, [g](double v) { return d3d::pow(v, g); });
+    }
+    ambiguous = true;
+  } else if (device <= 7) {
+    // LinearToST2084: NaN below 0, steep above.
+    r = Range3::point(pq_in);
+    ambiguous = widen_near_zero(pq_in, kShaderNoise, &r);
+    r = map_nonnegative(r, [](double v) { return st2084::pq_from_nits(v); });
+  }
+  if (!ambiguous) return t;
+  t.range = scale(r, 1.0 / kLutScale);
+  t.ambiguous = true;
+  return t;
+}
+
 TexelEvaluator::TexelEvaluator(const ParamBlock& p)
     : p_(p),
       cc_(color_correct_params(p)),
@@ -181,9 +232,21 @@ TexelEvaluator::TexelEvaluator(const ParamBlock& p)
 }
 
 // The same operations as combine_luts_texel, in the same order, for the device's path only.
-Vec3 TexelEvaluator::operator()(const Vec3& lattice) const {
+Vec3 TexelEvaluator::operator()(const Vec3& lattice, TexelRange* range) const {
   const ParamBlock& p = p_;
-  if (!fast_paths()) return combine_luts_texel(p, lattice);
+  if (!fast_paths()) {
+    CombineLutsTrace t;
+    const Vec3 stored = combine_luts_texel(p, lattice, range ? &t : nullptr);
+    if (range) {
+      const Mat3& to_output = p.ap1_to_output;
+      const int d = p.output_device;
+      const Vec3 pq_in = d == 7   ? to_output * (p.wcs_to_ap1 * t.graded)
+                         : d <= 4 ? to_output * t.aces_nits
+                                  : t.aces_nits;
+      *range = stored_range(p, inverse_gamma_, t.film, pq_in);
+    }
+    return stored;
+  }
   const int device = p.output_device;
   Vec3 decoded;
   for (int c = 0; c < 3; ++c) decoded[c] = lut_decode(device, lattice[c]);
@@ -199,18 +262,25 @@ Vec3 TexelEvaluator::operator()(const Vec3& lattice) const {
         {grading::hlsl::f32_range(graded_ap1[0]), grading::hlsl::f32_range(graded_ap1[1]),
          grading::hlsl::f32_range(graded_ap1[2])},
         fade_);
-    if (device <= 6) {
-      const Vec3 nits = aces::aces_output_transforms_1000(graded, p.wcs_to_ap0, aces_);
-      out = pq_encode(device <= 4 ? to_output * nits : nits);
-    } else if (device == 7) {
-      out = pq_encode(to_output * (p.wcs_to_ap1 * graded));
+    if (device <= 7) {
+      Vec3 pq_in;
+      if (device <= 6) {
+        const Vec3 nits = aces::aces_output_transforms_1000(graded, p.wcs_to_ap0, aces_);
+        pq_in = device <= 4 ? to_output * nits : nits;
+      } else {
+        pq_in = to_output * (p.wcs_to_ap1 * graded);
+      }
+      out = pq_encode(pq_in);
+      if (range) *range = stored_range(p, inverse_gamma_, {}, pq_in);
     } else {
       out = graded;
+      if (range) *range = {};
     }
   } else {
     const Vec3 film_color =
         grading::apply_mapping_polynomial(grading::film_color(corrected, film_, wcs_), polynomial_);
     const Vec3 film = grading::apply_fade(film_color, fade_);
+    if (range) *range = stored_range(p, inverse_gamma_, film, {});
     if (device == 9) {
       out = to_output * (p.wcs_to_ap1 * film);
     } else {
@@ -267,10 +337,53 @@ BakedLut bake_lut(const ParamBlock& p) {
   for (int b = 0; b < n; ++b)
     for (int g = 0; g < n; ++g)
       for (int r = 0; r < n; ++r) {
-        const Vec3 v = texel(lattice_coordinate(p.lut_layout, n, r, g, b));
-        Vec3& out = lut.texels[(static_cast<size_t>(b) * n + g) * n + r];
+        TexelRange range;
+        const Vec3 v = texel(lattice_coordinate(p.lut_layout, n, r, g, b), &range);
+        const size_t i = lut.index(r, g, b);
+        Vec3& out = lut.texels[i];
         for (int c = 0; c < 3; ++c) out[c] = quantize_lut_value(p.lut_format, v[c]);
+        // 10-bit UNORM: a value within float32 noise of a rounding boundary (k + 1/2)/1023 may
+        // be stored as either neighbour (the noise of PQ's exponent on devices 3-7).
+        if (p.lut_format == 0) {
+          if (!range.ambiguous) range.range = Range3::point(v);
+          const bool pq_path = p.output_device >= 3 && p.output_device <= 7;
+          const double noise = pq_path ? kShaderNoise : kFloat32Noise;
+          range.ambiguous =
+              widen_near_rounding_boundary(v, 1023.0, noise, &range.range) || range.ambiguous;
+        }
+        if (!range.ambiguous) continue;
+        if (!lut.has_ranges()) {  // the first ambiguous texel: the arrays are made (filled below)
+          lut.lo.resize(lut.texels.size());
+          lut.hi.resize(lut.texels.size());
+          lut.flags.assign(lut.texels.size(), 0);
+        }
+        // Quantisation is nondecreasing; a stored NaN is what the format makes of it (UNORM: 0).
+        uint8_t flags = BakedLut::kAmbiguous;
+        for (int c = 0; c < 3; ++c) {
+          double lo = quantize_lut_value(p.lut_format, range.range.lo[c]);
+          double hi = quantize_lut_value(p.lut_format, range.range.hi[c]);
+          if (range.range.nan[c]) {
+            const double stored_nan = quantize_lut_value(p.lut_format, d3d::kNaN);
+            if (std::isnan(stored_nan)) {
+              flags |= uint8_t(1u << c);
+            } else {
+              lo = std::isnan(lo) ? stored_nan : std::fmin(lo, stored_nan);
+              hi = std::isnan(hi) ? stored_nan : std::fmax(hi, stored_nan);
+            }
+          }
+          lut.lo[i][c] = lo;
+          lut.hi[i][c] = hi;
+        }
+        lut.flags[i] = flags;
       }
+  if (lut.has_ranges()) {  // every texel that is not ambiguous: its point value
+    for (size_t k = 0; k < lut.texels.size(); ++k) {
+      if (lut.flags[k] & BakedLut::kAmbiguous) continue;
+      lut.lo[k] = lut.hi[k] = lut.texels[k];
+      for (int c = 0; c < 3; ++c)
+        if (std::isnan(lut.texels[k][c])) lut.flags[k] |= uint8_t(1u << c);
+    }
+  }
   return lut;
 }
 
@@ -293,44 +406,76 @@ Vec3 mix(const Vec3& a, const Vec3& b, double f) {
   return {a[0] + (b[0] - a[0]) * f, a[1] + (b[1] - a[1]) * f, a[2] + (b[2] - a[2]) * f};
 }
 
-// Bilinear sample of the 2-D unwrapped texture (width N², height N) at uv, clamp addressing.
-Vec3 sample_2d(const BakedLut& lut, double u, double v) {
+// The lookup's taps and weights, generic over what a texel holds: `at(r, g, b)` reads one and
+// `lerp(a, b, f)` blends two (for the flags: their union, whatever the weight).
+template <class At, class Lerp>
+auto sample_texels(const BakedLut& lut, const Vec3& uvw, At at, Lerp lerp) {
   const int n = lut.size;
-  const Tap tx = tap(u * n * n - 0.5, n * n);
-  const Tap ty = tap(v * n - 0.5, n);
-  auto texel = [&](int x, int y) -> const Vec3& { return lut.at(x % n, y, x / n); };
-  return mix(mix(texel(tx.i0, ty.i0), texel(tx.i1, ty.i0), tx.f),
-             mix(texel(tx.i0, ty.i1), texel(tx.i1, ty.i1), tx.f), ty.f);
+  if (lut.layout == 0) {
+    const Tap tr = tap(uvw[0] * n - 0.5, n), tg = tap(uvw[1] * n - 0.5, n),
+              tb = tap(uvw[2] * n - 0.5, n);
+    auto plane = [&](int b) {
+      return lerp(lerp(at(tr.i0, tg.i0, b), at(tr.i1, tg.i0, b), tr.f),
+                  lerp(at(tr.i0, tg.i1, b), at(tr.i1, tg.i1, b), tr.f), tg.f);
+    };
+    return lerp(plane(tb.i0), plane(tb.i1), tb.f);
+  }
+  // PostProcessCommon.ush: UnwrappedTexture3DSample(Texture, UVW, Size, InvSize): two bilinear
+  // samples of the 2-D unwrapped texture (width N², height N, clamp addressing).
+  const double w = uvw[2] * n - 0.5;
+  const double int_w = std::floor(w);
+  const double frac_w = w - int_w;
+  const double u0 = (uvw[0] + int_w) / n;
+  auto sample_2d = [&](double u, double v) {
+    const Tap tx = tap(u * n * n - 0.5, n * n);
+    const Tap ty = tap(v * n - 0.5, n);
+    auto texel = [&](int x, int y) { return at(x % n, y, x / n); };
+    return lerp(lerp(texel(tx.i0, ty.i0), texel(tx.i1, ty.i0), tx.f),
+                lerp(texel(tx.i0, ty.i1), texel(tx.i1, ty.i1), tx.f), ty.f);
+  };
+  return lerp(sample_2d(u0, uvw[1]), sample_2d(u0 + 1.0 / n, uvw[1]), frac_w);
+}
+
+// UVW = enc·(N−1)/N + 0.5/N; false for a NaN coordinate (see d3d::clamp_address).
+bool lookup_uvw(const BakedLut& lut, const Vec3& encoded, Vec3* uvw) {
+  const int n = lut.size;
+  const double scale = (n - 1.0) / n, offset = 0.5 / n;
+  for (int c = 0; c < 3; ++c) {
+    if (std::isnan(encoded[c])) return false;
+    (*uvw)[c] = encoded[c] * scale + offset;
+  }
+  return true;
 }
 
 }  // namespace
 
 Vec3 sample_lut(const BakedLut& lut, const Vec3& encoded) {
-  const int n = lut.size;
-  const double scale = (n - 1.0) / n, offset = 0.5 / n;
   Vec3 uvw;
-  for (int c = 0; c < 3; ++c) {
-    if (std::isnan(encoded[c])) return {d3d::kNaN, d3d::kNaN, d3d::kNaN};  // see d3d::clamp_address
-    uvw[c] = encoded[c] * scale + offset;
-  }
-  Vec3 s;
-  if (lut.layout == 0) {
-    const Tap tr = tap(uvw[0] * n - 0.5, n), tg = tap(uvw[1] * n - 0.5, n),
-              tb = tap(uvw[2] * n - 0.5, n);
-    auto plane = [&](int b) {
-      return mix(mix(lut.at(tr.i0, tg.i0, b), lut.at(tr.i1, tg.i0, b), tr.f),
-                 mix(lut.at(tr.i0, tg.i1, b), lut.at(tr.i1, tg.i1, b), tr.f), tg.f);
-    };
-    s = mix(plane(tb.i0), plane(tb.i1), tb.f);
-  } else {
-    // PostProcessCommon.ush: UnwrappedTexture3DSample(Texture, UVW, Size, InvSize).
-    const double w = uvw[2] * n - 0.5;
-    const double int_w = std::floor(w);
-    const double frac_w = w - int_w;
-    const double u = (uvw[0] + int_w) / n;
-    s = mix(sample_2d(lut, u, uvw[1]), sample_2d(lut, u + 1.0 / n, uvw[1]), frac_w);
-  }
+  if (!lookup_uvw(lut, encoded, &uvw)) return {d3d::kNaN, d3d::kNaN, d3d::kNaN};
+  const Vec3 s = sample_texels(
+      lut, uvw, [&](int r, int g, int b) -> Vec3 { return lut.at(r, g, b); }, mix);
   return {s[0] * kLutScale, s[1] * kLutScale, s[2] * kLutScale};
+}
+
+bool sample_lut_range(const BakedLut& lut, const Vec3& encoded, Range3* out) {
+  Vec3 uvw;
+  if (!lut.has_ranges() || !lookup_uvw(lut, encoded, &uvw)) return false;
+  const uint8_t flags = sample_texels(
+      lut, uvw, [&](int r, int g, int b) { return lut.flags[lut.index(r, g, b)]; },
+      [](uint8_t a, uint8_t b, double) { return uint8_t(a | b); });
+  if (!(flags & BakedLut::kAmbiguous)) return false;
+  const Vec3 lo = sample_texels(
+      lut, uvw, [&](int r, int g, int b) -> Vec3 { return lut.lo[lut.index(r, g, b)]; }, mix);
+  const Vec3 hi = sample_texels(
+      lut, uvw, [&](int r, int g, int b) -> Vec3 { return lut.hi[lut.index(r, g, b)]; }, mix);
+  Range3 r;
+  for (int c = 0; c < 3; ++c) {
+    r.lo[c] = lo[c] * kLutScale;
+    r.hi[c] = hi[c] * kLutScale;
+    r.nan[c] = (flags & (1u << c)) != 0 || std::isnan(lo[c]) || std::isnan(hi[c]);
+  }
+  *out = r;
+  return true;
 }
 
 }  // namespace hdrc::ref

@@ -3,10 +3,12 @@
 // lookup into it (PostProcessTonemap.usf: ColorLookupTable, spec §6.1 step 7).
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "core/shader_interface.h"
 #include "reference/aces/aces_output.h"
+#include "reference/color/noise_range.h"
 #include "reference/color/ue_matrices.h"
 #include "reference/color/vec.h"
 #include "reference/grading/color_correct.h"
@@ -38,6 +40,20 @@ aces::AcesShaderParams aces_params(const ParamBlock& p);
 Vec3 combine_luts_texel(const ParamBlock& p, const Vec3& lattice,
                         CombineLutsTrace* trace = nullptr);
 
+// What a texel's stored value (OutDeviceColor / 1.05) may be in a correct float32 evaluation where
+// float32 cannot decide it (reference/color/noise_range.h): a channel within float32 noise of zero
+// at FilmColor's pow (devices 0-2), device 2's explicit-gamma pow or the PQ encode (devices 3-7).
+// Not ambiguous: the point value alone.
+struct TexelRange {
+  Range3 range;
+  bool ambiguous = false;
+};
+
+// The range from the texel's values before those steps: `film` (FilmColorNoGamma after the fade,
+// devices 0-2) and `pq_in` (LinearToST2084's input, devices 3-7; the other is ignored).
+TexelRange stored_range(const ParamBlock& p, const grading::InverseGamma& inverse_gamma,
+                        const Vec3& film, const Vec3& pq_in);
+
 // combine_luts_texel without a trace, with everything that depends on the parameters alone
 // (colour-correction zones, working colour space, fade, film and ACES parameters) unpacked once,
 // and only the device's own path evaluated (the SDR film path is skipped on HDR and linear
@@ -47,7 +63,8 @@ Vec3 combine_luts_texel(const ParamBlock& p, const Vec3& lattice,
 class TexelEvaluator {
  public:
   explicit TexelEvaluator(const ParamBlock& p);
-  Vec3 operator()(const Vec3& lattice) const;
+  // range: also the stored value's admissible range (TexelRange).
+  Vec3 operator()(const Vec3& lattice, TexelRange* range = nullptr) const;
 
  private:
   ParamBlock p_;
@@ -70,9 +87,15 @@ struct BakedLut {
   int size = 0;
   int layout = 0;  // 0 volume, 1 2-D unwrapped
   std::vector<Vec3> texels;
-  const Vec3& at(int r, int g, int b) const {
-    return texels[(static_cast<size_t>(b) * size + g) * size + r];
-  }
+  // The texels float32 cannot decide (TexelRange), after quantisation: per texel the bounds of the
+  // stored value and a flags byte (bit c: NaN may be stored in channel c; kAmbiguous: the texel is
+  // ambiguous). All three empty when no texel is.
+  static constexpr uint8_t kAmbiguous = 0x80;
+  std::vector<Vec3> lo, hi;
+  std::vector<uint8_t> flags;
+  const Vec3& at(int r, int g, int b) const { return texels[index(r, g, b)]; }
+  size_t index(int r, int g, int b) const { return (static_cast<size_t>(b) * size + g) * size + r; }
+  bool has_ranges() const { return !flags.empty(); }
 };
 
 // Bakes the LUT as the GPU does: volume texels at (i, j, k)/(N−1); 2-D texels with UE's
@@ -86,5 +109,10 @@ Vec3 lattice_coordinate(int layout, int size, int r, int g, int b);
 // UVW = enc·(N−1)/N + 0.5/N, exact trilinear for the volume LUT or UE's two-tap
 // UnwrappedTexture3DSample for the 2-D LUT, clamp-to-edge addressing; returns the sample × 1.05.
 Vec3 sample_lut(const BakedLut& lut, const Vec3& encoded);
+
+// The same lookup over the LUT's admissible ranges (BakedLut::lo/hi, the same taps and weights:
+// a convex combination keeps the bounds); NaN is admissible where any tap may hold it. Returns
+// false (and leaves *out alone) when no tap is ambiguous.
+bool sample_lut_range(const BakedLut& lut, const Vec3& encoded, Range3* out);
 
 }  // namespace hdrc::ref

@@ -155,3 +155,91 @@ TEST(CombineLuts, GreyRampPropertiesOnEveryDeviceAndGamut) {
 }
 
 }  // namespace
+
+// Admissible ranges (reference/color/noise_range.h), values derived by hand.
+TEST(NoiseRange, WidensOnlyChannelsWithinTheNoiseOfZero) {
+  using hdrc::ref::kShaderNoise;
+  hdrc::ref::Range3 r = hdrc::ref::Range3::point({1000.0, 0.01, 5.0});
+  EXPECT_TRUE(hdrc::ref::widen_near_zero({1000.0, 0.01, 5.0}, kShaderNoise, &r));
+  const double e = kShaderNoise * 1000.0;  // 0.0305
+  EXPECT_DOUBLE_EQ(r.lo[1], 0.01 - e);
+  EXPECT_DOUBLE_EQ(r.hi[1], 0.01 + e);
+  EXPECT_EQ(r.lo[2], 5.0);  // 5 > e: not widened
+  EXPECT_EQ(r.hi[2], 5.0);
+  // PQ is NaN below zero: the negative part becomes an admissible NaN, the rest [PQ(0), PQ(hi)].
+  const auto pq = hdrc::ref::map_nonnegative(
+      r, [](double v) { return v < 0 ? std::nan("") : hdrc::ref::st2084::pq_from_nits(v); });
+  EXPECT_TRUE(pq.nan[1]);
+  EXPECT_FALSE(pq.nan[0]);
+  EXPECT_DOUBLE_EQ(pq.lo[1], hdrc::ref::st2084::pq_from_nits(0.0));
+  EXPECT_DOUBLE_EQ(pq.hi[1], hdrc::ref::st2084::pq_from_nits(0.01 + e));
+  // A matrix with a negative coefficient swaps the bounds it multiplies; NaN reaches every row
+  // with a non-zero coefficient on the channel.
+  const hdrc::ref::Mat3 m{{1, -2, 0, 0, 1, 0, 0, 0, 1}};
+  const auto mr = hdrc::ref::apply_matrix(m, r);
+  EXPECT_DOUBLE_EQ(mr.lo[0], 1000.0 - 2 * (0.01 + e));
+  EXPECT_DOUBLE_EQ(mr.hi[0], 1000.0 - 2 * (0.01 - e));
+  const auto mn = hdrc::ref::apply_matrix(m, pq);
+  EXPECT_TRUE(mn.nan[0] && mn.nan[1] && !mn.nan[2]);
+  // An all-zero colour has no noise scale: nothing is widened.
+  hdrc::ref::Range3 z = hdrc::ref::Range3::point({0, 0, 0});
+  EXPECT_FALSE(hdrc::ref::widen_near_zero({0, 0, 0}, kShaderNoise, &z));
+}
+
+TEST(NoiseRange, RoundingBoundaryAdmitsBothNeighbours) {
+  // 10-bit: 100.5 / 1023 lies on the boundary between codes 100 and 101.
+  const double v = 100.5 / 1023.0;
+  hdrc::ref::Range3 r = hdrc::ref::Range3::point({v, 0.9, 0.9});
+  EXPECT_TRUE(
+      hdrc::ref::widen_near_rounding_boundary({v, 0.9, 0.9}, 1023.0, hdrc::ref::kShaderNoise, &r));
+  EXPECT_EQ(hdrc::ref::quantize_lut_value(0, r.lo[0]), 100.0 / 1023.0);
+  EXPECT_EQ(hdrc::ref::quantize_lut_value(0, r.hi[0]), 101.0 / 1023.0);
+  EXPECT_EQ(r.lo[1], 0.9);  // 920.7 codes: 0.2 codes from a boundary, far beyond the noise
+  EXPECT_EQ(r.hi[1], 0.9);
+  hdrc::ref::Range3 far = hdrc::ref::Range3::point({100.2 / 1023.0, 0.9, 0.9});
+  EXPECT_FALSE(hdrc::ref::widen_near_rounding_boundary({100.2 / 1023.0, 0.9, 0.9}, 1023.0,
+                                                       hdrc::ref::kShaderNoise, &far));
+}
+
+// Device 7 (PQ of linear output) at the black lattice corner of a wide-gamut working space: the
+// float LUT's ambiguous texels admit NaN, the UNORM LUT's admit 0 (NaN stored as 0); every texel's
+// stored value lies in its range, and sampling at a lattice point gives that texel's range.
+TEST(CombineLuts, AmbiguousTexelsCarryTheirAdmissibleRange) {
+  for (int format : {0, 2}) {
+    const auto lut = hdrc::ref::bake_lut(lut_params(7, 0, 16, format, 0));
+    ASSERT_TRUE(lut.has_ranges()) << format;
+    size_t ambiguous = 0, nan_ok = 0;
+    for (size_t i = 0; i < lut.texels.size(); ++i) {
+      for (int c = 0; c < 3; ++c) {
+        const double v = lut.texels[i][c];
+        if (std::isnan(v)) {
+          EXPECT_TRUE(lut.flags[i] & (1u << c));
+          continue;
+        }
+        EXPECT_LE(lut.lo[i][c], v) << i;
+        EXPECT_GE(lut.hi[i][c], v) << i;
+        if (lut.flags[i] & (1u << c)) ++nan_ok;
+      }
+      if (lut.flags[i] & hdrc::ref::BakedLut::kAmbiguous) ++ambiguous;
+    }
+    EXPECT_GT(ambiguous, 0u);
+    if (format == 0) {
+      EXPECT_EQ(nan_ok, 0u);  // UNORM stores no NaN
+    }
+    // At a lattice point the sample is the texel itself (× 1.05).
+    for (size_t i = 0; i < lut.texels.size(); ++i) {
+      if (!(lut.flags[i] & hdrc::ref::BakedLut::kAmbiguous)) continue;
+      const int n = lut.size, r = static_cast<int>(i % n), g = static_cast<int>(i / n % n),
+                b = static_cast<int>(i / n / n);
+      hdrc::ref::Range3 s;
+      ASSERT_TRUE(
+          hdrc::ref::sample_lut_range(lut, {r / (n - 1.0), g / (n - 1.0), b / (n - 1.0)}, &s));
+      for (int c = 0; c < 3; ++c) {
+        if (std::isnan(lut.lo[i][c])) continue;
+        EXPECT_NEAR(s.lo[c], lut.lo[i][c] * 1.05, 1e-12);
+        EXPECT_NEAR(s.hi[c], lut.hi[i][c] * 1.05, 1e-12);
+      }
+      break;
+    }
+  }
+}

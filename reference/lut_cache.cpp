@@ -71,6 +71,7 @@ Cache& cache() {
 
 size_t lut_bytes(const ParamBlock& p) {
   const size_t n = p.lut_size > 0 ? static_cast<size_t>(p.lut_size) : 0;
+  // The texels; a LUT with admissible ranges (BakedLut::lo/hi/flags) is recounted once baked.
   return n * n * n * sizeof(Vec3);
 }
 
@@ -122,6 +123,14 @@ std::shared_ptr<const BakedLut> cached_bake_lut(const ParamBlock& p) {
   if (theirs.valid()) return theirs.get();  // waits while another thread bakes it
   try {
     auto lut = std::make_shared<const BakedLut>(bake_lut(p));
+    if (lut->has_ranges()) {  // its ranges count against the budget too
+      const size_t extra = lut->texels.size() * (2 * sizeof(Vec3) + sizeof(uint8_t));
+      std::lock_guard<std::mutex> lock(c.mu);
+      if (auto it = c.entries.find(key); it != c.entries.end()) {
+        it->second.bytes += extra;
+        c.bytes += extra;
+      }
+    }
     mine.set_value(lut);
     return lut;
   } catch (...) {

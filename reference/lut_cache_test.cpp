@@ -22,8 +22,11 @@ hdrc::ParamBlock params(int device) {
 }
 
 bool equal(const hdrc::ref::BakedLut& a, const hdrc::ref::BakedLut& b) {
-  return a.size == b.size && a.layout == b.layout &&
-         std::memcmp(a.texels.data(), b.texels.data(), a.texels.size() * sizeof a.texels[0]) == 0;
+  auto same = [](const auto& x, const auto& y) {
+    return x.size() == y.size() && std::memcmp(x.data(), y.data(), x.size() * sizeof x[0]) == 0;
+  };
+  return a.size == b.size && a.layout == b.layout && same(a.texels, b.texels) &&
+         same(a.lo, b.lo) && same(a.hi, b.hi) && same(a.flags, b.flags);
 }
 
 TEST(LutCache, BakesEachDistinctLutOnceAndSharesIt) {
@@ -42,7 +45,10 @@ TEST(LutCache, BakesEachDistinctLutOnceAndSharesIt) {
   EXPECT_EQ(s.bakes, 1u);
   EXPECT_EQ(s.hits, 1u);
   const size_t n = static_cast<size_t>(p.lut_size);
-  EXPECT_EQ(s.bytes, n * n * n * sizeof(hdrc::ref::Vec3));
+  // The texels, and the admissible ranges (lo, hi, flags) when the LUT has them.
+  const size_t per_texel =
+      sizeof(hdrc::ref::Vec3) + (a->has_ranges() ? 2 * sizeof(hdrc::ref::Vec3) + 1 : 0);
+  EXPECT_EQ(s.bytes, n * n * n * per_texel);
 }
 
 // Each field that reaches the bake changes the key, and the cached LUT is that field's bake.

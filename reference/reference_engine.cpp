@@ -71,6 +71,22 @@ Image lut_image(const BakedLut& lut) {
         o[2] = t[2];
         o[3] = 0.0;  // CombineLUTs writes alpha 0
       }
+  if (!lut.has_ranges()) return out;
+  // The texels float32 cannot decide, in the image's pixel order (row g, column r + N·b).
+  for (int g = 0; g < n; ++g)
+    for (int b = 0; b < n; ++b)
+      for (int r = 0; r < n; ++r) {
+        const size_t i = lut.index(r, g, b);
+        if (!(lut.flags[i] & BakedLut::kAmbiguous)) continue;
+        AdmissibleRange a;
+        a.pixel = static_cast<size_t>(g) * out.width + r + static_cast<size_t>(n) * b;
+        for (int c = 0; c < 3; ++c) {
+          a.lo[c] = lut.lo[i][c];
+          a.hi[c] = lut.hi[i][c];
+        }
+        a.nan_ok = lut.flags[i] & 0x7;
+        out.admissible.push_back(a);
+      }
   return out;
 }
 

@@ -15,18 +15,29 @@ namespace {
 
 constexpr double kAcesHdrYMin = 0.0001;  // UE_ACES_HDR_Y_MIN (TonemapCommon.ush)
 
+// range: where the LUT value float32 cannot decide (a texel's TexelRange), its admissible range
+// is written there and *ambiguous set; left alone otherwise.
 Vec3 lookup(const ParamBlock& p, const Vec3& final_linear, const BakedLut* lut, Vec3* encoded,
-            const TexelEvaluator* texel) {
+            const TexelEvaluator* texel, Range3* range = nullptr, bool* ambiguous = nullptr) {
   Vec3 e;
   for (int c = 0; c < 3; ++c) e[c] = lut_encode(p.output_device, final_linear[c]);
   if (encoded) *encoded = e;
-  if (lut) return sample_lut(*lut, e);
+  if (lut) {
+    if (range && sample_lut_range(*lut, e, range)) *ambiguous = true;
+    return sample_lut(*lut, e);
+  }
   Vec3 clamped;
   for (int c = 0; c < 3; ++c) {
     clamped[c] = d3d::clamp_address(e[c]);
     if (std::isnan(clamped[c])) return {d3d::kNaN, d3d::kNaN, d3d::kNaN};
   }
-  const Vec3 stored = texel ? (*texel)(clamped) : combine_luts_texel(p, clamped);
+  TexelRange texel_range;
+  const Vec3 stored =
+      texel ? (*texel)(clamped, range ? &texel_range : nullptr) : combine_luts_texel(p, clamped);
+  if (range && texel_range.ambiguous) {
+    *range = scale(texel_range.range, 1.05);
+    *ambiguous = true;
+  }
   return {stored[0] * 1.05, stored[1] * 1.05, stored[2] * 1.05};
 }
 
@@ -40,6 +51,27 @@ Vec3 post_convert(const ParamBlock& p, const Vec3& out_device) {
               st2084::nits_from_pq(out_device[2])};
     default:
       return out_device;
+  }
+}
+
+// post_convert over an admissible range: per-channel nondecreasing decodes, then (devices 5/6) a
+// matrix.
+Range3 post_convert_range(const ParamBlock& p, const Range3& r) {
+  switch (p.output_device) {
+    case 5:
+    case 6: {
+      const double max_nits = p.output_max_luminance;
+      const Range3 lin = map_nondecreasing(r, [max_nits](double pq) {
+        if (std::isnan(pq)) return pq;
+        const double nits = std::clamp(st2084::nits_from_pq(pq), kAcesHdrYMin, max_nits);
+        return (nits - kAcesHdrYMin) / (max_nits - kAcesHdrYMin);
+      });
+      return scale(apply_matrix(ap1_to_output_gamut(0), lin), max_nits / 80.0);
+    }
+    case 7:
+      return map_nondecreasing(r, [](double pq) { return st2084::nits_from_pq(pq); });
+    default:
+      return r;
   }
 }
 
@@ -166,13 +198,31 @@ Image tonemap_image(const ParamBlock& p, const Image& scene, const Image* bloom,
         for (int c = 0; c < 3; ++c) final_linear[c] += b[c] * (p.exposure * vignette);
       }
       // 7–9. LUT, luminance, per-device post conversion.
-      const Vec3 lut_out = lookup(p, final_linear, lut, nullptr, texel ? &*texel : nullptr);
+      Range3 range;
+      bool ambiguous = false;
+      const Vec3 lut_out =
+          lookup(p, final_linear, lut, nullptr, texel ? &*texel : nullptr, &range, &ambiguous);
       const Vec3 o = post_convert(p, lut_out);
       double* dst = out.px(x, y);
       dst[0] = o[0];
       dst[1] = o[1];
       dst[2] = o[2];
       dst[3] = lut_out[0] * 0.299 + lut_out[1] * 0.587 + lut_out[2] * 0.114;
+      if (ambiguous) {
+        const Range3 post = post_convert_range(p, range);
+        AdmissibleRange a;
+        a.pixel = static_cast<size_t>(y) * scene.width + x;
+        for (int c = 0; c < 3; ++c) {
+          a.lo[c] = post.lo[c];
+          a.hi[c] = post.hi[c];
+          if (post.nan[c]) a.nan_ok |= uint8_t(1u << c);
+        }
+        // Alpha: the luminance of the LUT value, non-negative weights.
+        a.lo[3] = range.lo[0] * 0.299 + range.lo[1] * 0.587 + range.lo[2] * 0.114;
+        a.hi[3] = range.hi[0] * 0.299 + range.hi[1] * 0.587 + range.hi[2] * 0.114;
+        if (range.nan[0] || range.nan[1] || range.nan[2]) a.nan_ok |= uint8_t(1u << 3);
+        out.admissible.push_back(a);
+      }
     }
   }
   return out;

@@ -584,7 +584,7 @@ TEST(Cli, PlantedAcesMatrixEntryFailsTheAcesDevices) {
                                          "lut/devices/dev4_gamut0", "lut/devices/dev4_gamut1"};
   EXPECT_EQ(failing, want) << out;
   EXPECT_NE(out.find("FAIL  lut/devices/dev3_gamut0  linear_abs 0.00196 over its hard cap 0.00098 "
-                     "at lattice (r 5, g 0, b 13) = pixel (213, 0) G"),
+                     "at lattice (r 11, g 3, b 13) = pixel (219, 3) G"),
             std::string::npos)
       << out;
 }

@@ -360,6 +360,25 @@ std::string nonfinite_rule(StageId stage, int device, const PixelRef& p) {
   return "";
 }
 
+size_t resolve_admissible(const AdmissibleRange& range, const double* reference,
+                          const double* candidate, double* out) {
+  size_t changed = 0;
+  for (int ch = 0; ch < Image::kChannels; ++ch) {
+    const double r = reference[ch], c = candidate[ch];
+    const double lo = range.lo[static_cast<size_t>(ch)], hi = range.hi[static_cast<size_t>(ch)];
+    double v = r;
+    if (std::isnan(c)) {
+      if (range.nan_ok & (1u << ch)) v = c;
+    } else if (lo <= hi) {  // false for a NaN bound: the point value alone
+      v = std::clamp(c, lo, hi);
+    }
+    const bool same = std::isnan(v) ? std::isnan(r) : v == r;
+    if (!same) ++changed;
+    out[ch] = v;
+  }
+  return changed;
+}
+
 DiffStats diff_images(const Image& input, const Image& reference, const Image& candidate,
                       const OutputEncoding& enc, const Tolerance& tol) {
   DiffStats s;
@@ -373,10 +392,30 @@ DiffStats diff_images(const Image& input, const Image& reference, const Image& c
                                reference.width == reference.height * reference.height
                            ? reference.height
                            : 0;
+  // The reference's admissible ranges (core/image.h), in pixel order: the candidate is judged
+  // against the nearest admissible value.
+  auto next_range = reference.admissible.begin();
+  double resolved[Image::kChannels];
   for (int y = 0; y < reference.height; ++y) {
     for (int x = 0; x < reference.width; ++x) {
       const double* r = reference.px(x, y);
       const double* c = candidate.px(x, y);
+      const size_t index = static_cast<size_t>(y) * reference.width + x;
+      while (next_range != reference.admissible.end() && next_range->pixel < index) ++next_range;
+      if (next_range != reference.admissible.end() && next_range->pixel == index) {
+        const size_t changed = resolve_admissible(*next_range, r, c, resolved);
+        if (changed > 0 && s.admissible == 0) {
+          s.first_admissible.x = x;
+          s.first_admissible.y = y;
+          s.first_admissible.lut_size = lut_size;
+          for (int ch = 0; ch < 3; ++ch) {
+            s.first_admissible.reference_rgb[ch] = r[ch];
+            s.first_admissible.candidate_rgb[ch] = c[ch];
+          }
+        }
+        s.admissible += changed;
+        r = resolved;
+      }
       const double* in = has_input ? input.px(x, y) : nullptr;
       ++s.pixels;
       // The pixel's largest |nits| over the finite colour values of both sides: the scale of the
@@ -544,12 +583,18 @@ Verdict judge(const DiffStats& s, const Tolerance& tol, bool pins_nonfinite) {
   }
   // A case that compares nothing cannot fail: not a PASS (docs/diff-metrics.md).
   const size_t colour_values = 3 * s.pixels;
-  const std::string boundary =
-      s.nonfinite.sign_boundary == 0
-          ? ""
-          : std::string("; ") + std::to_string(s.nonfinite.sign_boundary) +
-                " NaN vs zero within float32 noise (sign boundary), first at " +
-                describe_pixel(s.nonfinite.first_sign_boundary);
+  std::string boundary = s.nonfinite.sign_boundary == 0
+                             ? ""
+                             : std::string("; ") + std::to_string(s.nonfinite.sign_boundary) +
+                                   " NaN vs zero within float32 noise (sign boundary), first at " +
+                                   describe_pixel(s.nonfinite.first_sign_boundary);
+  if (s.admissible > 0)
+    boundary += "; " + std::to_string(s.admissible) +
+                " values judged against the reference's admissible range (a sign or a rounding "
+                "float32 cannot "
+                "decide), first at pixel (" +
+                std::to_string(s.first_admissible.x) + ", " + std::to_string(s.first_admissible.y) +
+                ")";
   if (pins_nonfinite && s.nonfinite.consistent == 0) {
     v.error = true;
     v.reason = "the case pins non-finite behaviour, but no value is non-finite on both sides";

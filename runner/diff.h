@@ -102,12 +102,16 @@ struct NonFiniteCensus {
 
 // The float32 noise bound of a pixel, relative to its largest |nits|: 2^-20, 16 float32 ulps
 // (2^-24). It bounds the sign-boundary rule and is the PQ metric's floor.
-inline constexpr double kSignBoundaryNoise = 1.0 / 1048576.0;
+inline constexpr double kSignBoundaryNoise = kFloat32Noise;  // core/image.h
 
 struct DiffStats {
   size_t pixels = 0;  // pixels compared
   size_t values = 0;  // colour values finite on both sides
   NonFiniteCensus nonfinite;
+  // Reference values replaced by the nearest value of their admissible range (core/image.h,
+  // AdmissibleRange) because the candidate's lay elsewhere in it; the first such pixel.
+  size_t admissible = 0;
+  PixelRef first_admissible;
   std::array<MetricStats, kMetricCount> metric;
   std::array<std::array<MetricStats, kMetricCount>, kBandCount> band;
   std::array<size_t, kBandCount> band_pixels{};
@@ -123,7 +127,14 @@ struct DiffStats {
   PixelRef worst_rel;
 };
 
-// The images must have the same size (checked by the caller).
+// One pixel of the reference resolved against its admissible range: per channel the candidate's
+// value clamped into [lo, hi], NaN where the candidate is NaN and NaN is admissible, else the
+// reference's own value. Writes 4 values to `out`; returns how many differ from the reference's.
+size_t resolve_admissible(const AdmissibleRange& range, const double* reference,
+                          const double* candidate, double* out);
+
+// The images must have the same size (checked by the caller). Where the reference has admissible
+// ranges, the candidate is compared with resolve_admissible's values.
 DiffStats diff_images(const Image& input, const Image& reference, const Image& candidate,
                       const OutputEncoding& encoding, const Tolerance& tol);
 

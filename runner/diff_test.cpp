@@ -489,3 +489,42 @@ TEST(Diff, CouldBeTightenedCountsFractionAndHardCap) {
   EXPECT_FALSE(v.could_be_tightened);
   EXPECT_NEAR(v.budget_used, 9e-4 / 9.8e-4, 1e-6);
 }
+
+// Admissible ranges (core/image.h): a candidate anywhere in the range is judged against itself,
+// one outside against the nearest bound, NaN only where admitted; a planted error beyond the
+// range still fails.
+TEST(Diff, AdmissibleRangeJudgesAgainstTheNearestAdmissibleValue) {
+  hdrc::Image in = grey(3, 0.5), ref = grey(3, 0.5), cand = grey(3, 0.5);
+  hdrc::AdmissibleRange a;
+  a.pixel = 1;
+  a.lo = {0.5, 0.0, 0.5, 1.0};
+  a.hi = {0.5, 0.1, 0.5, 1.0};
+  a.nan_ok = 1u << 2;
+  ref.px(1, 0)[1] = 0.05;
+  ref.admissible = {a};
+  cand.px(1, 0)[1] = 0.0;   // in the range: exact
+  cand.px(1, 0)[2] = kNaN;  // admitted
+  auto s = hdrc::diff_images(in, ref, cand, kShaper, tol(1e-6, 1e-6, 10));
+  EXPECT_EQ(s.admissible, 2u);
+  EXPECT_EQ(s[Metric::kLinearAbs].max, 0.0);
+  EXPECT_EQ(s.nonfinite.mismatch, 0u);
+  EXPECT_TRUE(hdrc::judge(s, tol(1e-6, 1e-6, 10)).pass);
+  EXPECT_NE(hdrc::judge(s, tol(1e-6, 1e-6, 10)).reason.find("admissible range"), std::string::npos);
+  // 0.3 is 0.2 beyond the range's top: judged against 0.1.
+  cand.px(1, 0)[1] = 0.3;
+  cand.px(1, 0)[2] = 0.5;
+  s = hdrc::diff_images(in, ref, cand, kShaper, tol(1e-6, 1e-6, 10));
+  EXPECT_NEAR(s[Metric::kLinearAbs].max, 0.2, 1e-15);
+  EXPECT_FALSE(hdrc::judge(s, tol(1e-6, 1e-6, 10)).pass);
+  // NaN where the range does not admit it is a mismatch; so is any value on another pixel.
+  cand.px(1, 0)[1] = 0.05;
+  cand.px(1, 0)[0] = kNaN;
+  s = hdrc::diff_images(in, ref, cand, kShaper, tol(1e-6, 1e-6, 10));
+  EXPECT_EQ(s.nonfinite.mismatch, 1u);
+  cand = grey(3, 0.5);
+  cand.px(1, 0)[1] = 0.05;
+  cand.px(2, 0)[1] = 0.05;
+  s = hdrc::diff_images(in, ref, cand, kShaper, tol(1e-6, 1e-6, 10));
+  EXPECT_FALSE(hdrc::judge(s, tol(1e-6, 1e-6, 10)).pass);
+  EXPECT_EQ(s[Metric::kLinearAbs].worst.x, 2);
+}

@@ -110,6 +110,7 @@ json case_json(const CaseResult& c, const RunReport& r) {
     }
     stats = {{"pixels", s.pixels},
              {"values", s.values},
+             {"admissible", s.admissible},
              {"overall", metrics_of(s.metric)},
              {"bands", bands}};
     nonfinite = {{"reference", census_side(s.nonfinite.reference)},
