@@ -244,6 +244,7 @@ Vec3 TexelEvaluator::operator()(const Vec3& lattice, TexelRange* range) const {
                          : d <= 4 ? to_output * t.aces_nits
                                   : t.aces_nits;
       *range = stored_range(p, inverse_gamma_, t.film, pq_in);
+      if (range->ambiguous) range->range.include(stored);
     }
     return stored;
   }
@@ -297,6 +298,7 @@ Vec3 TexelEvaluator::operator()(const Vec3& lattice, TexelRange* range) const {
     }
   }
   for (int c = 0; c < 3; ++c) out[c] /= kLutScale;
+  if (range && range->ambiguous) range->range.include(out);
   return out;
 }
 

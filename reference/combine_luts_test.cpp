@@ -201,6 +201,28 @@ TEST(NoiseRange, RoundingBoundaryAdmitsBothNeighbours) {
                                                        hdrc::ref::kShaderNoise, &far));
 }
 
+// Every stored texel is a value of its storage format: RGBA32F texels are float32 values, RGBA16F
+// texels half values, UNORM texels k/1023. GCC 12's SLP vectoriser dropped the float round trip of
+// two channels at -O3 (CMakeLists.txt, -fno-tree-slp-vectorize); this is the test that saw it.
+TEST(CombineLuts, StoredTexelsAreValuesOfTheirFormat) {
+  for (int device : {0, 3, 7, 8}) {
+    for (int format : {0, 1, 2}) {
+      const auto lut = hdrc::ref::bake_lut(lut_params(device, 2, 16, format, 0));
+      size_t wrong = 0;
+      for (const auto& t : lut.texels)
+        for (int c = 0; c < 3; ++c) {
+          const double v = t[c];
+          if (std::isnan(v)) continue;
+          const bool ok = format == 0   ? std::nearbyint(v * 1023.0) == v * 1023.0
+                          : format == 1 ? hdrc::ref::quantize_lut_value(1, v) == v
+                                        : static_cast<double>(static_cast<float>(v)) == v;
+          if (!ok) ++wrong;
+        }
+      EXPECT_EQ(wrong, 0u) << "device " << device << " format " << format;
+    }
+  }
+}
+
 // Device 7 (PQ of linear output) at the black lattice corner of a wide-gamut working space: the
 // float LUT's ambiguous texels admit NaN, the UNORM LUT's admit 0 (NaN stored as 0); every texel's
 // stored value lies in its range, and sampling at a lattice point gives that texel's range.

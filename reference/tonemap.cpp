@@ -209,7 +209,9 @@ Image tonemap_image(const ParamBlock& p, const Image& scene, const Image* bloom,
       dst[2] = o[2];
       dst[3] = lut_out[0] * 0.299 + lut_out[1] * 0.587 + lut_out[2] * 0.114;
       if (ambiguous) {
-        const Range3 post = post_convert_range(p, range);
+        Range3 post = post_convert_range(p, range);
+        post.include(o);  // the reference's own value, whatever path rounded the end points
+        range.include(lut_out);
         AdmissibleRange a;
         a.pixel = static_cast<size_t>(y) * scene.width + x;
         for (int c = 0; c < 3; ++c) {

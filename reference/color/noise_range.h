@@ -38,6 +38,19 @@ struct Range3 {
     for (int c = 0; c < 3; ++c) r.nan[c] = std::isnan(v[c]);
     return r;
   }
+  // Extends the range to admit `v` itself. The reference's own value is admissible by definition;
+  // the interval end points are computed along another path (e.g. st2084::pq_from_nits rather than
+  // the texel's pq_encode), which may round one ulp the other way, differently at -O0 and -O3.
+  void include(const Vec3& v) {
+    for (int c = 0; c < 3; ++c) {
+      if (std::isnan(v[c])) {
+        nan[c] = true;
+        continue;
+      }
+      lo[c] = std::isnan(lo[c]) ? v[c] : std::fmin(lo[c], v[c]);
+      hi[c] = std::isnan(hi[c]) ? v[c] : std::fmax(hi[c], v[c]);
+    }
+  }
   // Whether the range admits anything besides the point value `v`.
   bool wider_than(const Vec3& v) const {
     for (int c = 0; c < 3; ++c) {
