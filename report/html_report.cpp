@@ -1114,7 +1114,8 @@ Result<report::ReportInfo> write_report(const std::string& results_dir) {
   b.results_dir = results_dir;
   const fs::path results = b.results_dir / "results.json";
   {
-    auto doc = read_json_file<json>(results.string(), "results file (run `hdrconform run` first)");
+    auto doc = read_json_file<json>(results.string(), "results file (run `hdrconform run` first)",
+                                    kMaxResultsFileBytes);
     if (!doc) return doc.error();
     b.doc = std::move(*doc);
   }

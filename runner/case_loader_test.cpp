@@ -120,7 +120,7 @@ const BadCase kBadCases[] = {
      R"({"stage": "shaper", "input": {"stimulus": "log_ramp"}, "tolerance": "shaper_qp"})",
      "t.json: /tolerance: unknown tolerance set \"shaper_qp\", did you mean 'shaper_pq'? (sets are "
      "defined in CASES/defaults.json: /tolerances); valid choices: combine_luts, "
-     "combine_luts_storage, dither, "
+     "combine_luts_storage, combine_luts_storage_linear, dither, "
      "linear_dev7, linear_dev8, shaper_log, shaper_pq, tonemap, ui_composite, visualize_hdr"},
     {"unknown_preset",
      R"({"stage": "shaper", "preset": "hdr01", "input": {"stimulus": "log_ramp"}})",

@@ -13,6 +13,10 @@
 namespace hdrc {
 
 inline constexpr size_t kMaxJsonFileBytes = size_t{64} << 20;  // 64 MiB
+// results.json, which a run writes itself at about 10 KB per case: the exhaustive tier's 7,090
+// cases write 73 MB. 256 MiB holds 3.5 times that; parsing it takes about 10 bytes of memory per
+// byte of text.
+inline constexpr size_t kMaxResultsFileBytes = size_t{256} << 20;  // 256 MiB
 inline constexpr int kMaxJsonDepth = 100;  // nested arrays/objects; our formats need under 10
 
 // Reads a whole input file: it must be a regular file (not a FIFO, device or folder) of at most
@@ -39,8 +43,9 @@ Result<J> parse_json_text(const std::string& file, const std::string& text) {
 
 // read_bounded_file + parse_json_text.
 template <class J>
-Result<J> read_json_file(const std::string& path, const std::string& what = "JSON file") {
-  auto text = read_bounded_file(path, kMaxJsonFileBytes, what);
+Result<J> read_json_file(const std::string& path, const std::string& what = "JSON file",
+                         size_t max_bytes = kMaxJsonFileBytes) {
+  auto text = read_bounded_file(path, max_bytes, what);
   if (!text) return text.error();
   return parse_json_text<J>(path, *text);
 }

@@ -111,7 +111,7 @@ Status adopt_legacy(const fs::path& out) {
     legacy.push_back(p);
   }
   if (legacy.empty()) return {};
-  auto results = read_bounded_file((out / "results.json").string(), kMaxJsonFileBytes, "file");
+  auto results = read_bounded_file((out / "results.json").string(), kMaxResultsFileBytes, "file");
   const bool ours = results && results->find("\"tool\": \"hdrconform\"") != std::string::npos &&
                     !fs::is_symlink(fs::symlink_status(out / "results.json", ec));
   if (!ours)

@@ -348,19 +348,13 @@ std::string junit_xml(const RunReport& r) {
 }
 
 Result<nlohmann::ordered_json> read_results_json(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f) return Error{path, "", "cannot read", "a results.json written by `hdrconform run`"};
-  std::stringstream ss;
-  ss << f.rdbuf();
-  try {
-    json doc = json::parse(ss.str());
-    if (!doc.is_object() || !doc.contains("cases") || !doc["cases"].is_array())
-      return Error{path, "/cases", "missing or not an array",
-                   "a results.json (results.schema.json)"};
-    return doc;
-  } catch (const json::exception& e) {
-    return Error{path, "", std::string("not valid JSON: ") + e.what(), ""};
-  }
+  // Bounded like every JSON input (runner/json_read.h): size and nesting before parsing.
+  auto doc = read_json_file<json>(path, "results file (a results.json written by `hdrconform run`)",
+                                  kMaxResultsFileBytes);
+  if (!doc) return doc.error();
+  if (!doc->is_object() || !doc->contains("cases") || !(*doc)["cases"].is_array())
+    return Error{path, "/cases", "missing or not an array", "a results.json (results.schema.json)"};
+  return std::move(*doc);
 }
 
 Status record_goldens(nlohmann::ordered_json& doc, const std::string& out_dir) {

@@ -125,7 +125,7 @@ Status use_shard_timings(const std::string& path, const std::string& out_dir) {
   ShardTimings t;
   if (!file.empty()) {
     // Bounded like every JSON input (runner/json_read.h): size and nesting checked before parsing.
-    auto text = read_bounded_file(file, kMaxJsonFileBytes, "timings (a results.json)");
+    auto text = read_bounded_file(file, kMaxResultsFileBytes, "timings (a results.json)");
     if (!text) {
       if (!path.empty()) return text.error();
       return {};  // an unreadable results.json left in --out: static costs
