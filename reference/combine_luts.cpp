@@ -206,10 +206,31 @@ TexelRange stored_range(const ParamBlock& p, const grading::InverseGamma& invers
     }
     ambiguous = true;
   } else if (device <= 7) {
-    // LinearToST2084: NaN below 0, steep above.
-    r = Range3::point(pq_in);
-    ambiguous = widen_near_zero(pq_in, kShaderNoise, &r);
-    r = map_nonnegative(r, [](double v) { return st2084::pq_from_nits(v); });
+    // LinearToST2084: NaN below 0, and steep for a channel much darker than its pixel's brightest.
+    // Every channel carries the same absolute noise e = kShaderNoise x max|channel| into the PQ
+    // encode, whose slope grows without bound towards 0: a channel a thousandth of its pixel's
+    // brightest moves by codes where the brightest moves by a hundredth of one. A channel is
+    // undecided when its PQ interval [pq(x - e), pq(x + e)] admits NaN (x within e of zero), is
+    // wider than a quarter of a 10-bit PQ code, or (10-bit UNORM storage) straddles a rounding
+    // boundary (docs/diff-metrics.md, "Admissible ranges").
+    Range3 all = Range3::point(pq_in);
+    ambiguous = widen_noise(pq_in, kShaderNoise, &all);
+    if (ambiguous) {
+      const Range3 pq = map_nonnegative(all, [](double v) { return st2084::pq_from_nits(v); });
+      r = Range3::point({st2084::pq_from_nits(pq_in[0]), st2084::pq_from_nits(pq_in[1]),
+                         st2084::pq_from_nits(pq_in[2])});
+      ambiguous = false;
+      for (int c = 0; c < 3; ++c) {
+        const bool straddles = p.lut_format == 0 && !pq.nan[c] &&
+                               std::nearbyint(pq.lo[c] / kLutScale * 1023.0) !=
+                                   std::nearbyint(pq.hi[c] / kLutScale * 1023.0);
+        if (!(pq.nan[c] || pq.hi[c] - pq.lo[c] > kUndecidedPqWidth || straddles)) continue;
+        r.lo[c] = pq.lo[c];
+        r.hi[c] = pq.hi[c];
+        r.nan[c] = pq.nan[c];
+        ambiguous = true;
+      }
+    }
   }
   if (!ambiguous) return t;
   t.range = scale(r, 1.0 / kLutScale);

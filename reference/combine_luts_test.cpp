@@ -201,6 +201,30 @@ TEST(NoiseRange, RoundingBoundaryAdmitsBothNeighbours) {
                                                        hdrc::ref::kShaderNoise, &far));
 }
 
+// A dark channel of a bright texel on the PQ path carries the noise of its texel's brightest
+// channel through PQ's steep foot. Device 3 (1000-nit ACES, sRGB), 64^3 10-bit UNORM, lattice
+// (20, 40, 41): lavapipe stored R as code 34 where the reference stores 36 (measured in the
+// exhaustive tier, 2026-11-24); the range admits both. G and B (about 300 nits) stay exact.
+TEST(CombineLuts, DarkChannelOfABrightTexelCarriesTheTexelsNoiseThroughPq) {
+  const auto lut = hdrc::ref::bake_lut(lut_params(3, 0, 64, 0, 0));
+  ASSERT_TRUE(lut.has_ranges());
+  const size_t i = lut.index(20, 40, 41);
+  EXPECT_EQ(lut.texels[i][0], 36.0 / 1023.0);
+  ASSERT_TRUE(lut.flags[i] & hdrc::ref::BakedLut::kAmbiguous);
+  EXPECT_LE(lut.lo[i][0], 34.0 / 1023.0);
+  EXPECT_GE(lut.hi[i][0], 36.0 / 1023.0);
+  EXPECT_EQ(lut.lo[i][1], lut.texels[i][1]);
+  EXPECT_EQ(lut.hi[i][1], lut.texels[i][1]);
+  // widen_noise: every finite channel by noise x the largest |channel|.
+  hdrc::ref::Range3 r = hdrc::ref::Range3::point({300.0, 0.03, -250.0});
+  ASSERT_TRUE(hdrc::ref::widen_noise({300.0, 0.03, -250.0}, 0.001, &r));
+  EXPECT_DOUBLE_EQ(r.lo[0], 299.7);
+  EXPECT_DOUBLE_EQ(r.hi[1], 0.33);
+  EXPECT_DOUBLE_EQ(r.lo[2], -250.3);
+  hdrc::ref::Range3 z = hdrc::ref::Range3::point({0, 0, 0});
+  EXPECT_FALSE(hdrc::ref::widen_noise({0, 0, 0}, 0.001, &z));
+}
+
 // Every stored texel is a value of its storage format: RGBA32F texels are float32 values, RGBA16F
 // texels half values, UNORM texels k/1023. GCC 12's SLP vectoriser dropped the float round trip of
 // two channels at -O3 (CMakeLists.txt, -fno-tree-slp-vectorize); this is the test that saw it.

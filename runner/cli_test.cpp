@@ -571,19 +571,23 @@ std::vector<std::string> failing_with_planted_constant(const std::string& lib_fi
   return failing;
 }
 
-// One ACES matrix entry changed in its 5th decimal (AP0_2_AP1_MAT row 2, 1.1762296998 →
-// 1.1762396998, where the RRT reads it; the literal itself comes from the generated interface):
+// One ACES matrix entry changed in its 4th decimal (AP0_2_AP1_MAT row 2, 1.1762296998 →
+// 1.1763296998, where the RRT reads it; the literal itself comes from the generated interface):
 // the HDR10/ACES devices 3 and 4 fail in the narrow output gamuts (sRGB, P3), where the change
-// moves stored texels by 2 10-bit codes; the located texel is named.
+// moves stored texels by 8 and 23 10-bit codes; the located texel is named. A 5th-decimal change
+// (8.5e-6 relative) is below the float32 noise a dark channel of a bright texel carries into PQ
+// (kShaderNoise, 2^-15 of the texel's largest channel: lavapipe itself moves such channels by 2
+// codes), so the stored LUT cannot tell it from noise there; it is caught per pixel against the
+// reference by gpu/aces_shader_test.cpp (PlantedDefectsAreCaughtAndLocated).
 TEST(Cli, PlantedAcesMatrixEntryFailsTheAcesDevices) {
   std::string out;
   const auto failing = failing_with_planted_constant(
       "aces_rrt.glsl", "aces_mul(AP0_2_AP1_MAT, aces)",
-      "aces_mul(AP0_2_AP1_MAT + mat3(0.0, 0.0, 0.0, 0.0, 1e-5, 0.0, 0.0, 0.0, 0.0), aces)", &out);
+      "aces_mul(AP0_2_AP1_MAT + mat3(0.0, 0.0, 0.0, 0.0, 1e-4, 0.0, 0.0, 0.0, 0.0), aces)", &out);
   const std::vector<std::string> want = {"lut/devices/dev3_gamut0", "lut/devices/dev3_gamut1",
                                          "lut/devices/dev4_gamut0", "lut/devices/dev4_gamut1"};
   EXPECT_EQ(failing, want) << out;
-  EXPECT_NE(out.find("FAIL  lut/devices/dev3_gamut0  linear_abs 0.00196 over its hard cap 0.00098 "
+  EXPECT_NE(out.find("FAIL  lut/devices/dev3_gamut0  linear_abs 0.00782 over its hard cap 0.00098 "
                      "at lattice (r 11, g 3, b 13) = pixel (219, 3) G"),
             std::string::npos)
       << out;

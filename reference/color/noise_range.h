@@ -79,6 +79,26 @@ inline bool widen_near_zero(const Vec3& at, double noise, Range3* r) {
   return widened;
 }
 
+// Widens every finite channel of `at` to [v - e, v + e] in `r`, e = noise x max|finite channel|
+// (keeping what `r` already admits). Returns whether anything was widened (false for black).
+inline bool widen_noise(const Vec3& at, double noise, Range3* r) {
+  double scale = 0;
+  for (int c = 0; c < 3; ++c)
+    if (std::isfinite(at[c])) scale = std::fmax(scale, std::fabs(at[c]));
+  const double e = noise * scale;
+  if (!(e > 0)) return false;
+  for (int c = 0; c < 3; ++c) {
+    if (!std::isfinite(at[c])) continue;
+    r->lo[c] = std::fmin(r->lo[c], at[c] - e);
+    r->hi[c] = std::fmax(r->hi[c], at[c] + e);
+  }
+  return true;
+}
+
+// The width of a PQ signal interval from which a channel counts as undecided: a quarter of a
+// 10-bit code. Below it the noise is the uniform float32 noise the tolerances were measured with.
+inline constexpr double kUndecidedPqWidth = 0.25 / 1023.0;
+
 // Widens each finite channel of `at` within noise x max|finite channel| of a rounding
 // boundary (k + 1/2)/levels of a fixed-point quantisation to (k + 1/2 -+ 1/4)/levels, which
 // quantise to k and k + 1: either may be stored. Returns whether any channel was widened.
