@@ -7,13 +7,15 @@
 // and §5.1 step 1.
 //
 // Non-finite values follow D3D HLSL (reference/color/d3d_math.h): HLSL min/max are IEEE-754-2008
-// minNum/maxNum (a NaN operand yields the other operand), which is what std::fmin/std::fmax do;
-// comparisons with NaN are false; clamp(x, a, b) is min(max(x, a), b) and therefore maps NaN to a.
+// minNum/maxNum (a NaN operand yields the other operand), which is what std::fmin/std::fmax and
+// their inlined equivalents d3d::min_num/max_num do; comparisons with NaN are false; clamp(x, a,
+// b) is min(max(x, a), b) and therefore maps NaN to a.
 #pragma once
 
 #include <cmath>
 #include <numbers>
 
+#include "reference/color/d3d_math.h"
 #include "reference/color/vec.h"
 
 namespace hdrc::ref::aces {
@@ -29,9 +31,9 @@ inline constexpr double kRrtRedWidth = 135.0;  // RRT_RED_WIDTH, degrees
 // ACES.ush: rgb_2_saturation. (max(maxc, 1e-10) − max(minc, 1e-10)) / max(maxc, 0.01).
 // NaN channels are skipped by maxNum/minNum; all-NaN gives (1e-10 − 1e-10)/0.01 = 0.
 inline double rgb_2_saturation(const Vec3& rgb) {
-  const double minrgb = std::fmin(std::fmin(rgb[0], rgb[1]), rgb[2]);
-  const double maxrgb = std::fmax(std::fmax(rgb[0], rgb[1]), rgb[2]);
-  return (std::fmax(maxrgb, 1e-10) - std::fmax(minrgb, 1e-10)) / std::fmax(maxrgb, 1e-2);
+  const double minrgb = d3d::min_num(d3d::min_num(rgb[0], rgb[1]), rgb[2]);
+  const double maxrgb = d3d::max_num(d3d::max_num(rgb[0], rgb[1]), rgb[2]);
+  return (d3d::max_num(maxrgb, 1e-10) - d3d::max_num(minrgb, 1e-10)) / d3d::max_num(maxrgb, 1e-2);
 }
 
 // ACES.ush: rgb_2_yc, YC = (r + g + b + w·sqrt(b(b−g) + g(g−r) + r(r−b))) / 3, w = 1.75.
@@ -49,7 +51,7 @@ inline double hlsl_sign(double x) {
 
 // ACES.ush: sigmoid_shaper, a sigmoid from 0 to 1 spanning x in [−2, 2].
 inline double sigmoid_shaper(double x) {
-  const double t = std::fmax(1.0 - std::fabs(0.5 * x), 0.0);
+  const double t = d3d::max_num(1.0 - std::fabs(0.5 * x), 0.0);
   const double y = 1.0 + hlsl_sign(x) * (1.0 - t * t);
   return 0.5 * y;
 }
@@ -72,7 +74,7 @@ inline double rgb_2_hue(const Vec3& rgb) {
           std::atan2(std::sqrt(3.0) * (rgb[1] - rgb[2]), 2.0 * rgb[0] - rgb[1] - rgb[2]);
   }
   if (hue < 0.0) hue += 360.0;
-  return std::fmin(std::fmax(hue, 0.0), 360.0);
+  return d3d::min_num(d3d::max_num(hue, 0.0), 360.0);
 }
 
 // ACES.ush: center_hue, wraps hue − centre into [−180, 180].

@@ -21,11 +21,11 @@ constexpr Vec3 kCompressThreshold{0.815, 0.803, 0.880};
 constexpr double kCompressPower = 1.2;
 
 // HLSL clamp(x, lo, hi) = min(max(x, lo), hi) with maxNum/minNum: NaN → lo.
-double hlsl_clamp(double x, double lo, double hi) {
-  return std::fmin(std::fmax(x, lo), hi);
+inline double hlsl_clamp(double x, double lo, double hi) {
+  return d3d::min_num(d3d::max_num(x, lo), hi);
 }
 
-Vec3 hlsl_clamp(const Vec3& v, double lo, double hi) {
+inline Vec3 hlsl_clamp(const Vec3& v, double lo, double hi) {
   return {hlsl_clamp(v[0], lo, hi), hlsl_clamp(v[1], lo, hi), hlsl_clamp(v[2], lo, hi)};
 }
 
@@ -113,7 +113,7 @@ SstsLogs ssts_logs(const TsParams& c) {
 
 double ssts_logged(double x, const TsParams& c, const SstsLogs& l) {
   // max(x, 1e-10) is maxNum: NaN → 1e-10, i.e. NaN maps to Min.y like any x ≤ Min.x.
-  const double lx = std::log10(std::fmax(x, 1e-10));
+  const double lx = std::log10(d3d::max_num(x, 1e-10));
   double ly;
   if (lx <= l.min_x) {
     ly = lx * c.min.slope + l.min_icpt;
@@ -162,7 +162,7 @@ Vec3 rrt_sweeteners(const Vec3& in_value) {
 Vec3 compress_color(const Vec3& aces) {
   const Vec3 lin_ap1 = lit::kAp0ToAp1 * aces;
   // max_f3 is maxNum-based; comparisons with NaN are false, so a NaN `ach` does not bypass.
-  const double ach = std::fmax(lin_ap1[0], std::fmax(lin_ap1[1], lin_ap1[2]));
+  const double ach = d3d::max_num(lin_ap1[0], d3d::max_num(lin_ap1[1], lin_ap1[2]));
   Vec3 compr_lin_ap1 = lin_ap1;
   if (!(ach < 1e-10 || aces[0] < 0.0 || aces[1] < 0.0 || aces[2] < 0.0)) {
     for (int i = 0; i < 3; ++i) {

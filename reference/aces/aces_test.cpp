@@ -17,6 +17,7 @@
 #include "reference/aces/aces_common.h"
 #include "reference/aces/aces_output.h"
 #include "reference/aces/aces_params.h"
+#include "reference/color/d3d_math.h"
 #include "reference/color/ue_matrices.h"
 
 namespace {
@@ -673,6 +674,45 @@ TEST(OutputTransform, PiecesBitIdenticalToPinnedHash) {
           {ssts(in[0], p.aces_params), ssts(in[1], p.aces_params), ssts(in[2], p.aces_params)});
   }
   EXPECT_EQ(hash, 0x19c931a4d911e63bULL) << std::hex << hash;
+}
+
+// d3d::max_num/min_num (HLSL max/min, used by every helper above) return std::fmax/std::fmin's
+// bits for every pair: all pairs of specials (±0, ±NaN, ±Inf, subnormals, extremes) and random
+// pairs, a quarter of them equal.
+TEST(AcesCommon, MaxNumMinNumAreLibmBitForBit) {
+  std::vector<double> v = {0.0,
+                           -0.0,
+                           kNaN,
+                           -kNaN,
+                           kInf,
+                           -kInf,
+                           1.0,
+                           -1.0,
+                           1e-10,
+                           0.01,
+                           65504.0,
+                           std::numeric_limits<double>::denorm_min(),
+                           -std::numeric_limits<double>::denorm_min(),
+                           std::numeric_limits<double>::max(),
+                           std::numeric_limits<double>::lowest()};
+  uint64_t state = 99;
+  for (int k = 0; k < 20000; ++k) v.push_back(std::ldexp(unit(state) - 0.5, k % 200 - 100));
+  const auto same = [](double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; };
+  int mismatches = 0;
+  for (size_t i = 0; i < 15; ++i) {
+    for (size_t j = 0; j < v.size(); ++j) {
+      mismatches += !same(hdrc::ref::d3d::max_num(v[i], v[j]), std::fmax(v[i], v[j]));
+      mismatches += !same(hdrc::ref::d3d::max_num(v[j], v[i]), std::fmax(v[j], v[i]));
+      mismatches += !same(hdrc::ref::d3d::min_num(v[i], v[j]), std::fmin(v[i], v[j]));
+      mismatches += !same(hdrc::ref::d3d::min_num(v[j], v[i]), std::fmin(v[j], v[i]));
+    }
+  }
+  for (size_t j = 15; j + 1 < v.size(); ++j) {
+    const double b = j % 4 == 0 ? v[j] : v[j + 1];
+    mismatches += !same(hdrc::ref::d3d::max_num(v[j], b), std::fmax(v[j], b));
+    mismatches += !same(hdrc::ref::d3d::min_num(v[j], b), std::fmin(v[j], b));
+  }
+  EXPECT_EQ(mismatches, 0);
 }
 
 }  // namespace

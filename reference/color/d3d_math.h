@@ -18,6 +18,25 @@ inline double pow(double x, double y) {
   return std::pow(x, y);
 }
 
+// HLSL max/min: IEEE-754-2008 maxNum/minNum, which is what std::fmax/std::fmin compute. Without
+// -ffinite-math-only GCC cannot inline those and calls libm for each. These answer the unambiguous
+// case inline (ordered, unequal operands: the larger/smaller one, the only result maxNum/minNum
+// allow) and hand NaN operands and equal operands (where ±0 may differ) to std::fmax/std::fmin,
+// so the result is the library's bit for bit in every case.
+inline double max_num(double a, double b) {
+  if (std::islessgreater(a, b)) [[likely]] {
+    return a > b ? a : b;  // maxsd, no branch
+  }
+  return std::fmax(a, b);
+}
+
+inline double min_num(double a, double b) {
+  if (std::islessgreater(a, b)) [[likely]] {
+    return a < b ? a : b;  // minsd
+  }
+  return std::fmin(a, b);
+}
+
 // saturate(NaN) = 0 on D3D (D3D11.3 functional spec §3.1.3 / DXIL saturate).
 inline double saturate(double x) {
   if (std::isnan(x)) return 0.0;
