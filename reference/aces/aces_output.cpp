@@ -34,26 +34,48 @@ double lerp(double a, double b, double t) {
   return a + t * (b - a);
 }
 
+// ACES.ush: ssts's (a, b, c) = mul(cf, M1) with M1 = [[0.5, −1, 0.5], [−1, 1, 0.5], [0.5, 0, 0]]
+// applied to the row vector cf = coefs[j..j+2], for every interval j = 0 … 3 (j = 3 when
+// knot_coord rounds to 3, hence the 6th coefficient). A function of the parameters only:
+// computed once per TsParams (SstsPrecomputed::low/high) with the shader's operations.
+std::array<SplineSegment, 4> spline_segments(const std::array<double, 6>& coefs) {
+  std::array<SplineSegment, 4> seg;
+  for (int j = 0; j < 4; ++j) {
+    const double c0 = coefs[j], c1 = coefs[j + 1], c2 = coefs[j + 2];
+    seg[j] = {0.5 * c0 - c1 + 0.5 * c2, -c0 + c1, 0.5 * c0 + 0.5 * c1};
+  }
+  return seg;
+}
+
 // ACES.ush: ssts, one spline half. knot_coord = (N_KNOTS − 1)·(lx − lo)/(hi − lo), j = int() (the
 // HLSL float→int conversion truncates toward zero; knot_coord > 0 here), t = knot_coord − j;
-// logy = (t², t, 1) · mul(cf, M1) with M1 = [[0.5, −1, 0.5], [−1, 1, 0.5], [0.5, 0, 0]] applied
-// to the row vector cf = coefs[j..j+2].
-double spline_half(double lx, double log_lo, double log_hi, const std::array<double, 6>& coefs) {
+// logy = (t², t, 1) · (a, b, c)_j.
+inline double spline_half(double lx, double log_lo, double log_hi,
+                          const std::array<SplineSegment, 4>& seg) {
   const double knot_coord = 3.0 * (lx - log_lo) / (log_hi - log_lo);
   const int j = static_cast<int>(knot_coord);
   const double t = knot_coord - j;
-  const double c0 = coefs[j], c1 = coefs[j + 1], c2 = coefs[j + 2];
-  const double a = 0.5 * c0 - c1 + 0.5 * c2;
-  const double b = -c0 + c1;
-  const double c = 0.5 * c0 + 0.5 * c1;
-  return t * t * a + t * b + c;
+  return t * t * seg[j].a + t * seg[j].b + seg[j].c;
 }
 
-// ACES.ush: compress — distance compression above the threshold (forward only).
-double compress(double dist, double lim, double thr, double pwr) {
+// ACES.ush: compress's scale, scl = (lim − thr) / pow(pow((1 − thr)/(lim − thr), −pwr) − 1, 1/pwr):
+// a function of the constants only, which ACES.ush evaluates on every call; here once per channel.
+const Vec3& compress_scale() {
+  static const Vec3 scale = [] {
+    Vec3 scl;
+    for (int i = 0; i < 3; ++i) {
+      const double lim = kCompressLimit[i], thr = kCompressThreshold[i], pwr = kCompressPower;
+      scl[i] = (lim - thr) / d3d::pow(d3d::pow((1.0 - thr) / (lim - thr), -pwr) - 1.0, 1.0 / pwr);
+    }
+    return scl;
+  }();
+  return scale;
+}
+
+// ACES.ush: compress — distance compression above the threshold (forward only); `scl` is
+// compress_scale()'s.
+double compress(double dist, double thr, double pwr, double scl) {
   if (dist < thr) return dist;
-  const double scl =
-      (lim - thr) / d3d::pow(d3d::pow((1.0 - thr) / (lim - thr), -pwr) - 1.0, 1.0 / pwr);
   const double nd = (dist - thr) / scl;
   const double p = d3d::pow(nd, pwr);
   return thr + scl * nd / d3d::pow(1.0 + p, 1.0 / pwr);
@@ -64,6 +86,9 @@ Vec3 limit_to_ap1(const Vec3& xyz) {
   return lit::kAp1ToXyz * hlsl_clamp(lit::kXyzToAp1 * xyz, 0.0, 1.0);
 }
 
+Vec3 output_transform_precomputed(const Vec3& aces, const TsParams& params,
+                                  const SstsPrecomputed& pre);
+
 // TonemapCommon.ush: ACESOutputTransforms1000/2000 body.
 Vec3 aces_output_transforms(const Vec3& scene_linear, const Mat3& wcs_to_ap0,
                             const AcesShaderParams& params) {
@@ -72,7 +97,7 @@ Vec3 aces_output_transforms(const Vec3& scene_linear, const Mat3& wcs_to_ap0,
       wcs_to_ap0 * Vec3{scene_linear[0] * scm, scene_linear[1] * scm, scene_linear[2] * scm};
   const Vec3 compressed = compress_color(aces);
   for (int i = 0; i < 3; ++i) aces[i] = lerp(aces[i], compressed[i], params.gamut_compression);
-  return output_transform(aces, params.aces_params);
+  return output_transform_precomputed(aces, params.aces_params, params.ssts_pre);
 }
 
 }  // namespace
@@ -89,38 +114,35 @@ AcesShaderParams compute_aces_tonemap_params(const AcesTonemapParams& packed) {
                   packed.coefs_high_0[3], packed.coefs_high_4,    packed.coefs_high_4};
   out.scene_color_multiplier = packed.scene_color_multiplier;
   out.gamut_compression = packed.gamut_compression;
+  out.ssts_pre = ssts_precompute(p);
   return out;
 }
 
-namespace {
-
-// The logarithms of the SSTS knots: functions of the parameters only, computed once per
-// transform instead of once per channel (five log10 each).
-struct SstsLogs {
-  double min_x, mid_x, max_x;  // log10 of Min.x, Mid.x, Max.x
-  double min_icpt, max_icpt;   // log10(Min.y) − Min.slope·log10(Min.x), same for Max
-};
-
-SstsLogs ssts_logs(const TsParams& c) {
-  SstsLogs l;
+SstsPrecomputed ssts_precompute(const TsParams& c) {
+  SstsPrecomputed l;
   l.min_x = std::log10(c.min.x);
   l.mid_x = std::log10(c.mid.x);
   l.max_x = std::log10(c.max.x);
   l.min_icpt = std::log10(c.min.y) - c.min.slope * l.min_x;
   l.max_icpt = std::log10(c.max.y) - c.max.slope * l.max_x;
+  l.low = spline_segments(c.coefs_low);
+  l.high = spline_segments(c.coefs_high);
   return l;
 }
 
-double ssts_logged(double x, const TsParams& c, const SstsLogs& l) {
+namespace {
+
+// ACES.ush: ssts, with l = ssts_precompute(c).
+inline double ssts_precomputed(double x, const TsParams& c, const SstsPrecomputed& l) {
   // max(x, 1e-10) is maxNum: NaN → 1e-10, i.e. NaN maps to Min.y like any x ≤ Min.x.
   const double lx = std::log10(d3d::max_num(x, 1e-10));
   double ly;
   if (lx <= l.min_x) {
     ly = lx * c.min.slope + l.min_icpt;
   } else if (lx > l.min_x && lx < l.mid_x) {
-    ly = spline_half(lx, l.min_x, l.mid_x, c.coefs_low);
+    ly = spline_half(lx, l.min_x, l.mid_x, l.low);
   } else if (lx >= l.mid_x && lx < l.max_x) {
-    ly = spline_half(lx, l.mid_x, l.max_x, c.coefs_high);
+    ly = spline_half(lx, l.mid_x, l.max_x, l.high);
   } else {
     ly = lx * c.max.slope + l.max_icpt;
   }
@@ -130,7 +152,7 @@ double ssts_logged(double x, const TsParams& c, const SstsLogs& l) {
 }  // namespace
 
 double ssts(double x, const TsParams& c) {
-  return ssts_logged(x, c, ssts_logs(c));
+  return ssts_precomputed(x, c, ssts_precompute(c));
 }
 
 Vec3 rrt_sweeteners(const Vec3& in_value) {
@@ -165,26 +187,29 @@ Vec3 compress_color(const Vec3& aces) {
   const double ach = d3d::max_num(lin_ap1[0], d3d::max_num(lin_ap1[1], lin_ap1[2]));
   Vec3 compr_lin_ap1 = lin_ap1;
   if (!(ach < 1e-10 || aces[0] < 0.0 || aces[1] < 0.0 || aces[2] < 0.0)) {
+    const Vec3& scl = compress_scale();
     for (int i = 0; i < 3; ++i) {
       const double dist = (ach - lin_ap1[i]) / std::fabs(ach);
-      const double compr_dist =
-          compress(dist, kCompressLimit[i], kCompressThreshold[i], kCompressPower);
+      const double compr_dist = compress(dist, kCompressThreshold[i], kCompressPower, scl[i]);
       compr_lin_ap1[i] = ach - compr_dist * std::fabs(ach);
     }
   }
   return lit::kAp1ToAp0 * compr_lin_ap1;
 }
 
-Vec3 output_transform(const Vec3& aces, const TsParams& params) {
+namespace {
+
+// output_transform with ssts_precompute(params) given.
+Vec3 output_transform_precomputed(const Vec3& aces, const TsParams& params,
+                                  const SstsPrecomputed& pre) {
   const double y_min = params.min.y;  // Y_MIN, nits
   const double y_max = params.max.y;  // Y_MAX, nits
 
   const Vec3 rgb_pre = rrt_sweeteners(aces);
-  const SstsLogs logs = ssts_logs(params);
   Vec3 linear_cv;
   for (int i = 0; i < 3; ++i) {
-    const double rgb_post = ssts_logged(rgb_pre[i], params, logs);  // nits, AP1
-    linear_cv[i] = (rgb_post - y_min) / (y_max - y_min);            // Y_2_linCV
+    const double rgb_post = ssts_precomputed(rgb_pre[i], params, pre);  // nits, AP1
+    linear_cv[i] = (rgb_post - y_min) / (y_max - y_min);                // Y_2_linCV
   }
   // AP1 → XYZ; dark surround: no adjustment; limit to the AP1 primaries; the display white is D60
   // so no CAT; XYZ → display primaries (AP1).
@@ -195,6 +220,12 @@ Vec3 output_transform(const Vec3& aces, const TsParams& params) {
   for (int i = 0; i < 3; ++i)
     out[i] = hlsl_clamp(linear_cv[i] * (y_max - 0.0) + 0.0, 0.0, kHalfPosInf);
   return out;
+}
+
+}  // namespace
+
+Vec3 output_transform(const Vec3& aces, const TsParams& params) {
+  return output_transform_precomputed(aces, params, ssts_precompute(params));
 }
 
 Vec3 aces_output_transforms_1000(const Vec3& scene_linear, const Mat3& wcs_to_ap0,

@@ -38,11 +38,27 @@ struct TsParams {
   std::array<double, 6> coefs_high;  // log10 nits
 };
 
+// What ssts derives from TsParams alone for every channel it maps (ACES.ush computes these inline
+// each time, with the same operations): the logarithms of the knots and, per spline interval j,
+// mul(coefs[j..j+2], M1) (see ssts in aces_output.cpp).
+struct SplineSegment {
+  double a, b, c;  // logy = t²·a + t·b + c
+};
+struct SstsPrecomputed {
+  double min_x, mid_x, max_x;              // log10 of Min.x, Mid.x, Max.x
+  double min_icpt, max_icpt;               // log10(Min.y) − Min.slope·log10(Min.x), same for Max
+  std::array<SplineSegment, 4> low, high;  // mul(coefs[j..j+2], M1) of each spline, j = 0 … 3
+};
+SstsPrecomputed ssts_precompute(const TsParams& c);
+
 // TonemapCommon.ush: FACESTonemapParams.
 struct AcesShaderParams {
   TsParams aces_params;
   double scene_color_multiplier;
   double gamut_compression;  // already clamped to [0, 1] on the CPU
+  // Not a shader parameter: ssts_precompute(aces_params), computed once by
+  // compute_aces_tonemap_params instead of once per pixel.
+  SstsPrecomputed ssts_pre;
 };
 
 // TonemapCommon.ush: ComputeACESTonemapParams — unpacks the shader parameters; Min.slope and
