@@ -81,9 +81,41 @@ double compress(double dist, double thr, double pwr, double scl) {
   return thr + scl * nd / d3d::pow(1.0 + p, 1.0 / pwr);
 }
 
+// ACES.ush: cubic_basis_shaper(center_hue(rgb_2_hue(rgb), RRT_RED_HUE), RRT_RED_WIDTH), without
+// rgb_2_hue's atan2(y, x) where the result is known to be exactly 0: for a non-grey rgb with
+// x = 2r − g − b < 0 and y = √3(g − b) not NaN, atan2 lies in [π/2, π] or [−π, −π/2] (glibc's
+// atan2 is within an ulp), so the hue is in [90°, 270°] and, centred on RRT_RED_HUE = 0°, at least
+// 90° > RRT_RED_WIDTH/2 = 67.5° away, where cubic_basis_shaper returns 0.0·1.5 = +0. x and y are
+// rgb_2_hue's own expressions. Greys keep rgb_2_hue's special case (hue 0).
+double red_hue_weight(const Vec3& rgb) {
+  static_assert(kRrtRedHue == 0.0 && kRrtRedWidth / 2.0 < 90.0);
+  const double x = 2.0 * rgb[0] - rgb[1] - rgb[2];
+  const double y = std::sqrt(3.0) * (rgb[1] - rgb[2]);
+  const bool grey = rgb[0] == rgb[1] && rgb[1] == rgb[2];
+  if (x < 0.0 && !std::isnan(y) && !grey) return 0.0;
+  return cubic_basis_shaper(center_hue(rgb_2_hue(rgb), kRrtRedHue), kRrtRedWidth);
+}
+
 // ACES.ush: limit_to_primaries with LIMITING_PRI = ACEScg (XYZ_2_AP1_MAT / AP1_2_XYZ_MAT).
 Vec3 limit_to_ap1(const Vec3& xyz) {
   return lit::kAp1ToXyz * hlsl_clamp(lit::kXyzToAp1 * xyz, 0.0, 1.0);
+}
+
+// Whether lerp(aces, compress_color(aces), 0) is `aces` itself, bit for bit, without computing
+// compress_color. lerp(a, c, ±0) = a + ±0·(c − a) = a when c − a is finite and a ≠ 0 (only
+// −0 + +0 = +0 changes a bit). c − a is finite when every |a| ≤ 1e290: AP0_2_AP1's rows have
+// absolute sums ≤ 1.91, so |AP1| ≤ 1.91e290; bypassed, compr = AP1; otherwise ach ≥ 1e-10, so
+// every dist = (ach − AP1)/ach is finite and ≥ 0, compress(dist) is dist < thr < 1 or finite in
+// [thr, lim + rounding] (nd^pwr may overflow to +Inf, which yields thr), so
+// |ach − compr_dist·ach| ≤ ach; AP1_2_AP0's rows have absolute sums ≤ 1.012, so |c| < 2e290. NaN,
+// ±Inf, huge and zero channels take the full path, where compressColor's NaN (see header) or the
+// sign of zero must come out.
+bool gamut_compression_is_identity(const Vec3& aces, double gamut_compression) {
+  if (gamut_compression != 0.0) return false;
+  for (const double v : aces) {
+    if (!(std::fabs(v) <= 1e290) || v == 0.0) return false;
+  }
+  return true;
 }
 
 Vec3 output_transform_precomputed(const Vec3& aces, const TsParams& params,
@@ -95,8 +127,12 @@ Vec3 aces_output_transforms(const Vec3& scene_linear, const Mat3& wcs_to_ap0,
   const double scm = params.scene_color_multiplier;
   Vec3 aces =
       wcs_to_ap0 * Vec3{scene_linear[0] * scm, scene_linear[1] * scm, scene_linear[2] * scm};
-  const Vec3 compressed = compress_color(aces);
-  for (int i = 0; i < 3; ++i) aces[i] = lerp(aces[i], compressed[i], params.gamut_compression);
+  // GamutCompression = 0 is UE's default; there the lerp keeps `aces` except for the inputs
+  // gamut_compression_is_identity() sends through it.
+  if (!gamut_compression_is_identity(aces, params.gamut_compression)) {
+    const Vec3 compressed = compress_color(aces);
+    for (int i = 0; i < 3; ++i) aces[i] = lerp(aces[i], compressed[i], params.gamut_compression);
+  }
   return output_transform_precomputed(aces, params.aces_params, params.ssts_pre);
 }
 
@@ -166,9 +202,7 @@ Vec3 rrt_sweeteners(const Vec3& in_value) {
   for (double& v : aces) v *= added_glow;
 
   // Red modifier: hue after glow, saturation from before it (as ACES.ush).
-  const double hue = rgb_2_hue(aces);
-  const double centered_hue = center_hue(hue, kRrtRedHue);
-  const double hue_weight = cubic_basis_shaper(centered_hue, kRrtRedWidth);
+  const double hue_weight = red_hue_weight(aces);
   aces[0] += hue_weight * saturation * (kRrtRedPivot - aces[0]) * (1.0 - kRrtRedScale);
 
   // ACES to the AP1 rendering space; clamp() maps NaN to 0 (see header).
