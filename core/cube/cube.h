@@ -16,7 +16,10 @@
 
 namespace hdrc::cube {
 
-inline constexpr size_t kMaxCubeFileBytes = size_t{64} << 20;  // 64 MiB: 256^3 rows at ~40 bytes
+// 64 MiB, as the project's other inputs (runner/json_read.h): 128^3 rows of 9-digit text (up to
+// 32 bytes a row) fit. A LUT_3D_SIZE near the spec's 256 does not: 256^3 rows take at least 100 MB
+// ("0 0 0\n"), about 600 MB at 9 digits; such files are refused by size.
+inline constexpr size_t kMaxCubeFileBytes = size_t{64} << 20;
 inline constexpr size_t kMaxCubeLineBytes = 4096;  // a row or keyword line, without its newline
 inline constexpr int kMin1DSize = 2;
 inline constexpr int kMax1DSize = 65536;
