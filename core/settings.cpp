@@ -112,19 +112,32 @@ const std::vector<SettingChoice>* setting_choices(std::string_view setting) {
   return nullptr;
 }
 
-std::string setting_choices_text(std::string_view setting) {
-  const auto* choices = setting_choices(setting);
+namespace {
+std::string choices_text_of(const std::vector<SettingChoice>* choices) {
   if (!choices) return "";
   std::ostringstream out;
   for (const auto& c : *choices)
     out << (out.tellp() > 0 ? ", " : "") << c.name << " (" << c.value << ")";
   return out.str();
 }
+}  // namespace
 
-const SettingInfo* find_setting(std::string_view name) {
-  for (const auto& s : setting_table())
+std::string setting_choices_text(std::string_view setting) {
+  return choices_text_of(setting_choices(setting));
+}
+
+std::string SettingValues::choices_text(std::string_view setting) const {
+  return choices_text_of(choices(setting));
+}
+
+const SettingInfo* find_setting(const std::vector<SettingInfo>& table, std::string_view name) {
+  for (const auto& s : table)
     if (s.name == name) return &s;
   return nullptr;
+}
+
+const SettingInfo* find_setting(std::string_view name) {
+  return find_setting(setting_table(), name);
 }
 
 std::vector<std::string> nearest_setting_names(std::string_view name, size_t n) {
@@ -134,10 +147,23 @@ std::vector<std::string> nearest_setting_names(std::string_view name, size_t n) 
 }
 
 Status SettingValues::set(std::string_view name, const Vec4d& value, int components) {
-  const SettingInfo* info = find_setting(name);
+  const SettingInfo* info = find_setting(*table_, name);
   if (!info) {
+    std::vector<std::string> names;
+    for (const auto& s : *table_) names.emplace_back(s.name);
+    // A name given without its component ("contrast" for Unity's "ColorAdjustments.contrast"):
+    // the settings it ends, first; then the closest by edit distance.
     std::string near;
-    for (const auto& s : nearest_setting_names(name)) near += (near.empty() ? "" : ", ") + s;
+    auto lower = [](std::string t) {
+      for (char& ch : t) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+      return t;
+    };
+    const std::string tail = "." + lower(std::string(name));
+    for (const auto& n : names)
+      if (lower(n).size() > tail.size() && lower(n).ends_with(tail))
+        near += (near.empty() ? "" : ", ") + n;
+    for (const auto& s : nearest_names(name, names, 3))
+      if (near.find(s) == std::string::npos) near += (near.empty() ? "" : ", ") + s;
     return Error{"", "", "unknown setting '" + std::string(name) + "'", "nearest: " + near};
   }
   if (components != info->components) {
@@ -156,13 +182,13 @@ Status SettingValues::set(std::string_view name, const Vec4d& value, int compone
       return Error{"", "", msg.str(), range.str()};
     }
   }
-  if (const auto* choices = setting_choices(name)) {
-    const bool named = std::any_of(choices->begin(), choices->end(),
+  if (const auto* named_values = choices(name)) {
+    const bool named = std::any_of(named_values->begin(), named_values->end(),
                                    [&](const SettingChoice& c) { return c.value == value[0]; });
     if (!named) {
       std::ostringstream msg;
       msg << "setting " << name << " = " << value[0] << " is not one of its values";
-      return Error{"", "", msg.str(), setting_choices_text(name)};
+      return Error{"", "", msg.str(), choices_text(name)};
     }
   }
   Vec4d v = info->default_value;
@@ -172,30 +198,31 @@ Status SettingValues::set(std::string_view name, const Vec4d& value, int compone
 }
 
 Status SettingValues::set_choice(std::string_view name, std::string_view choice) {
-  const auto* choices = setting_choices(name);
-  if (!choices) {
-    if (!find_setting(name)) return set(name, {0, 0, 0, 0}, 1);  // the unknown-setting error
+  const auto* named_values = choices(name);
+  if (!named_values) {
+    if (!find_setting(*table_, name))
+      return set(name, {0, 0, 0, 0}, 1);  // the unknown-setting error
     return Error{"", "",
                  "setting " + std::string(name) + " takes a number, not the name '" +
                      std::string(choice) + "'",
                  "a number"};
   }
-  for (const auto& c : *choices)
+  for (const auto& c : *named_values)
     if (c.name == choice) return set(name, {c.value, 0, 0, 0}, 1);
   std::vector<std::string> names;
-  for (const auto& c : *choices) names.emplace_back(c.name);
+  for (const auto& c : *named_values) names.emplace_back(c.name);
   std::string near;
   for (const auto& n : nearest_names(choice, names, 1)) near = n;
   return Error{"", "",
                "unknown " + std::string(name) + " '" + std::string(choice) + "'" +
                    (near.empty() ? "" : " (did you mean " + near + "?)"),
-               setting_choices_text(name)};
+               choices_text(name)};
 }
 
 Vec4d SettingValues::get4(std::string_view name) const {
   auto it = values_.find(std::string(name));
   if (it != values_.end()) return it->second;
-  const SettingInfo* info = find_setting(name);
+  const SettingInfo* info = find_setting(*table_, name);
   return info ? info->default_value : Vec4d{0, 0, 0, 0};
 }
 

@@ -35,10 +35,21 @@ std::string setting_choices_text(std::string_view setting);
 const SettingInfo* find_setting(std::string_view name);
 std::vector<std::string> nearest_setting_names(std::string_view name, size_t n = 3);
 
+// A pipeline's settings: its table and its named values (UE 5.5's are setting_table() and
+// setting_choices()). Every pipeline declares one (core/pipeline.h).
+using SettingChoicesFn = const std::vector<SettingChoice>* (*)(std::string_view setting);
+const SettingInfo* find_setting(const std::vector<SettingInfo>& table, std::string_view name);
+
 using Vec4d = std::array<double, 4>;
 
 class SettingValues {
  public:
+  // UE 5.5's settings (setting_table(), setting_choices()).
+  SettingValues() = default;
+  // Another pipeline's settings: `table` (and `choices`, when some settings have named values)
+  // outlive the values.
+  explicit SettingValues(const std::vector<SettingInfo>* table, SettingChoicesFn choices = nullptr)
+      : table_(table), choices_(choices) {}
   // Scalars are given as {v, 0, 0, 0}. Validates name, arity (`components`) and range.
   Status set(std::string_view name, const Vec4d& value, int components);
   // A named value of a setting with named values (setting_choices): "WorkingColorSpace" =
@@ -47,8 +58,17 @@ class SettingValues {
   double get(std::string_view name) const { return get4(name)[0]; }
   Vec4d get4(std::string_view name) const;
   const std::map<std::string, Vec4d>& explicit_values() const { return values_; }
+  const std::vector<SettingInfo>& table() const { return *table_; }
+  // The named values of `setting` in this table (nullptr: none).
+  const std::vector<SettingChoice>* choices(std::string_view setting) const {
+    return choices_ ? choices_(setting) : nullptr;
+  }
+  // "sRGB (1), Rec2020 (2), ..." for errors; "" without named values.
+  std::string choices_text(std::string_view setting) const;
 
  private:
+  const std::vector<SettingInfo>* table_ = &setting_table();
+  SettingChoicesFn choices_ = &setting_choices;
   std::map<std::string, Vec4d> values_;
 };
 

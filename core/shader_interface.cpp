@@ -6,6 +6,20 @@
 
 namespace hdrc {
 
+std::string_view param_owner(std::string_view name) {
+#define HDRC_NAME(type, field, doc) #field,
+  static const std::vector<std::pair<std::string_view, std::vector<std::string_view>>> owners = {
+      {"ue55", {HDRC_UE55_PARAMS(HDRC_NAME)}},
+      {"operators", {HDRC_OPERATORS_PARAMS(HDRC_NAME)}},
+      {"unity_urp", {HDRC_UNITY_URP_PARAMS(HDRC_NAME)}},
+  };
+#undef HDRC_NAME
+  for (const auto& [owner, fields] : owners)
+    for (std::string_view f : fields)
+      if (f == name) return owner;
+  return "";
+}
+
 namespace {
 // std430 rules for the field kinds: scalars align to 4 bytes; a vec4 and an array of vec4 align to
 // 16 (arrays with a 16-byte stride).

@@ -14,13 +14,19 @@
 #include <vector>
 
 #include "reference/color/vec.h"
+#include "reference/operators/operators_params.h"
+#include "reference/unity_urp/unity_urp_params.h"
 
 namespace hdrc {
 
 // X(type, name, meaning). Types: I = int32, F = float32, V4 = vec4, M3 = 3×3 matrix.
 // Host-derived values (matrices, ACES coefficients, InverseGamma, ...) are computed once by
 // reference/ue_cpp/resolve.cpp, as UE's C++ does, and both engines read them from here.
-#define HDRC_PARAM_BLOCK(X)                                                                       \
+// UE 5.5's fields come first (the layout ports of UE's pipeline read), then every other
+// pipeline's, each from its own header. Adding a pipeline adds one line here.
+#define HDRC_PARAM_BLOCK(X) HDRC_UE55_PARAMS(X) HDRC_OPERATORS_PARAMS(X) HDRC_UNITY_URP_PARAMS(X)
+
+#define HDRC_UE55_PARAMS(X)                                                                       \
   X(I, width, "image width in pixels")                                                            \
   X(I, height, "image height in pixels")                                                          \
   X(I, output_device, "EDisplayOutputFormat after cvar resolution (0-9)")                         \
@@ -130,6 +136,17 @@ void for_each_param(Block& p, F&& f) {
 #define HDRC_X(type, name, doc) f(FieldKind::type, #name, p.name);
   HDRC_PARAM_BLOCK(HDRC_X)
 #undef HDRC_X
+}
+
+// The pipeline whose header declares field `name`: "ue55" (whose fields include what every
+// pipeline's shaders read: image size, LUT geometry, aux image sizes), "operators", "unity_urp"; ""
+// for no field.
+std::string_view param_owner(std::string_view name);
+// True when `pipeline`'s cases carry field `name` (params.json, results.json): UE 5.5's fields and
+// the pipeline's own.
+inline bool param_carried_by(std::string_view name, std::string_view pipeline) {
+  const std::string_view owner = param_owner(name);
+  return owner == "ue55" || owner == pipeline;
 }
 
 // A field's declaration in the generated shader interface: "int", "float", "vec4"/"float4", and

@@ -65,12 +65,6 @@ const std::vector<StageInfo>& stage_table() {
   return table;
 }
 
-const StageInfo* find_stage(std::string_view name) {
-  for (const auto& s : stage_table())
-    if (s.name == name) return &s;
-  return nullptr;
-}
-
 std::string pass_shader_file(const std::string& shader_dir, std::string_view shader) {
   namespace fs = std::filesystem;
   std::error_code ec;
@@ -91,12 +85,6 @@ std::vector<std::string> missing_shaders(const StageInfo& stage, const std::stri
     if (!std::filesystem::is_regular_file(std::filesystem::path(shader_dir) / file, ec))
       out.emplace_back(pass.shader);
   }
-  return out;
-}
-
-std::string stage_names() {
-  std::string out;
-  for (const auto& s : stage_table()) out += (out.empty() ? "" : ", ") + std::string(s.name);
   return out;
 }
 

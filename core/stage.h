@@ -1,5 +1,7 @@
-// The pipeline stages a case can name. Each stage is an ordered list of compute passes on the GPU
-// side (docs/gpu-interface.md) and one function on the reference side.
+// The pipeline stages a case can name. Each stage belongs to one pipeline (core/pipeline.h) and is
+// an ordered list of compute passes on the GPU side (docs/gpu-interface.md) and one function of its
+// pipeline's reference. Stage names are unique across pipelines (a test checks it), so a stage name
+// alone (results.json, tolerance files) names its pipeline too.
 #pragma once
 
 #include <string>
@@ -16,6 +18,7 @@ enum class StageId {
   kDither,        // the quantisation dither added to the input image
   kUiComposite,   // the HDR UI composite over a back-buffer image (the `ui_overlay` stimulus)
   kVisualizeHdr,  // VisualizeHDR over an HDR scene colour image
+  kOther,         // a stage of another pipeline: everything about it comes from its pipeline
 };
 
 // How many invocations a pass is dispatched over (1-D, in workgroups of kLocalSizeX).
@@ -35,14 +38,16 @@ struct StagePass {
 };
 
 struct StageInfo {
-  StageId id;
-  std::string_view name;          // the name cases use
-  std::vector<StagePass> passes;  // GPU passes, run in order in one submission
-  std::string_view description;   // one line, with the spec sections it implements
-  std::vector<int> devices;       // output devices the stage is defined for
-  bool takes_input = true;        // false: the output does not depend on an input image
+  StageId id;                          // UE 5.5's stages; kOther for every other pipeline's
+  std::string_view name;               // the name cases use
+  std::vector<StagePass> passes;       // GPU passes, run in order in one submission
+  std::string_view description;        // one line, with the spec sections it implements
+  std::vector<int> devices;            // output devices the stage is defined for
+  bool takes_input = true;             // false: the output does not depend on an input image
+  std::string_view pipeline = "ue55";  // the pipeline it belongs to (core/pipeline.h)
 };
 
+// UE 5.5's stages (pipeline "ue55").
 const std::vector<StageInfo>& stage_table();
 
 // The pass shaders of `stage` that do not exist under `shader_dir` (empty: the stage has a complete
@@ -54,7 +59,9 @@ std::vector<std::string> missing_shaders(const StageInfo& stage, const std::stri
 // (docs/gpu-interface.md, "HLSL"). Relative to `shader_dir`.
 std::string pass_shader_file(const std::string& shader_dir, std::string_view shader);
 
+// A stage of any pipeline by name (reference/pipelines.cpp, over every pipeline's table), or
+// nullptr.
 const StageInfo* find_stage(std::string_view name);
-std::string stage_names();  // "shaper, linear_device"
+std::string stage_names();  // every pipeline's: "shaper, linear_device, ..."
 
 }  // namespace hdrc

@@ -400,6 +400,8 @@ constexpr LutFormat kLutFormats[] = {
     {VK_FORMAT_A2B10G10R10_UNORM_PACK32, "VK_FORMAT_A2B10G10R10_UNORM_PACK32", 4},
     {VK_FORMAT_R16G16B16A16_SFLOAT, "VK_FORMAT_R16G16B16A16_SFLOAT", 8},
     {VK_FORMAT_R32G32B32A32_SFLOAT, "VK_FORMAT_R32G32B32A32_SFLOAT", 16},
+    // Unity URP's LDR grading LUT (ColorGradingLutPass: R8G8B8A8_UNorm).
+    {VK_FORMAT_R8G8B8A8_UNORM, "VK_FORMAT_R8G8B8A8_UNORM", 4},
 };
 // The dummies bound where a pass has no LUT image: RGBA16F, whose storage, sampling and linear
 // filtering every Vulkan device supports (Vulkan spec, "Mandatory format support").
@@ -1006,6 +1008,8 @@ Image decode_lut(const void* bytes, const LutFormat& f, int layout, int n) {
           std::memcpy(&t, p, 4);
           const auto v = decode_a2b10g10r10(t);
           for (int c = 0; c < 4; ++c) o[c] = v[c];
+        } else if (f.format == VK_FORMAT_R8G8B8A8_UNORM) {
+          for (int c = 0; c < 4; ++c) o[c] = p[c] / 255.0;
         } else if (f.format == VK_FORMAT_R16G16B16A16_SFLOAT) {
           for (int c = 0; c < 4; ++c) {
             uint16_t h;
@@ -1095,9 +1099,9 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
                   [](const StagePass& p) { return p.domain == Dispatch::kLutTexels; });
   const LutFormat* fmt = nullptr;
   if (bakes_lut) {
-    if (params.lut_format < 0 || params.lut_format > 2)
+    if (params.lut_format < 0 || params.lut_format > 3)
       return Error{"", "", "LUT format " + std::to_string(params.lut_format) + " is not supported",
-                   "0 (A2B10G10R10), 1 (RGBA16F), 2 (RGBA32F)"};
+                   "0 (A2B10G10R10), 1 (RGBA16F), 2 (RGBA32F), 3 (RGBA8)"};
     if (params.lut_layout != 0 && params.lut_layout != 1)
       return Error{"", "", "LUT layout " + std::to_string(params.lut_layout) + " is not supported",
                    "0 (volume), 1 (2-D unwrapped)"};
@@ -1151,7 +1155,8 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
     if (Status st = ensure_buffer(d, g.memory, bytes, storage, buf); !st) return st.error();
     upload(*img, buf);
   }
-  const bool reads_back = bakes_lut && stage.id == StageId::kCombineLuts;
+  // A stage whose last pass bakes the LUT outputs the LUT itself (read back as N² × N).
+  const bool reads_back = bakes_lut && stage.passes.back().domain == Dispatch::kLutTexels;
   if (reads_back) {
     const VkDeviceSize bytes = static_cast<VkDeviceSize>(n) * n * n * fmt->texel_bytes;
     if (Status st =

@@ -53,7 +53,8 @@ Vec3 run_pixel(StageId stage, const ParamBlock& p, const Vec3& rgb) {
     case StageId::kDither:
     case StageId::kUiComposite:
     case StageId::kVisualizeHdr:
-      break;  // whole-image stages: see ReferenceEngine::run
+    case StageId::kOther:
+      break;  // whole-image stages (run_ue55) and other pipelines' stages
   }
   return rgb;
 }
@@ -155,12 +156,16 @@ DeviceInfo ReferenceEngine::device() const {
 }
 
 Result<Image> ReferenceEngine::run(const ResolvedCase& c) {
+  return pipeline_of(*c.spec.stage).reference(c, analytic_lut_);
+}
+
+Result<Image> run_ue55(const ResolvedCase& c, bool analytic_lut) {
   switch (c.spec.stage->id) {
     case StageId::kCombineLuts:
       return lut_image(*cached_bake_lut(c.params));
     case StageId::kTonemap: {
       const auto lut =
-          analytic_lut_ ? decltype(cached_bake_lut(c.params)){} : cached_bake_lut(c.params);
+          analytic_lut ? decltype(cached_bake_lut(c.params)){} : cached_bake_lut(c.params);
       return tonemap_image(c.params, c.input, c.bloom.data.empty() ? nullptr : &c.bloom,
                            c.bloom_dirt.data.empty() ? nullptr : &c.bloom_dirt, lut.get());
     }
@@ -169,7 +174,7 @@ Result<Image> ReferenceEngine::run(const ResolvedCase& c) {
     case StageId::kUiComposite:
       return ui_composite_stage(c.params, c.input, c.ui);
     case StageId::kVisualizeHdr:
-      return visualize_hdr_stage(c.params, c.input, analytic_lut_);
+      return visualize_hdr_stage(c.params, c.input, analytic_lut);
     default:
       break;
   }

@@ -1,7 +1,9 @@
-// The reference engine: UE 5.5's pipeline in double precision, evaluated pixel by pixel.
+// The reference engine: every pipeline's reference in double precision (core/pipeline.h); UE 5.5's
+// is run_ue55.
 #pragma once
 
 #include "core/engine.h"
+#include "core/pipeline.h"
 #include "reference/combine_luts.h"
 #include "reference/ui/composite.h"
 #include "reference/visualize/histogram.h"
@@ -22,6 +24,9 @@ class ReferenceEngine final : public Engine {
  private:
   bool analytic_lut_ = false;
 };
+
+// UE 5.5's reference: the output of the case's stage (Pipeline::reference of "ue55").
+Result<Image> run_ue55(const ResolvedCase& c, bool analytic_lut);
 
 // One pixel of a per-pixel stage (shaper, linear_device), for tests: rgb in, rgb out.
 Vec3 run_pixel(StageId stage, const ParamBlock& p, const Vec3& rgb);

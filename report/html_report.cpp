@@ -13,11 +13,11 @@
 #include <sstream>
 
 #include "core/cvars.h"
+#include "core/pipeline.h"
 #include "core/settings.h"
 #include "core/stage.h"
 #include "core/utf8.h"
 #include "reference/color/st2084.h"
-#include "reference/ue_cpp/resolve.h"
 #include "reference/visualize/histogram.h"
 #include "report/assets.h"
 #include "report/images.h"
@@ -234,18 +234,20 @@ std::string verdict_class(const std::string& v) {
 }
 
 // The case's output encoding: stage from the case, device and gamut resolved from its cvars and
-// settings exactly as the runner resolves them (reference/ue_cpp/resolve.h).
+// settings exactly as the runner resolves them (its pipeline's host derivation).
 Result<OutputEncoding> encoding_of(const json& c, int width, int height) {
   Case spec;
   const std::string stage = text(get(c, {"stage"}));
   spec.stage = find_stage(stage);
   if (!spec.stage) return Error{"results.json", "/stage", "unknown stage '" + stage + "'", ""};
+  const Pipeline& pipeline = pipeline_of(*spec.stage);
+  spec.settings = pipeline.new_settings();
   if (const json* cv = get(c, {"cvars"}); cv && cv->is_object())
     for (const auto& [k, v] : cv->items())
       if (auto d = num(&v)) (void)spec.cvars.set(k, *d);
   if (const json* st = get(c, {"settings"}); st && st->is_object())
     for (const auto& [k, v] : st->items()) {
-      const SettingInfo* info = find_setting(k);
+      const SettingInfo* info = find_setting(spec.settings.table(), k);
       if (!info) continue;
       Vec4d v4{0, 0, 0, 0};
       if (auto d = num(&v)) v4[0] = *d;
@@ -253,9 +255,9 @@ Result<OutputEncoding> encoding_of(const json& c, int width, int height) {
         for (size_t i = 0; i < v.size() && i < 4; ++i) v4[i] = num(&v[i]).value_or(0);
       (void)spec.settings.set(k, v4, info->components);
     }
-  auto r = ref::resolve(spec, std::max(1, width), std::max(1, height));
+  auto r = pipeline.resolve(spec, std::max(1, width), std::max(1, height));
   if (!r) return r.error();
-  return OutputEncoding::of(spec.stage->id, r->params);
+  return output_encoding(*spec.stage, r->params);
 }
 
 // When to_nits is v · k for every v (scene-linear, scRGB, nits), the script is sent k instead of

@@ -10,9 +10,8 @@
 #include <sstream>
 
 #include "core/nearest.h"
+#include "core/pipeline.h"
 #include "core/utf8.h"
-#include "reference/combine_luts.h"
-#include "reference/ue_cpp/resolve.h"
 #include "runner/json_read.h"
 #include "runner/pairwise.h"
 #include "runner/stimuli.h"
@@ -262,7 +261,7 @@ class Parser {
                SettingValues* sv) {
     Vec4d value{0, 0, 0, 0};
     int components = 0;
-    if (v.is_string() && setting_choices(name)) {  // a named value (WorkingColorSpace presets)
+    if (v.is_string() && sv->choices(name)) {  // a named value (WorkingColorSpace presets)
       if (Status st = sv->set_choice(name, v.get<std::string>()); !st) {
         fail(pointer, st.error().message, st.error().choices);
         return false;
@@ -606,8 +605,8 @@ std::vector<Case> parse_case_file(const std::string& file, const std::string& te
     return out;
   }
   p.check_keys(doc, "",
-               {"$schema", "description", "stage", "preset", "cvars", "settings", "input", "bloom",
-                "bloom_dirt", "matrix", "tolerance", "pins_nonfinite", "tier"});
+               {"$schema", "description", "pipeline", "stage", "preset", "cvars", "settings",
+                "input", "bloom", "bloom_dirt", "matrix", "tolerance", "pins_nonfinite", "tier"});
 
   Case base;
   base.file = file;
@@ -622,21 +621,57 @@ std::vector<Case> parse_case_file(const std::string& file, const std::string& te
     else
       base.tier = t.get<std::string>();
   }
+  // The pipeline (UE 5.5's unless the file names another), then its stage.
+  const Pipeline* pipeline = &default_pipeline();
+  if (doc.contains("pipeline")) {
+    const json& pl = doc["pipeline"];
+    std::vector<std::string> names;
+    for (const Pipeline* q : pipeline_table()) names.emplace_back(q->name);
+    if (!pl.is_string() || !find_pipeline(pl.get<std::string>()))
+      p.fail("/pipeline",
+             "unknown pipeline " + show(pl) +
+                 (pl.is_string() ? did_you_mean(pl.get<std::string>(), names) : ""),
+             pipeline_names());
+    else
+      pipeline = find_pipeline(pl.get<std::string>());
+  }
+  base.settings = pipeline->new_settings();
   std::vector<std::string> stage_list;
-  for (const auto& s : stage_table()) stage_list.emplace_back(s.name);
+  for (const auto& s : pipeline->stages()) stage_list.emplace_back(s.name);
   if (!doc.contains("stage")) {
-    p.fail("/stage", "missing stage", stage_names());
-  } else if (!doc["stage"].is_string() || !find_stage(doc["stage"].get<std::string>())) {
-    p.fail("/stage",
-           "unknown stage " + show(doc["stage"]) +
-               (doc["stage"].is_string() ? did_you_mean(doc["stage"].get<std::string>(), stage_list)
-                                         : ""),
-           stage_names());
+    p.fail("/stage", "missing stage", stage_names(*pipeline));
+  } else if (!doc["stage"].is_string() || !find_stage(*pipeline, doc["stage"].get<std::string>())) {
+    const StageInfo* elsewhere =
+        doc["stage"].is_string() ? find_stage(doc["stage"].get<std::string>()) : nullptr;
+    p.fail(
+        "/stage",
+        "unknown stage " + show(doc["stage"]) +
+            (pipeline == &default_pipeline() ? "" : " of pipeline " + std::string(pipeline->name)) +
+            (elsewhere ? " (it is a stage of pipeline " + std::string(elsewhere->pipeline) +
+                             ": set \"pipeline\": \"" + std::string(elsewhere->pipeline) + "\")"
+             : doc["stage"].is_string() ? did_you_mean(doc["stage"].get<std::string>(), stage_list)
+                                        : ""),
+        stage_names(*pipeline));
   } else {
-    base.stage = find_stage(doc["stage"].get<std::string>());
+    base.stage = find_stage(*pipeline, doc["stage"].get<std::string>());
+  }
+  if (pipeline->cvars().empty()) {
+    for (const char* key : {"cvars", "preset"})
+      if (doc.contains(key))
+        p.fail(
+            std::string("/") + key,
+            "pipeline " + std::string(pipeline->name) + " has no cvars" +
+                (std::string(key) == "preset" ? " (presets set UE 5.5's cvars and settings)" : ""),
+            "\"settings\": " + std::string(pipeline->name) +
+                "'s settings (hdrconform cvars "
+                "--pipeline " +
+                std::string(pipeline->name) + ")");
+    if (doc.contains("matrix") && doc["matrix"].is_object() && doc["matrix"].contains("cvars"))
+      p.fail("/matrix/cvars", "pipeline " + std::string(pipeline->name) + " has no cvars",
+             "\"settings\"");
   }
   // Presets first: the case's own cvars and settings, then its matrix, override them.
-  if (doc.contains("preset")) {
+  if (doc.contains("preset") && !pipeline->cvars().empty()) {
     const json& pr = doc["preset"];
     std::vector<std::pair<json, std::string>> refs;
     if (pr.is_array()) {
@@ -666,7 +701,8 @@ std::vector<Case> parse_case_file(const std::string& file, const std::string& te
       }
     }
   }
-  if (doc.contains("cvars")) p.cvar_object(doc["cvars"], "/cvars", &base.cvars);
+  if (doc.contains("cvars") && !pipeline->cvars().empty())
+    p.cvar_object(doc["cvars"], "/cvars", &base.cvars);
   if (doc.contains("settings")) p.setting_object(doc["settings"], "/settings", &base.settings);
   for (const char* key : {"bloom", "bloom_dirt"}) {
     if (!doc.contains(key)) continue;
@@ -753,7 +789,7 @@ std::vector<Case> parse_case_file(const std::string& file, const std::string& te
             const json& val = it.value()[i];
             const std::string vptr = ptr + "/" + std::to_string(i);
             CvarValues cprobe;
-            SettingValues sprobe;
+            SettingValues sprobe = pipeline->new_settings();
             const bool valid = is_cvar ? p.cvar(it.key(), val, vptr, &cprobe)
                                        : p.setting(it.key(), val, vptr, &sprobe);
             if (!valid) continue;
@@ -895,8 +931,8 @@ std::vector<Case> parse_case_file(const std::string& file, const std::string& te
     }
     const InputSpec& input = inputs[input_dim ? row.back() : 0];
     const int device = c.cvars.get_int("r.HDR.Display.OutputDevice");
-    const auto& allowed = base.stage->devices;
-    if (std::find(allowed.begin(), allowed.end(), device) == allowed.end()) {
+    const auto& allowed = base.stage->devices;  // empty: the stage has no output-device cvar
+    if (!allowed.empty() && std::find(allowed.begin(), allowed.end(), device) == allowed.end()) {
       std::string where = "/cvars/r.HDR.Display.OutputDevice";
       for (size_t d = 0; d < dims.size(); ++d)
         if (dims[d].name == "r.HDR.Display.OutputDevice")
@@ -1113,15 +1149,21 @@ std::vector<KnownLimit> load_known_limits(const std::string& cases_dir,
 Result<ResolvedCase> resolve_case(const Case& c) {
   ResolvedCase r;
   r.spec = c;
+  const Pipeline& pipeline = pipeline_of(*c.stage);
   if (!c.stage->takes_input) {
-    // The "input" of a LUT texel is its lattice coordinate (reported with the worst pixel).
-    const int n = c.cvars.get_int("r.LUT.Size");
-    const int layout = static_cast<int>(c.settings.get("LUTLayout"));
+    // The "input" of a LUT texel is its lattice coordinate (reported with the worst pixel); the
+    // LUT's size and layout come from the pipeline's parameters.
+    auto sized = pipeline.resolve(c, 1, 1);
+    if (!sized) return sized.error();
+    const ParamBlock& lp = sized->params;
+    const int n = lp.lut_size;
+    if (n < 2 || n > 256)
+      return Error{c.file, "", "LUT size " + std::to_string(n) + " is out of range", "2 to 256"};
     r.input = Image(n * n, n);
     for (int b = 0; b < n; ++b)
       for (int g = 0; g < n; ++g)
         for (int rr = 0; rr < n; ++rr) {
-          const auto v = ref::lattice_coordinate(layout, n, rr, g, b);
+          const auto v = pipeline.lattice(lp, rr, g, b);
           double* px = r.input.px(rr + n * b, g);
           px[0] = v[0];
           px[1] = v[1];
@@ -1163,7 +1205,7 @@ Result<ResolvedCase> resolve_case(const Case& c) {
     if (!ui) return ui.error();
     r.ui = std::move(*ui);
   }
-  auto resolution = ref::resolve(c, r.input.width, r.input.height);
+  auto resolution = pipeline.resolve(c, r.input.width, r.input.height);
   if (!resolution) return resolution.error();
   r.params = resolution->params;
   r.degenerate = resolution->degenerate;

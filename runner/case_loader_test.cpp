@@ -11,6 +11,7 @@
 #include <set>
 #include <tuple>
 
+#include "core/pipeline.h"
 #include "runner/stimuli.h"
 
 #ifndef HDRC_SOURCE_DIR
@@ -326,6 +327,10 @@ TEST(CaseLoader, TheDefaultSuiteLoads) {
                                                   {"lut/storage", 13},
                                                   {"lut/working_color_space", 71},
                                                   {"lut/working_color_space_custom", 50},
+                                                  {"operators/exposure", 30},
+                                                  {"operators/film_presets", 15},
+                                                  {"operators/operators", 30},
+                                                  {"operators/parameters", 13},
                                                   {"tonemap/cvars", 55},
                                                   {"tonemap/degenerate", 1},
                                                   {"tonemap/display", 100},
@@ -348,11 +353,19 @@ TEST(CaseLoader, TheDefaultSuiteLoads) {
                                                   {"ui/color_deficiency", 13},
                                                   {"ui/composite", 16},
                                                   {"ui/working_color_space", 28},
+                                                  {"unity_urp/channel_mixer", 10},
+                                                  {"unity_urp/color_adjustments", 17},
+                                                  {"unity_urp/graded_look", 54},
+                                                  {"unity_urp/grading_modes", 90},
+                                                  {"unity_urp/lift_gamma_gain", 10},
+                                                  {"unity_urp/lut_modes", 18},
+                                                  {"unity_urp/shadows_midtones_highlights", 10},
+                                                  {"unity_urp/split_toning", 10},
                                                   {"visualize/pre_exposure", 8},
                                                   {"visualize/visualize_hdr", 30},
                                                   {"visualize/working_color_space", 21}};
   EXPECT_EQ(per_file, expected);
-  EXPECT_EQ(loaded.cases.size(), 922u);
+  EXPECT_EQ(loaded.cases.size(), 1229u);
   for (const auto& c : loaded.cases) EXPECT_NE(c.tolerance.source, "default") << c.id;
 }
 
@@ -362,7 +375,8 @@ TEST(CaseLoader, SchemaMatchesTheLoader) {
   std::ifstream f(kCasesDir + "/schema.json");
   const nlohmann::ordered_json schema = nlohmann::ordered_json::parse(f);
   std::vector<std::string> stages;
-  for (const auto& s : hdrc::stage_table()) stages.emplace_back(s.name);
+  for (const hdrc::Pipeline* p : hdrc::pipeline_table())
+    for (const auto& s : p->stages()) stages.emplace_back(s.name);
   EXPECT_EQ(schema["$defs"]["stage"]["enum"].get<std::vector<std::string>>(), stages);
   std::vector<std::string> stimuli;
   for (const auto& v : schema["$defs"]["input"]["oneOf"]) {

@@ -25,6 +25,7 @@
 
 #include "core/case.h"
 #include "core/image.h"
+#include "core/output_encoding.h"
 #include "core/shader_interface.h"
 #include "reference/color/vec.h"
 
@@ -35,24 +36,6 @@ namespace hdrc {
 inline constexpr int kBandCount = 6;
 const char* band_name(int band);  // "<0.1", "0.1-1", ..., ">=1000" (nits)
 int band_of_nits(double nits);    // NaN and negative: band 0
-
-// How a stage's output values map to absolute luminance and to BT.2020 (docs/diff-metrics.md).
-struct OutputEncoding {
-  StageId stage = StageId::kShaper;
-  int device = 0;
-  double inverse_gamma_z = 1.0 / 2.2;            // device 2's 1/Gamma
-  ref::Mat3 to_rec2020 = ref::Mat3::identity();  // output gamut RGB → BT.2020 RGB (D65)
-  std::string gamut = "BT.2020";                 // the output gamut's name
-
-  // The encoding of `stage`'s output for the resolved parameters `p` (device, gamut, WCS).
-  static OutputEncoding of(StageId stage, const ParamBlock& p);
-  double to_nits(double value) const;  // per channel
-  // True when the output is a power-law encoding (PQ, explicit gamma) of a value that can be
-  // negative, so that a NaN marks a negative value: devices 2–7 from CombineLUTs on. Where this
-  // holds, the census applies the sign-boundary rule (docs/diff-metrics.md).
-  bool nan_marks_negative() const;
-  std::string describe() const;  // "PQ EOTF, Rec.2020"
-};
 
 // One value of an image pair.
 struct PixelRef {

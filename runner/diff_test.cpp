@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 
+#include "core/pipeline.h"
 #include "reference/color/st2084.h"
 #include "reference/color/ue_matrices.h"
 
@@ -16,6 +17,15 @@ namespace {
 using hdrc::Metric;
 using hdrc::OutputEncoding;
 using hdrc::StageId;
+
+// UE 5.5's encoding of `stage`'s output for output device `device` (the other parameters at their
+// block defaults; device 2's InverseGamma.z is `inverse_gamma_z`).
+OutputEncoding ue_encoding(const char* stage, int device, double inverse_gamma_z = 1 / 2.2) {
+  hdrc::ParamBlock p;
+  p.output_device = device;
+  p.inverse_gamma[2] = inverse_gamma_z;
+  return hdrc::output_encoding(*hdrc::find_stage(stage), p);
+}
 
 const double kNaN = std::numeric_limits<double>::quiet_NaN();
 const double kInf = std::numeric_limits<double>::infinity();
@@ -108,8 +118,7 @@ TEST(Diff, NonFiniteConsistencyRules) {
     hdrc::Image in = grey(3, 0.1), ref = grey(3, 0.1), cand = grey(3, 0.1);
     ref.px(1, 0)[2] = c.ref;
     cand.px(1, 0)[2] = c.cand;
-    const auto s =
-        hdrc::diff_images(in, ref, cand, OutputEncoding{StageId::kShaper, 0}, tol(1e-3, 1e-6, 1));
+    const auto s = hdrc::diff_images(in, ref, cand, ue_encoding("shaper", 0), tol(1e-3, 1e-6, 1));
     EXPECT_EQ(s.nonfinite.mismatch, c.consistent ? 0u : 1u) << c.ref << " vs " << c.cand;
     const auto v = hdrc::judge(s, tol(1e-3, 1e-6, 1));
     EXPECT_EQ(v.pass, c.consistent) << v.reason;
@@ -153,8 +162,7 @@ TEST(Diff, NonFiniteMismatchIsReportedFirst) {
   hdrc::Image in = grey(2, 1), ref = grey(2, 1), cand = grey(2, 1);
   cand.px(0, 0)[0] = 2.0;   // numeric failure at x = 0
   cand.px(1, 0)[0] = kNaN;  // non-finite mismatch at x = 1
-  const auto s =
-      hdrc::diff_images(in, ref, cand, OutputEncoding{StageId::kShaper, 0}, tol(1e-3, 1e-6, 1));
+  const auto s = hdrc::diff_images(in, ref, cand, ue_encoding("shaper", 0), tol(1e-3, 1e-6, 1));
   const auto v = hdrc::judge(s, tol(1e-3, 1e-6, 1));
   EXPECT_FALSE(v.pass);
   EXPECT_EQ(v.reason.rfind("1 non-finite mismatch", 0), 0u) << v.reason;
@@ -163,15 +171,14 @@ TEST(Diff, NonFiniteMismatchIsReportedFirst) {
 // The mapping to nits per stage and device, against published values: sRGB 0.5 → 0.214041 (IEC
 // 61966-2-1), PQ 0.5080784 → 100 nits, scRGB 1.0 → 80 nits.
 TEST(Diff, OutputToNits) {
-  EXPECT_EQ((OutputEncoding{StageId::kShaper, 0}.to_nits(0.5)), 50.0);
-  EXPECT_EQ((OutputEncoding{StageId::kLinearDevice, 8}.to_nits(0.5)), 50.0);
-  EXPECT_EQ((OutputEncoding{StageId::kLinearDevice, 7}.to_nits(0.5)), 0.5);
-  EXPECT_NEAR((OutputEncoding{StageId::kTonemap, 0}.to_nits(0.5)), 21.4041, 1e-3);
-  EXPECT_NEAR((OutputEncoding{StageId::kTonemap, 3}.to_nits(0.5080784)), 100.0, 1e-4);
-  EXPECT_EQ((OutputEncoding{StageId::kTonemap, 5}.to_nits(1.0)), 80.0);
-  EXPECT_NEAR((OutputEncoding{StageId::kCombineLuts, 3}.to_nits(0.5080784 / 1.05)), 100.0, 1e-4);
-  EXPECT_NEAR((OutputEncoding{StageId::kTonemap, 2, 1 / 2.2}.to_nits(0.5)),
-              100 * std::pow(0.5, 2.2), 1e-12);
+  EXPECT_EQ((ue_encoding("shaper", 0).to_nits(0.5)), 50.0);
+  EXPECT_EQ((ue_encoding("linear_device", 8).to_nits(0.5)), 50.0);
+  EXPECT_EQ((ue_encoding("linear_device", 7).to_nits(0.5)), 0.5);
+  EXPECT_NEAR((ue_encoding("tonemap", 0).to_nits(0.5)), 21.4041, 1e-3);
+  EXPECT_NEAR((ue_encoding("tonemap", 3).to_nits(0.5080784)), 100.0, 1e-4);
+  EXPECT_EQ((ue_encoding("tonemap", 5).to_nits(1.0)), 80.0);
+  EXPECT_NEAR((ue_encoding("combine_luts", 3).to_nits(0.5080784 / 1.05)), 100.0, 1e-4);
+  EXPECT_NEAR((ue_encoding("tonemap", 2, 1 / 2.2).to_nits(0.5)), 100 * std::pow(0.5, 2.2), 1e-12);
 }
 
 // The gamut of each output, against ITU-R BT.2087-0 §2's BT.709 → BT.2020 matrix (first row
@@ -179,14 +186,14 @@ TEST(Diff, OutputToNits) {
 TEST(Diff, OutputGamutToRec2020) {
   hdrc::ParamBlock p;
   p.output_device = 5;
-  const auto scrgb = OutputEncoding::of(StageId::kTonemap, p);
+  const auto scrgb = hdrc::output_encoding(*hdrc::find_stage("tonemap"), p);
   EXPECT_NEAR(scrgb.to_rec2020(0, 0), 0.6274, 1e-4);
   EXPECT_NEAR(scrgb.to_rec2020(0, 1), 0.3293, 1e-4);
   EXPECT_NEAR(scrgb.to_rec2020(0, 2), 0.0433, 1e-4);
   EXPECT_EQ(scrgb.describe(), "scRGB x 80 nits, Rec.709");
   p.output_device = 3;
   p.output_gamut = 2;
-  const auto pq = OutputEncoding::of(StageId::kTonemap, p);
+  const auto pq = hdrc::output_encoding(*hdrc::find_stage("tonemap"), p);
   for (int i = 0; i < 9; ++i) EXPECT_NEAR(pq.to_rec2020.m[i], i % 4 == 0 ? 1 : 0, 1e-12);
   EXPECT_EQ(pq.describe(), "PQ EOTF, Rec2020_D65");
 }
@@ -223,7 +230,7 @@ TEST(Diff, DeltaEItpIsJudgedPerPixel) {
   p.wcs_is_srgb = 1;
   p.wcs_to_ap1 =
       hdrc::ref::standard::rgb_to_rgb(hdrc::ref::standard::kSrgb, hdrc::ref::standard::kAp1);
-  const OutputEncoding enc = OutputEncoding::of(StageId::kShaper, p);
+  const OutputEncoding enc = hdrc::output_encoding(*hdrc::find_stage("shaper"), p);
   hdrc::Image in = grey(2, 1.0), ref = grey(2, 1.0), cand = grey(2, 1.0);
   for (int c = 0; c < 3; ++c) cand.px(1, 0)[c] = 1.01;  // grey 100 → 101 nits
   hdrc::Tolerance t;
@@ -262,7 +269,7 @@ TEST(Diff, PlantedDefectIsLocatedWithItsBand) {
   p.wcs_is_srgb = 1;
   p.wcs_to_ap1 =
       hdrc::ref::standard::rgb_to_rgb(hdrc::ref::standard::kSrgb, hdrc::ref::standard::kAp1);
-  const OutputEncoding enc = OutputEncoding::of(StageId::kShaper, p);
+  const OutputEncoding enc = hdrc::output_encoding(*hdrc::find_stage("shaper"), p);
   hdrc::Image in(5, 2), ref(5, 2), cand(5, 2);
   const double levels[5] = {0.0005, 0.005, 0.05, 0.5, 36.0};  // 0.05 … 3600 nits grey
   for (int y = 0; y < 2; ++y)
@@ -370,10 +377,10 @@ TEST(Diff, BudgetUsedHonoursAllowedFractionAndFailures) {
 // noise of zero (|nits| < 2^-20 x the pixel's largest |nits|) is consistent and counted; a value
 // above that noise is a mismatch, and so is NaN vs 0 where NaN marks nothing (the shaper).
 TEST(Diff, SignBoundaryNaNAgainstNoiseOfZero) {
-  const OutputEncoding lut3{StageId::kCombineLuts, 3};
+  const OutputEncoding lut3 = ue_encoding("combine_luts", 3);
   ASSERT_TRUE(lut3.nan_marks_negative());
-  ASSERT_FALSE((OutputEncoding{StageId::kShaper, 3}.nan_marks_negative()));
-  ASSERT_FALSE((OutputEncoding{StageId::kCombineLuts, 0}.nan_marks_negative()));
+  ASSERT_FALSE((ue_encoding("shaper", 3).nan_marks_negative()));
+  ASSERT_FALSE((ue_encoding("combine_luts", 0).nan_marks_negative()));
   // 0.5 as a stored texel: PQ 0.525 is ~112 nits, so the bound is ~1.1e-4 nits. PQ 0.000196 is
   // 2.5e-6 nits (inside); PQ 0.05 is 0.06 nits (outside).
   for (const auto& [cand, boundary] : {std::pair{0.000196, true}, std::pair{0.05, false}}) {
@@ -404,7 +411,7 @@ TEST(Diff, SignBoundaryNaNAgainstNoiseOfZero) {
 // relative: in a dark pixel the same values are far apart, and a real error in the bright
 // pixel's small channel above the floor is still measured.
 TEST(Diff, PqNoiseFloorIsRelativeToThePixel) {
-  const OutputEncoding linear7{StageId::kLinearDevice, 7};  // values are nits
+  const OutputEncoding linear7 = ue_encoding("linear_device", 7);  // values are nits
   auto pq10 = [&](double big, double r, double c) {
     hdrc::Image in = grey(1, 0.0), ref = grey(1, 0.0), cnd = grey(1, 0.0);
     ref.px(0, 0)[1] = cnd.px(0, 0)[1] = big;

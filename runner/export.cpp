@@ -8,6 +8,7 @@
 #include <type_traits>
 
 #include "core/atomic_file.h"
+#include "core/pipeline.h"
 #include "reference/color/ue_matrices.h"
 #include "runner/case_loader.h"
 #include "runner/diff.h"
@@ -35,9 +36,10 @@ json vec4(const std::array<double, 4>& v) {
 }
 }  // namespace
 
-json params_json(const ParamBlock& p) {
+json params_json(const ParamBlock& p, std::string_view pipeline) {
   json j = json::object();
   for_each_param(p, [&](FieldKind, const char* name, const auto& v) {
+    if (!param_carried_by(name, pipeline)) return;
     using T = std::decay_t<decltype(v)>;
     if constexpr (std::is_same_v<T, int32_t>)
       j[name] = v;
@@ -98,12 +100,12 @@ Status read_array(const json& j, const std::string& file, const std::string& at,
 }  // namespace
 
 Result<ParamBlock> params_from_json(const json& j, const std::string& file,
-                                    const std::string& pointer) {
+                                    const std::string& pointer, std::string_view pipeline) {
   if (!j.is_object()) return Error{file, pointer, "expected an object of parameters", ""};
   ParamBlock p;
   Status status;  // the first error; the fields after it are not read
   for_each_param(p, [&](FieldKind, const char* name, auto& field) {
-    if (!status) return;
+    if (!status || !param_carried_by(name, pipeline)) return;
     using T = std::decay_t<decltype(field)>;
     const std::string at = pointer + "/" + name;
     if constexpr (std::is_same_v<T, int32_t> || std::is_same_v<T, double>) {
@@ -205,6 +207,7 @@ std::string formula_name(StageId stage, int device) {
       return "x + (triangular grain) * BackbufferQuantizationDithering";
     case StageId::kTonemap:
     case StageId::kVisualizeHdr:
+    case StageId::kOther:  // another pipeline's stage: case_export_json names its sources
       break;
   }
   switch (device) {
@@ -247,6 +250,8 @@ std::string output_value(StageId stage) {
       return "the back buffer (the input) with the UI layer (ui.exr) composited over it";
     case StageId::kVisualizeHdr:
       return "VisualizeHDR's image of the input scene (panel, histogram, meters)";
+    case StageId::kOther:  // another pipeline's stage: case_export_json uses its description
+      break;
   }
   return "";
 }
@@ -363,7 +368,7 @@ json case_export_json(const ResolvedCase& rc) {
     images[a.name] = {{"file", std::string(a.name) + ".exr"},
                       {"width", a.image->width},
                       {"height", a.image->height}};
-  const OutputEncoding enc = OutputEncoding::of(c.stage->id, rc.params);
+  const OutputEncoding enc = output_encoding(*c.stage, rc.params);
   const StageId stage = c.stage->id;
   json doc = {
       {"format_version", kExportFormatVersion},
@@ -371,6 +376,7 @@ json case_export_json(const ResolvedCase& rc) {
       {"schema", "runner/params.schema.json"},
       {"id", c.id},
       {"case_file", c.file},
+      {"pipeline", std::string(c.stage->pipeline)},
       {"stage", std::string(c.stage->name)},
       {"passes", passes},
       {"cvars", explicit_cvars(c)},
@@ -384,14 +390,16 @@ json case_export_json(const ResolvedCase& rc) {
         {"channel_count", 4},
         {"channels", "RGBA"},
         {"format", "OpenEXR, 32-bit float, channels R G B A (RGB alone is accepted)"},
-        {"value", output_value(stage)},
+        {"value",
+         stage == StageId::kOther ? std::string(c.stage->description) : output_value(stage)},
         {"alpha", output_alpha(stage)},
         {"encoding", enc.describe()},
-        {"formula", formula_name(stage, rc.params.output_device)},
+        {"formula", stage == StageId::kOther ? std::string(pipeline_of(*c.stage).sources)
+                                             : formula_name(stage, rc.params.output_device)},
         {"quantisation", quantisation(stage, rc.params)},
         {"layout", layout(stage, rc)}}},
       {"degenerate", rc.degenerate.empty() ? json(nullptr) : json(rc.degenerate)},
-      {"params", params_json(rc.params)},
+      {"params", params_json(rc.params, c.stage->pipeline)},
   };
   return doc;
 }
@@ -413,7 +421,7 @@ Result<ResolvedCase> load_exported_case(const std::string& params_path) {
   rc.spec.stage = find_stage(doc["stage"].get<std::string>());
   if (doc.contains("id") && doc["id"].is_string()) rc.spec.id = doc["id"].get<std::string>();
   if (!doc.contains("params")) return Error{params_path, "/params", "missing params", ""};
-  auto params = params_from_json(doc["params"], params_path, "/params");
+  auto params = params_from_json(doc["params"], params_path, "/params", rc.spec.stage->pipeline);
   if (!params) return params.error();
   rc.params = *params;
   const fs::path dir = fs::path(params_path).parent_path();
@@ -457,6 +465,7 @@ ExportSummary export_cases(const std::vector<Case>& cases, const std::string& ou
     ++summary.cases;
     summary.degenerate += !rc->degenerate.empty();
     list.push_back({{"id", c.id},
+                    {"pipeline", std::string(c.stage->pipeline)},
                     {"stage", std::string(c.stage->name)},
                     {"dir", rel},
                     {"degenerate", !rc->degenerate.empty()}});

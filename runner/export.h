@@ -23,12 +23,14 @@
 
 namespace hdrc {
 
-// Every ParamBlock field by name: I → integer, F → number, V4 → [4 numbers], M3 → [[3], [3], [3]]
-// (rows). Numbers are written so they read back to the same double.
-nlohmann::ordered_json params_json(const ParamBlock& p);
-// The inverse; every field must be present. Errors name `file` and the JSON pointer.
+// Every ParamBlock field `pipeline`'s cases carry (param_carried_by: UE 5.5's fields and the
+// pipeline's own) by name: I → integer, F → number, V4 → [4 numbers], M3 → [[3], [3], [3]] (rows).
+// Numbers are written so they read back to the same double.
+nlohmann::ordered_json params_json(const ParamBlock& p, std::string_view pipeline = "ue55");
+// The inverse; every field `pipeline` carries must be present, the others keep their block
+// defaults. Errors name `file` and the JSON pointer.
 Result<ParamBlock> params_from_json(const nlohmann::ordered_json& j, const std::string& file,
-                                    const std::string& pointer);
+                                    const std::string& pointer, std::string_view pipeline = "ue55");
 
 // params.json's format version: a port checks it (2: "storage", "resolved" and the full
 // "output" block; runner/params.schema.json describes it, docs/candidate-protocol.md explains it).

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <iostream>
 
+#include "core/pipeline.h"
 #include "gpu/vulkan_engine.h"
 #include "reference/reference_engine.h"
 #include "report/html_report.h"
@@ -15,6 +16,7 @@
 #include "runner/coverage.h"
 #include "runner/export.h"
 #include "runner/goldens.h"
+#include "runner/lut_cli.h"
 #include "runner/merge.h"
 #include "runner/output_set.h"
 #include "runner/probe.h"
@@ -44,6 +46,12 @@ constexpr const char* kExitCodes =
     "degenerate parameters (DEGENERATE) are reported with their reason and do not change the "
     "code.\n";
 
+std::vector<std::string> pipeline_list() {
+  std::vector<std::string> names;
+  for (const hdrc::Pipeline* p : hdrc::pipeline_table()) names.emplace_back(p->name);
+  return names;
+}
+
 int load_or_report(const std::string& dir, const hdrc::CaseSelection& filter,
                    std::vector<hdrc::Case>* out, std::vector<hdrc::KnownLimit>* limits,
                    const std::string& suite = "quick") {
@@ -55,7 +63,7 @@ int load_or_report(const std::string& dir, const hdrc::CaseSelection& filter,
     return hdrc::kExitBadInput;
   }
   for (const auto& c : loaded.cases)
-    if (filter.matches(c.id)) out->push_back(c);
+    if (filter.matches(c)) out->push_back(c);
   if (out->empty()) {
     const std::string msg = hdrc::no_match_message(filter, loaded.cases, dir);
     if (filter.rerun_ids && filter.rerun_ids->empty()) {  // nothing failed: nothing to rerun
@@ -72,7 +80,8 @@ int load_or_report(const std::string& dir, const hdrc::CaseSelection& filter,
 
 int main(int argc, char** argv) {
   CLI::App app{
-      "hdrconform: conformance suite for Unreal Engine 5.5's HDR output pipeline.\n"
+      "hdrconform: conformance suite for HDR output pipelines (Unreal Engine 5.5, Unity URP\n"
+      "colour grading, the classic tone-mapping operators: hdrconform pipelines).\n"
       "Runs a candidate engine (the GLSL/Vulkan port) and the double-precision reference on\n"
       "JSON cases and diffs them in linear and PQ space."};
   app.footer(kExitCodes);
@@ -110,9 +119,14 @@ int main(int argc, char** argv) {
       "run shard K of N (1-based): the cases are split into N parts of about equal cost (the "
       "last run's seconds with --timings, else a static cost model), deterministically";
   // The options several subcommands share.
+  std::string pipeline_filter;
   auto add_cases = [&](CLI::App* sub) {
     sub->add_option("--cases", cases_dir, "case directory")->capture_default_str();
     add_filter(sub);
+    sub->add_option("--pipeline", pipeline_filter,
+                    "only the cases of these pipelines (comma-separated; hdrconform pipelines): " +
+                        hdrc::pipeline_names())
+        ->multi_option_policy(CLI::MultiOptionPolicy::Join);
   };
   auto add_jobs = [&](CLI::App* sub) {
     sub->add_option("-j,--jobs", jobs, jobs_help)->check(CLI::Range(0, 1024));
@@ -251,8 +265,16 @@ int main(int argc, char** argv) {
   devices->footer(kExitCodes);
 
   CLI::App* cvars = app.add_subcommand(
-      "cvars", "list every supported cvar and post-process setting: type, default, range, use");
+      "cvars", "list every supported cvar and setting of a pipeline: type, default, range, use");
   cvars->footer(kExitCodes);
+  std::string cvars_pipeline = "ue55";
+  cvars->add_option("--pipeline", cvars_pipeline, "the pipeline (hdrconform pipelines)")
+      ->check(CLI::IsMember(pipeline_list()))
+      ->capture_default_str();
+
+  CLI::App* pipelines_cmd =
+      app.add_subcommand("pipelines", "list the pipelines: their stages, passes and sources");
+  pipelines_cmd->footer(kExitCodes);
 
   hdrc::ProbeOptions probe_opts;
   CLI::App* probe = app.add_subcommand(
@@ -301,6 +323,8 @@ int main(int argc, char** argv) {
   merge_cmd->add_option("OUT", merge_out, "output directory")->required();
   merge_cmd->add_option("DIR", merge_dirs, "the shards' output directories")->required();
 
+  hdrc::lut::add_lut_command(app);  // `lut convert | info | apply`: runs and exits inside parse
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -327,9 +351,29 @@ int main(int argc, char** argv) {
     return hdrc::kExitPass;
   }
 
+  if (*pipelines_cmd) {
+    for (const hdrc::Pipeline* p : hdrc::pipeline_table()) {
+      std::printf("%s  %s%s\n  %s\n  sources: %s\n  %zu cvars, %zu settings\n",
+                  std::string(p->name).c_str(), std::string(p->title).c_str(),
+                  p == &hdrc::default_pipeline() ? " (the default pipeline of a case)" : "",
+                  std::string(p->description).c_str(), std::string(p->sources).c_str(),
+                  p->cvars().size(), p->settings().size());
+      for (const hdrc::StageInfo& st : p->stages()) {
+        std::string passes;
+        for (const hdrc::StagePass& pass : st.passes)
+          passes += (passes.empty() ? "" : " -> ") + std::string(pass.shader);
+        std::printf("    %-16s %s\n    %-16s passes: %s\n", std::string(st.name).c_str(),
+                    std::string(st.description).c_str(), "", passes.c_str());
+      }
+      std::printf("\n");
+    }
+    return hdrc::kExitPass;
+  }
+
   if (*cvars) {
+    const hdrc::Pipeline& pipeline = *hdrc::find_pipeline(cvars_pipeline);
     std::printf("%-44s %-6s %10s  %-22s %s\n", "cvar", "type", "default", "range", "feeds");
-    for (const auto& c : hdrc::cvar_table()) {
+    for (const auto& c : pipeline.cvars()) {
       char range[64];
       std::snprintf(range, sizeof range, "%g .. %g", c.min_value, c.max_value);
       std::printf("%-44s %-6s %10g  %-22s %s\n", std::string(c.name).c_str(),
@@ -337,7 +381,8 @@ int main(int argc, char** argv) {
                   std::string(c.feeds).c_str());
     }
     std::printf("\n%-44s %-6s %10s  %-22s %s\n", "setting", "kind", "default", "range", "feeds");
-    for (const auto& s : hdrc::setting_table()) {
+    const hdrc::SettingValues settings = pipeline.new_settings();
+    for (const auto& s : pipeline.settings()) {
       char range[64], def[64];
       std::snprintf(range, sizeof range, "%g .. %g", s.min_value, s.max_value);
       if (s.components == 1)
@@ -345,8 +390,10 @@ int main(int argc, char** argv) {
       else
         std::snprintf(def, sizeof def, "%g,%g,%g,%g", s.default_value[0], s.default_value[1],
                       s.default_value[2], s.default_value[3]);
-      std::printf("%-44s %-6s %10s  %-22s %s\n", std::string(s.name).c_str(),
-                  s.components == 1 ? "scalar" : "vec4", def, range, std::string(s.feeds).c_str());
+      const std::string named = settings.choices_text(s.name);
+      std::printf("%-44s %-6s %10s  %-22s %s%s\n", std::string(s.name).c_str(),
+                  s.components == 1 ? "scalar" : "vec4", def, range, std::string(s.feeds).c_str(),
+                  named.empty() ? "" : (" [" + named + "]").c_str());
     }
     return hdrc::kExitPass;
   }
@@ -382,9 +429,9 @@ int main(int argc, char** argv) {
 
   std::vector<hdrc::Case> cases;
   std::vector<hdrc::KnownLimit> limits;
-  auto selection = hdrc::make_selection(filter, rerun_failed);
+  auto selection = hdrc::make_selection(filter, rerun_failed, pipeline_filter);
   if (!selection) {
-    std::fprintf(stderr, "error: --rerun-failed: %s\n", selection.error().to_string().c_str());
+    std::fprintf(stderr, "error: %s\n", selection.error().to_string().c_str());
     return hdrc::kExitBadInput;
   }
   if (int code = load_or_report(cases_dir, *selection, &cases, &limits, suite_name);

@@ -135,6 +135,7 @@ json case_json(const CaseResult& c, const RunReport& r) {
   return {
       {"id", c.spec.id},
       {"file", c.spec.file},
+      {"pipeline", c.spec.stage ? std::string(c.spec.stage->pipeline) : std::string()},
       {"stage", c.spec.stage ? std::string(c.spec.stage->name) : std::string()},
       {"verdict", verdict_name(c.verdict)},
       {"reason", c.reason},
@@ -158,7 +159,9 @@ json case_json(const CaseResult& c, const RunReport& r) {
         {"total", c.seconds()}}},
       {"device", device(r.candidate_device)},
       {"reference_values", c.reference_values},
-      {"params", c.has_params ? params_json(c.params) : json(nullptr)},
+      {"params", c.has_params
+                     ? params_json(c.params, c.spec.stage ? c.spec.stage->pipeline : "ue55")
+                     : json(nullptr)},
   };
 }
 

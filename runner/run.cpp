@@ -10,6 +10,7 @@
 #include <sstream>
 #include <thread>
 
+#include "core/pipeline.h"
 #include "runner/case_loader.h"
 #include "runner/goldens.h"
 #include "runner/json_read.h"
@@ -252,7 +253,7 @@ class Executor {
         apply_overlays(c, w.candidate->name(), report_.candidate_device.device, opt_.overlays);
     if (!tol) return error(std::move(r), tol.error().to_string());
     r.tolerance = *tol;
-    const OutputEncoding enc = OutputEncoding::of(c.stage->id, resolved->params);
+    const OutputEncoding enc = output_encoding(*c.stage, resolved->params);
     r.encoding = enc.describe();
     if (!save(r, "input", resolved->input)) return r;
     if (!report_.candidate_unavailable.empty() && !limit) {

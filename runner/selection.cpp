@@ -6,6 +6,7 @@
 #include <map>
 
 #include "core/nearest.h"
+#include "core/pipeline.h"
 #include "runner/results.h"
 
 namespace hdrc {
@@ -53,12 +54,24 @@ bool CaseSelection::matches(const std::string& id) const {
   return false;
 }
 
+bool CaseSelection::matches(const Case& c) const {
+  if (!pipelines.empty() && (!c.stage || std::find(pipelines.begin(), pipelines.end(),
+                                                   c.stage->pipeline) == pipelines.end()))
+    return false;
+  return matches(c.id);
+}
+
 std::string CaseSelection::describe() const {
   std::string s;
   if (!patterns.empty()) {
     std::string joined;
     for (const auto& p : patterns) joined += (joined.empty() ? "" : ",") + p;
     s = "--filter '" + joined + "'";
+  }
+  if (!pipelines.empty()) {
+    std::string joined;
+    for (const auto& p : pipelines) joined += (joined.empty() ? "" : ",") + p;
+    s += (s.empty() ? "" : " ") + std::string("--pipeline ") + joined;
   }
   if (!rerun_dir.empty()) s += (s.empty() ? "" : " ") + std::string("--rerun-failed ") + rerun_dir;
   return s.empty() ? "(every case)" : s;
@@ -82,10 +95,16 @@ Result<std::set<std::string>> failed_case_ids(const std::string& results_dir) {
   return ids;
 }
 
-Result<CaseSelection> make_selection(const std::string& filter_text, const std::string& rerun_dir) {
+Result<CaseSelection> make_selection(const std::string& filter_text, const std::string& rerun_dir,
+                                     const std::string& pipeline_text) {
   CaseSelection sel;
   sel.patterns = split_filter(filter_text);
   sel.rerun_dir = rerun_dir;
+  for (const std::string& name : split_filter(pipeline_text)) {
+    if (!find_pipeline(name))
+      return Error{"--pipeline", "", "unknown pipeline '" + name + "'", pipeline_names()};
+    sel.pipelines.push_back(name);
+  }
   if (!rerun_dir.empty()) {
     auto ids = failed_case_ids(rerun_dir);
     if (!ids) return ids.error();

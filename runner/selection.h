@@ -23,15 +23,21 @@ struct CaseSelection {
   // golden check failed.
   std::string rerun_dir;
   std::optional<std::set<std::string>> rerun_ids;
+  // --pipeline: only the cases of these pipelines (core/pipeline.h); empty: every pipeline.
+  std::vector<std::string> pipelines;
   bool matches(const std::string& id) const;
-  std::string describe() const;  // for messages: "--filter 'a,b' --rerun-failed DIR"
+  bool matches(const Case& c) const;  // its id, and its stage's pipeline
+  std::string describe() const;  // for messages: "--filter 'a,b' --pipeline p --rerun-failed DIR"
 };
 
 // Splits --filter values (CLI11 joins repeated values with '\n') on newlines and commas.
 std::vector<std::string> split_filter(const std::string& text);
 
 // Builds the selection; with a rerun directory, reads DIR/results.json (errors name the file).
-Result<CaseSelection> make_selection(const std::string& filter_text, const std::string& rerun_dir);
+// `pipeline_text`: --pipeline's comma-separated pipeline names (an unknown one is an error naming
+// the valid choices).
+Result<CaseSelection> make_selection(const std::string& filter_text, const std::string& rerun_dir,
+                                     const std::string& pipeline_text = "");
 
 // The ids of DIR/results.json's failed cases (FAIL, ERROR, MISSING, or a failed golden).
 Result<std::set<std::string>> failed_case_ids(const std::string& results_dir);

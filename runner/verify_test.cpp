@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "core/pipeline.h"
 #include "runner/diff.h"
 #include "runner/json_schema.h"
 #include "runner/test_support.h"
@@ -211,7 +212,7 @@ TEST(Messages, NonFiniteMismatchNamesTheRule) {
   p.output_device = 3;
   hdrc::Tolerance tol;
   tol.linear_abs = 1e-6;
-  const auto enc = hdrc::OutputEncoding::of(hdrc::StageId::kShaper, p);
+  const auto enc = hdrc::output_encoding(*hdrc::find_stage("shaper"), p);
   const auto v = hdrc::judge(hdrc::diff_images(input, reference, candidate, enc, tol), tol);
   EXPECT_FALSE(v.pass);
   EXPECT_NE(v.reason.find("1 non-finite mismatch(es); first at (1, 0) R: input -0.25 reference nan "

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "core/case.h"
+#include "core/pipeline.h"
 #include "core/result.h"
 #include "reference/color/ue_matrices.h"
 
@@ -20,11 +21,6 @@ const Chromaticities& default_working_chromaticities();
 // WorkingColorSpaceRedGreen / WorkingColorSpaceBlueWhite), built as UE's CPU builds it. Errors:
 // chromaticities given with a preset, degenerate custom chromaticities.
 Result<WorkingColorSpace> working_color_space_of(const SettingValues& st);
-
-struct Resolution {
-  ParamBlock params;
-  std::string degenerate;  // why UE's parameters are degenerate here ("" when they are not)
-};
 
 // Resolves the case's cvars and settings for an image of `width` × `height`.
 Result<Resolution> resolve(const Case& c, int width, int height);

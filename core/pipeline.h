@@ -1,0 +1,77 @@
+// A pipeline: one engine's HDR output path (UE 5.5's, Unity URP's colour grading, the classic tone
+// operators), verified as a module. A pipeline owns its parameter tables, its stages and passes,
+// its host derivation (parameters -> the shader parameter block, computed once as the engine's own
+// C++/C# does), its double-precision reference, its GLSL shaders (named by its stages' passes), its
+// cases (cases/<pipeline>/ for every pipeline but UE 5.5, whose case ids predate pipelines) and a
+// docs page naming its sources of truth. The runner, diff, tolerance policy, export/verify, goldens
+// and report reach a pipeline only through this interface (docs/pipelines.md: adding one).
+#pragma once
+
+#include <array>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/case.h"
+#include "core/cvars.h"
+#include "core/image.h"
+#include "core/output_encoding.h"
+#include "core/result.h"
+#include "core/settings.h"
+#include "core/stage.h"
+
+namespace hdrc {
+
+// The host derivation's result: the parameter block both engines read, and why the pipeline's own
+// parameters are degenerate for this combination ("" when they are not; such a case is reported
+// DEGENERATE, never evaluated).
+struct Resolution {
+  ParamBlock params;
+  std::string degenerate;
+};
+
+struct Pipeline {
+  std::string_view name;         // "ue55": what cases, --pipeline and results.json use
+  std::string_view title;        // "Unreal Engine 5.5 HDR output"
+  std::string_view sources;      // the docs page naming its sources of truth
+  std::string_view description;  // one line
+  const std::vector<StageInfo>& (*stages)();
+  // Console variables (UE's r.* cvars); an empty table when the pipeline has none.
+  const std::vector<CvarInfo>& (*cvars)();
+  // Settings (UE's post-process settings, Unity's volume parameters, ...) and their named values.
+  const std::vector<SettingInfo>& (*settings)();
+  SettingChoicesFn setting_choices;
+  // The host derivation for an input of width x height.
+  Result<Resolution> (*resolve)(const Case& c, int width, int height);
+  // The "input" of a stage that takes none (a LUT bake): the lattice coordinate of LUT texel
+  // (r, g, b) for the resolved parameters; the image is N^2 x N with texel (r, g, b) at (r + N b,
+  // g).
+  std::array<double, 3> (*lattice)(const ParamBlock& p, int r, int g, int b);
+  // How `stage`'s outputs map to nits and BT.2020 for the resolved parameters.
+  OutputEncoding (*output_encoding)(const StageInfo& stage, const ParamBlock& p);
+  // The double-precision reference: the stage's output for the resolved case. analytic_lut: where
+  // the pipeline bakes a LUT, evaluate the grade at each pixel instead of sampling the baked LUT
+  // (`verify --reference analytic`).
+  Result<Image> (*reference)(const ResolvedCase& c, bool analytic_lut);
+
+  // A fresh settings set of this pipeline (its table and named values; unset values read as their
+  // defaults).
+  SettingValues new_settings() const { return SettingValues(&settings(), setting_choices); }
+};
+
+// Every pipeline, UE 5.5's first (reference/pipelines.cpp).
+const std::vector<const Pipeline*>& pipeline_table();
+const Pipeline* find_pipeline(std::string_view name);
+const Pipeline& default_pipeline();                   // ue55
+const Pipeline& pipeline_of(const StageInfo& stage);  // the pipeline that owns `stage`
+std::string pipeline_names();                         // "ue55, unity_urp, operators"
+
+// The stage called `name` in `pipeline`, or nullptr.
+const StageInfo* find_stage(const Pipeline& pipeline, std::string_view name);
+// "shaper, linear_device, ..." of one pipeline.
+std::string stage_names(const Pipeline& pipeline);
+
+// The output encoding of `stage` for the resolved parameters (its pipeline's).
+OutputEncoding output_encoding(const StageInfo& stage, const ParamBlock& p);
+
+}  // namespace hdrc

@@ -1,0 +1,97 @@
+// Unity URP's colour grading as a pipeline module ("unity_urp", core/pipeline.h): the internal LUT
+// bake (LutBuilderHdr / LutBuilderLdr) and the uber pass's ApplyColorGrading
+// (docs/unity_urp-spec.md, docs/unity_urp.md).
+#include "reference/unity_urp/unity_urp_pipeline.h"
+
+#include "reference/color/ue_matrices.h"
+#include "reference/unity_urp/unity_urp.h"
+#include "reference/unity_urp/unity_urp_settings.h"
+
+namespace hdrc::ref::unity_urp {
+
+namespace {
+
+const std::vector<StageInfo>& unity_urp_stages() {
+  static const std::vector<StageInfo> table = {
+      {StageId::kOther,
+       "lut_bake",
+       {{"unity_urp/stages/lut_bake.comp", Dispatch::kLutTexels}},
+       "the internal colour grading LUT as stored (LutBuilderHdr: LogC lattice, ColorGrade, tone "
+       "map, RGBA16F; LutBuilderLdr: linear lattice, ColorGrade, saturate, RGBA8), H^2 x H strip "
+       "with texel (r, g, b) at (r + H b, g)",
+       {},
+       false,
+       "unity_urp"},
+      {StageId::kOther,
+       "color_grading",
+       {{"unity_urp/stages/lut_bake.comp", Dispatch::kLutTexels},
+        {"unity_urp/stages/color_grading.comp"}},
+       "the uber pass's ApplyColorGrading (Common.hlsl): post exposure, then HDR grading: "
+       "ApplyLut2D of saturate(LinearToLogC(x)); LDR grading: the tone map, saturate, ApplyLut2D; "
+       "scene-linear Rec.709 in, linear Rec.709 out before the display encode",
+       {},
+       true,
+       "unity_urp"},
+  };
+  return table;
+}
+
+const std::vector<CvarInfo>& no_cvars() {
+  static const std::vector<CvarInfo> none;
+  return none;
+}
+
+Result<Resolution> resolve(const Case& c, int width, int height) {
+  Resolution r;
+  r.params.width = width;
+  r.params.height = height;
+  derive_unity_urp(c.settings, &r.params);
+  return r;
+}
+
+std::array<double, 3> lattice(const ParamBlock& p, int r, int g, int b) {
+  const Vec3 v = lattice_code(p.lut_size, r, g, b);
+  return {v[0], v[1], v[2]};
+}
+
+// Both stages output linear Rec.709 (the LUT's texels are what the final pass adds to the frame
+// before its display encode): 1.0 is SDR white, 100 nits.
+OutputEncoding encoding(const StageInfo& stage, const ParamBlock&) {
+  OutputEncoding e;
+  e.transfer = OutputEncoding::Transfer::kLinear;
+  e.nits_scale = 100.0;
+  e.transfer_name = stage.name == "lut_bake" ? "texel, linear x 100 nits" : "linear x 100 nits";
+  e.to_rec2020 = standard::rgb_to_rgb(standard::kSrgb, standard::kRec2020);
+  e.gamut = "Rec.709";
+  return e;
+}
+
+// analytic_lut: Unity's LUT is always baked (the strip is a stage of its own); both modes sample
+// it.
+Result<Image> reference(const ResolvedCase& c, bool /*analytic_lut*/) {
+  if (c.spec.stage->name == "lut_bake") return bake_lut_strip(c.params);
+  return grade_image(c.input, c.params);
+}
+
+}  // namespace
+
+const Pipeline& unity_urp_pipeline() {
+  static const Pipeline pipeline{
+      "unity_urp",
+      "Unity URP colour grading",
+      "docs/unity_urp-spec.md",
+      "URP's internal colour grading LUT (HDR and LDR grading, tone mapping None / Neutral / ACES, "
+      "LUT sizes 16-65) and its application in the uber pass, from Unity-Technologies/Graphics",
+      &unity_urp_stages,
+      &no_cvars,
+      &unity_urp_setting_table,
+      &unity_urp_setting_choices,
+      &resolve,
+      &lattice,
+      &encoding,
+      &reference,
+  };
+  return pipeline;
+}
+
+}  // namespace hdrc::ref::unity_urp

@@ -1,0 +1,265 @@
+// Pipelines as modules (core/pipeline.h): the registry, case files that name their pipeline, the
+// CLI's per-pipeline commands, and planted defects in the Unity URP and operators shaders that the
+// suite must catch in named cases.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "core/pipeline.h"
+#include "runner/case_loader.h"
+#include "runner/test_support.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace hdrc::test;  // runner/test_support.h
+
+const std::string kCasesDir = std::string(HDRC_SOURCE_DIR) + "/cases";
+
+// The registry lists UE 5.5's pipeline first (the default of a case file), then the others.
+TEST(Pipelines, RegistryListsEveryPipelineUe55First) {
+  std::vector<std::string> names;
+  for (const hdrc::Pipeline* p : hdrc::pipeline_table()) names.emplace_back(p->name);
+  EXPECT_EQ(names, (std::vector<std::string>{"ue55", "unity_urp", "operators"}));
+  EXPECT_EQ(hdrc::default_pipeline().name, "ue55");
+  EXPECT_EQ(hdrc::find_pipeline("nope"), nullptr);
+}
+
+// A stage name alone names its pipeline (results.json, tolerance overlays): no two pipelines
+// share one, every stage knows its owner, and every pass shader exists in the suite's shaders.
+TEST(Pipelines, StageNamesAreUniqueAndOwnedAndTheirShadersExist) {
+  std::set<std::string> seen;
+  for (const hdrc::Pipeline* p : hdrc::pipeline_table()) {
+    ASSERT_FALSE(p->stages().empty()) << p->name;
+    for (const hdrc::StageInfo& s : p->stages()) {
+      EXPECT_TRUE(seen.insert(std::string(s.name)).second) << s.name << " is in two pipelines";
+      EXPECT_EQ(s.pipeline, p->name) << s.name;
+      EXPECT_EQ(&hdrc::pipeline_of(s), p) << s.name;
+      EXPECT_EQ(hdrc::find_stage(s.name), &s) << s.name;
+      EXPECT_TRUE(hdrc::missing_shaders(s, std::string(HDRC_SOURCE_DIR) + "/gpu/shaders").empty())
+          << s.name;
+      // UE 5.5's stages are its own enumerators; every other pipeline's are kOther.
+      EXPECT_EQ(s.id == hdrc::StageId::kOther, p->name != "ue55") << s.name;
+    }
+  }
+}
+
+// Every stage of every pipeline has cases in the default suite, and every pipeline but UE 5.5
+// (whose case ids predate pipelines) keeps them under cases/<pipeline>/.
+TEST(Pipelines, EveryStageHasCasesUnderItsPipelinesFolder) {
+  const hdrc::LoadedCases loaded = hdrc::load_cases(kCasesDir);
+  ASSERT_TRUE(loaded.errors.empty()) << loaded.errors[0].to_string();
+  std::set<std::string> stages_with_cases;
+  for (const hdrc::Case& c : loaded.cases) {
+    stages_with_cases.insert(std::string(c.stage->name));
+    const std::string pipeline(c.stage->pipeline);
+    if (pipeline != "ue55") {
+      EXPECT_EQ(c.id.rfind(pipeline + "/", 0), 0u) << c.id;
+    }
+  }
+  for (const hdrc::Pipeline* p : hdrc::pipeline_table())
+    for (const hdrc::StageInfo& s : p->stages())
+      EXPECT_TRUE(stages_with_cases.count(std::string(s.name))) << s.name << " has no case";
+}
+
+// A case file names its pipeline; the errors name the file's field, the value and the choices.
+TEST(Pipelines, CaseFilesNameTheirPipeline) {
+  struct Row {
+    const char* json;
+    const char* pointer;
+    const char* message;  // a part of the message
+    const char* choices;  // a part of the valid choices
+  };
+  const Row rows[] = {
+      {R"({"pipeline": "unity", "stage": "lut_bake"})", "/pipeline", "unknown pipeline \"unity\"",
+       "ue55, unity_urp, operators"},
+      {R"({"pipeline": 3, "stage": "lut_bake"})", "/pipeline", "unknown pipeline 3",
+       "ue55, unity_urp, operators"},
+      {R"({"stage": "lut_bake"})", "/stage",
+       "unknown stage \"lut_bake\" (it is a stage of pipeline unity_urp: set "
+       "\"pipeline\": \"unity_urp\")",
+       "shaper, linear_device"},
+      {R"({"pipeline": "operators", "stage": "tonemap"})", "/stage",
+       "unknown stage \"tonemap\" of pipeline operators (it is a stage of pipeline ue55",
+       "tone_curve"},
+      {R"({"pipeline": "operators", "stage": "tone_curve", "cvars": {"r.LUT.Size": 32}})", "/cvars",
+       "pipeline operators has no cvars", "hdrconform cvars --pipeline operators"},
+      {R"({"pipeline": "unity_urp", "stage": "lut_bake", "preset": "hdr_on"})", "/preset",
+       "pipeline unity_urp has no cvars (presets set UE 5.5's cvars and settings)", "settings"},
+      {R"({"pipeline": "unity_urp", "stage": "lut_bake", "settings": {"Contrast": 10}})",
+       "/settings/Contrast", "unknown setting 'Contrast'", "ColorAdjustments.contrast"},
+      {R"({"pipeline": "unity_urp", "stage": "lut_bake",
+           "settings": {"Tonemapping.mode": "Filmic"}})",
+       "/settings/Tonemapping.mode", "unknown Tonemapping.mode 'Filmic'",
+       "None (0), Neutral (1), ACES (2)"},
+      {R"({"pipeline": "operators", "stage": "tone_curve", "settings": {"Operator": 9}})",
+       "/settings/Operator", "setting Operator = 9 is out of range", "0 to 5"},
+  };
+  for (const Row& row : rows) {
+    std::vector<hdrc::Error> errors;
+    hdrc::parse_case_file("t.json", row.json, kCasesDir, "x/t", &errors);
+    ASSERT_FALSE(errors.empty()) << row.json;
+    const hdrc::Error& e = errors[0];
+    EXPECT_EQ(e.file, "t.json");
+    EXPECT_EQ(e.pointer, row.pointer) << row.json;
+    EXPECT_NE(e.message.find(row.message), std::string::npos) << e.to_string();
+    EXPECT_NE(e.choices.find(row.choices), std::string::npos) << e.to_string();
+  }
+}
+
+// A pipeline's settings are its own: a Unity case resolves to Unity's shader constants, with UE
+// 5.5's settings untouched, and UE 5.5's default case still reads UE's table.
+TEST(Pipelines, CasesResolveThroughTheirPipeline) {
+  std::vector<hdrc::Error> errors;
+  auto cases = hdrc::parse_case_file(
+      "t.json",
+      R"({"pipeline": "unity_urp", "stage": "lut_bake", "settings": {"LutSize": 16,
+          "GradingMode": "LowDynamicRange", "ColorAdjustments.hueShift": 90}})",
+      kCasesDir, "unity_urp/t", &errors);
+  ASSERT_TRUE(errors.empty()) << errors[0].to_string();
+  ASSERT_EQ(cases.size(), 1u);
+  auto rc = hdrc::resolve_case(cases[0]);
+  ASSERT_TRUE(rc) << rc.error().to_string();
+  EXPECT_EQ(rc->params.lut_size, 16);
+  EXPECT_EQ(rc->params.lut_layout, 1);             // Unity's H^2 x H strip
+  EXPECT_EQ(rc->params.lut_format, 3);             // LDR grading: RGBA8 UNORM
+  EXPECT_EQ(rc->params.urp_hue_sat_con[0], 0.25);  // ColorGradingLutPass: hueShift / 360
+  EXPECT_EQ(rc->input.width, 16 * 16);             // the lattice, one texel per pixel
+  EXPECT_EQ(rc->input.height, 16);
+}
+
+// `hdrconform pipelines` lists each pipeline with its stages and passes; `cvars --pipeline`
+// prints that pipeline's settings with their named values; `list --pipeline` selects its cases.
+TEST(Pipelines, CliListsAndSelectsPerPipeline) {
+  const Ran p = run("pipelines");
+  EXPECT_EQ(p.code, 0) << p.out;
+  for (const char* want :
+       {"ue55  Unreal Engine 5.5 HDR output (the default pipeline of a case)",
+        "unity_urp  Unity URP colour grading", "operators  Classic tone-mapping operators",
+        "passes: unity_urp/stages/lut_bake.comp -> unity_urp/stages/color_grading.comp",
+        "passes: operators/stages/curve.comp"})
+    EXPECT_NE(p.out.find(want), std::string::npos) << want << "\n" << p.out;
+  const Ran c = run("cvars --pipeline unity_urp");
+  EXPECT_EQ(c.code, 0) << c.out;
+  EXPECT_NE(c.out.find("[LowDynamicRange (0), HighDynamicRange (1)]"), std::string::npos) << c.out;
+  EXPECT_EQ(c.out.find("r.HDR.Display.OutputDevice"), std::string::npos) << c.out;
+  const Ran l = run("list --pipeline operators");
+  EXPECT_EQ(l.code, 0) << l.out;
+  std::istringstream ids(l.out);
+  size_t n = 0;
+  for (std::string id; std::getline(ids, id); ++n) EXPECT_EQ(id.rfind("operators/", 0), 0u) << id;
+  EXPECT_GT(n, 50u);
+  const Ran bad = run("list --pipeline unreal");
+  EXPECT_EQ(bad.code, 2) << bad.out;
+  EXPECT_NE(bad.out.find("unknown pipeline 'unreal'; valid choices: ue55, unity_urp, operators"),
+            std::string::npos)
+      << bad.out;
+}
+
+// Runs one pipeline's cases with `from` replaced by `to` in a copy of the suite's shaders; the
+// ids of the failing cases.
+std::vector<std::string> failing_with_planted(const std::string& shader, const std::string& from,
+                                              const std::string& to, const std::string& pipeline,
+                                              std::string* out) {
+  const fs::path shaders = temp_dir("planted_pipeline");
+  const fs::path results = temp_dir("planted_pipeline_out");
+  fs::copy(fs::path(HDRC_SOURCE_DIR) / "gpu/shaders", shaders, fs::copy_options::recursive);
+  std::string text = read(shaders / shader);
+  const size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  if (at == std::string::npos) return {};
+  text.replace(at, from.size(), to);
+  write(shaders / shader, text);
+  const Ran r = run("run --pipeline " + pipeline + " --no-goldens --shader-dir " +
+                    shaders.string() + " --out " + results.string());
+  *out = r.out;
+  EXPECT_EQ(r.code, 1) << r.out;
+  std::vector<std::string> failing;
+  const auto j = nlohmann::json::parse(read(results / "results.json"));
+  for (const auto& c : j["cases"])
+    if (c["verdict"] == "FAIL") failing.push_back(c["id"].get<std::string>());
+  fs::remove_all(shaders);
+  fs::remove_all(results);
+  return failing;
+}
+
+bool contains(const std::vector<std::string>& ids, const std::string& id) {
+  return std::find(ids.begin(), ids.end(), id) != ids.end();
+}
+
+// Unity's LogC3 constant c (0.244161, Color.hlsl: LogCToLinear / LinearToLogC) off in its 5th
+// decimal: the HDR grading cases whose grade the LUT's LogC lattice carries fail (the uber pass
+// encodes with the same constant the bake decodes with, so most of the change cancels; it shows
+// where the grade is not the identity in LogC); no LDR case (no LogC there) fails.
+TEST(Pipelines, PlantedUnityLogCConstantFailsHdrGradingCases) {
+  std::string out;
+  const auto failing =
+      failing_with_planted("unity_urp/lib/unity_color.glsl", "const float URP_LOGC_C = 0.244161;",
+                           "const float URP_LOGC_C = 0.244171;", "unity_urp", &out);
+  EXPECT_GE(failing.size(), 5u) << out;
+  EXPECT_TRUE(contains(failing, "unity_urp/graded_look/gradingmode1_mode2_postexposure0_hue_sweep"))
+      << out;
+  for (const auto& id : failing) EXPECT_EQ(id.find("gradingmode0"), std::string::npos) << id;
+}
+
+// The hue shift's single RotateHue wrap (Color.hlsl) replaced by a clamp: the cases that shift
+// hue (hueShift 90, +-180 and the graded look) fail; the LUT cases at hueShift 0 do not.
+TEST(Pipelines, PlantedHueShiftWrapFailsTheHueShiftCases) {
+  std::string out;
+  const auto failing =
+      failing_with_planted("unity_urp/lib/unity_color.glsl",
+                           "return value < low ? value + hi : (value > hi ? value - hi : value);",
+                           "return clamp(value, low, hi);", "unity_urp", &out);
+  EXPECT_TRUE(contains(failing,
+                       "unity_urp/color_adjustments/"
+                       "gradingmode0_mode2_temperature-100_tint0_contrast0_colorfilter1-1-1-1_"
+                       "hueshift-180_saturation0"))
+      << out;
+  for (const auto& id : failing) {
+    const bool shifts =
+        id.find("hueshift0_") == std::string::npos &&
+        (id.find("hueshift") != std::string::npos || id.find("graded_look") != std::string::npos);
+    EXPECT_TRUE(shifts) << id << " fails without a hue shift";
+  }
+}
+
+// Split toning's balance read with the wrong sign (LutBuilderHdr/Ldr: the luminance offset
+// _SplitShadows.w): the split-toning cases with a balance and the graded look fail, none with
+// balance 0.
+TEST(Pipelines, PlantedSplitToningBalanceFailsTheBalanceCases) {
+  std::string out;
+  const auto failing = failing_with_planted(
+      "unity_urp/lib/unity_grade.glsl", "float balance = P.urp_split_shadows.w;",
+      "float balance = -P.urp_split_shadows.w;", "unity_urp", &out);
+  EXPECT_TRUE(contains(failing, "unity_urp/graded_look/gradingmode1_mode2_postexposure0_log_ramp"))
+      << out;
+  bool split_case = false;
+  for (const auto& id : failing) {
+    EXPECT_TRUE(
+        id.find("graded_look") != std::string::npos ||
+        (id.find("split_toning") != std::string::npos && id.find("balance0_") == std::string::npos))
+        << id;
+    split_case |= id.find("split_toning") != std::string::npos;
+  }
+  EXPECT_TRUE(split_case) << out;
+}
+
+// Hable's A (shoulder strength 0.22) read 0.05 % high: every Hable case fails and no other
+// operator's does.
+TEST(Pipelines, PlantedHableConstantFailsOnlyTheHableCases) {
+  std::string out;
+  const auto failing =
+      failing_with_planted("operators/lib/operators.glsl", "OpRational(P.op_hable_a,",
+                           "OpRational(P.op_hable_a * 1.0005,", "operators", &out);
+  EXPECT_TRUE(contains(failing, "operators/operators/operator2_log_ramp")) << out;
+  EXPECT_GE(failing.size(), 10u) << out;
+  for (const auto& id : failing) EXPECT_NE(id.find("/operator2_"), std::string::npos) << id;
+}
+
+}  // namespace
