@@ -209,7 +209,7 @@ constexpr double kNearMiss = 0.5;
 struct CaseView {
   const json* j = nullptr;
   size_t index = 0;
-  std::string id, slug, stage, verdict, reason;
+  std::string id, slug, pipeline, stage, verdict, reason;
   std::vector<std::string> warnings;
   bool tighten = false, near_miss = false;
   std::optional<double> budget;
@@ -912,6 +912,29 @@ struct Builder {
     return h + page_tail(root, scripts);
   }
 
+  // The run by pipeline (core/pipeline.h): each pipeline's cases and verdicts, each linked to
+  // the case list filtered by its id prefix.
+  std::string pipelines_section() const {
+    std::map<std::string, std::map<std::string, int>> by;
+    for (const auto& c : cases) ++by[c.pipeline.empty() ? "?" : c.pipeline][c.verdict];
+    std::string rows;
+    for (const auto& [pipeline, verdicts] : by) {
+      int total = 0;
+      std::string counts;
+      for (const auto& [v, n] : verdicts) {
+        total += n;
+        counts += (counts.empty() ? "" : ", ") + std::to_string(n) + " " + html_escape(v);
+      }
+      const Pipeline* info = find_pipeline(pipeline);
+      rows += "<tr><td><b>" + html_escape(pipeline) + "</b></td><td>" +
+              html_escape(info ? std::string(info->title) : "") + "</td><td>" +
+              std::to_string(total) + "</td><td>" + counts + "</td></tr>\n";
+    }
+    return "<h2>Pipelines</h2>\n<table id=\"pipelines\"><thead><tr><th>pipeline</th><th></th>"
+           "<th>cases</th><th>verdicts</th></tr></thead><tbody>\n" +
+           rows + "</tbody></table>\n";
+  }
+
   std::string summary_page() {
     std::string h = page_head("hdrconform report", "", "summary");
     h += "<h1>hdrconform report</h1>\n";
@@ -944,6 +967,7 @@ struct Builder {
     h += "<a class=\"count tighten\" href=\"cases.html#verdict=TIGHTEN\"><b id=\"count-TIGHTEN\">" +
          std::to_string(tighten) + "</b> could be tightened</a></div>\n";
 
+    h += pipelines_section();
     h += goldens_section(doc);
 
     // Worst cases: failures and errors first, then by budget used.
@@ -1141,6 +1165,10 @@ Result<report::ReportInfo> write_report(const std::string& results_dir) {
     c.index = i;
     c.id = text(get(j, {"id"}));
     c.stage = text(get(j, {"stage"}));
+    // results.json written before pipelines has no "pipeline": its stage names it.
+    c.pipeline = text(get(j, {"pipeline"}));
+    if (const StageInfo* info = find_stage(c.stage); c.pipeline.empty() && info)
+      c.pipeline = std::string(info->pipeline);
     c.verdict = text(get(j, {"verdict"}));
     c.reason = get(j, {"reason"}) ? text(get(j, {"reason"})) : "";
     c.warnings = warnings_of(j);
