@@ -45,8 +45,8 @@ const BadCase kBadCases[] = {
      "dither, ui_composite, visualize_hdr"},
     {"unknown_key", R"({"stage": "shaper", "inptu": 1, "input": {"stimulus": "log_ramp"}})",
      "t.json: /inptu: unknown key 'inptu', did you mean 'input'?; valid choices: $schema, "
-     "description, stage, preset, cvars, settings, input, bloom, bloom_dirt, matrix, tolerance, "
-     "pins_nonfinite, tier"},
+     "description, pipeline, stage, preset, cvars, settings, input, bloom, bloom_dirt, matrix, "
+     "tolerance, pins_nonfinite, tier"},
     {"unknown_cvar",
      R"({"stage": "shaper", "cvars": {"r.HDR.Display.OutputDevise": 3}, "input": {"stimulus": "log_ramp"}})",
      "t.json: /cvars/r.HDR.Display.OutputDevise: unknown cvar 'r.HDR.Display.OutputDevise'; valid "
@@ -122,7 +122,8 @@ const BadCase kBadCases[] = {
      "t.json: /tolerance: unknown tolerance set \"shaper_qp\", did you mean 'shaper_pq'? (sets are "
      "defined in CASES/defaults.json: /tolerances); valid choices: combine_luts, "
      "combine_luts_storage, combine_luts_storage_linear, dither, "
-     "linear_dev7, linear_dev8, shaper_log, shaper_pq, tonemap, ui_composite, visualize_hdr"},
+     "linear_dev7, linear_dev8, operators, shaper_log, shaper_pq, tonemap, ui_composite, "
+     "unity_urp_grading, unity_urp_lut, visualize_hdr"},
     {"unknown_preset",
      R"({"stage": "shaper", "preset": "hdr01", "input": {"stimulus": "log_ramp"}})",
      "t.json: /preset: unknown preset \"hdr01\", did you mean 'hdr10'? (presets are defined in "

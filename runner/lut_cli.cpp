@@ -24,6 +24,7 @@
 #include "core/exr_header.h"
 #include "core/image.h"
 #include "core/utf8.h"
+#include "runner/probe.h"
 
 namespace hdrc::lut {
 
@@ -377,23 +378,7 @@ double coordinate(float lo, float hi, int i, int n) {
 // ---------------------------------------------------------------------------------------------
 // `apply`.
 
-constexpr size_t kMaxApplyLine = 4096;
-
-// std::getline that stops past kMaxApplyLine characters (the caller reports the line).
-bool read_line(std::istream& in, std::string* line) {
-  line->clear();
-  std::streambuf* sb = in.rdbuf();
-  for (;;) {
-    const int c = sb->sbumpc();
-    if (c == std::char_traits<char>::eof()) {
-      in.setstate(std::ios::eofbit);
-      return !line->empty();
-    }
-    if (c == '\n') return true;
-    line->push_back(static_cast<char>(c));
-    if (line->size() > kMaxApplyLine) return true;
-  }
-}
+constexpr size_t kMaxApplyLine = kMaxInputLine;
 
 bool is_space(char c) {
   return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v';
@@ -782,7 +767,7 @@ Status apply_lut_stream(const CubeLut& lut, cube::Interp interp, std::istream& i
     }
   };
   std::string line;
-  for (size_t number = 1; read_line(in, &line); ++number) {
+  for (size_t number = 1; read_bounded_line(in, &line, kMaxApplyLine); ++number) {
     if (line.size() > kMaxApplyLine) {
       flush(true);
       return Error{"<stdin>", "line " + std::to_string(number),

@@ -99,18 +99,7 @@ ref::Vec3 pick(const std::string& stage, const ref::CombineLutsTrace& c,
 
 }  // namespace
 
-std::string probe_stage_names() {
-  std::string out;
-  for (const auto& s : stages()) out += (out.empty() ? "" : ", ") + s;
-  return out;
-}
-
-namespace {
-
-constexpr size_t kMaxProbeLine = 4096;
-
-// std::getline that stops reading past kMaxProbeLine + 1 characters (the caller reports it).
-bool read_bounded_line(std::istream& in, std::string* line) {
+bool read_bounded_line(std::istream& in, std::string* line, size_t max_length) {
   line->clear();
   std::streambuf* sb = in.rdbuf();
   for (;;) {
@@ -121,9 +110,19 @@ bool read_bounded_line(std::istream& in, std::string* line) {
     }
     if (c == '\n') return true;
     line->push_back(static_cast<char>(c));
-    if (line->size() > kMaxProbeLine) return true;
+    if (line->size() > max_length) return true;
   }
 }
+
+std::string probe_stage_names() {
+  std::string out;
+  for (const auto& s : stages()) out += (out.empty() ? "" : ", ") + s;
+  return out;
+}
+
+namespace {
+
+constexpr size_t kMaxProbeLine = kMaxInputLine;
 
 }  // namespace
 
@@ -204,7 +203,7 @@ Status run_probe(const ProbeOptions& o, std::istream& in, std::ostream& out) {
 
   nlohmann::json rows = nlohmann::json::array();
   std::string line;
-  for (int number = 1; read_bounded_line(in, &line); ++number) {
+  for (int number = 1; read_bounded_line(in, &line, kMaxProbeLine); ++number) {
     if (line.size() > kMaxProbeLine)  // e.g. /dev/zero as standard input: no newline ever
       return Error{"<stdin>", "line " + std::to_string(number),
                    "longer than " + std::to_string(kMaxProbeLine) + " characters",

@@ -1,6 +1,7 @@
 // `hdrconform probe`: what UE 5.5 computes for given colours, for people debugging a port.
 #pragma once
 
+#include <cstddef>
 #include <iosfwd>
 #include <string>
 #include <vector>
@@ -25,5 +26,13 @@ std::string probe_stage_names();
 // one line per input to `out`: "R G B" with 9 significant digits, or a JSON document with --json.
 // Errors (bad option, bad line) name the option or the line and the valid choices.
 Status run_probe(const ProbeOptions& options, std::istream& in, std::ostream& out);
+
+// The longest standard-input line `probe` and `lut apply` read.
+inline constexpr size_t kMaxInputLine = 4096;
+
+// std::getline that stops reading past `max_length` characters, so that an input without
+// newlines (/dev/zero) cannot grow a line without bound: a line longer than `max_length` comes
+// back with max_length + 1 characters for the caller to report. False at the end of input.
+bool read_bounded_line(std::istream& in, std::string* line, size_t max_length = kMaxInputLine);
 
 }  // namespace hdrc
