@@ -1,5 +1,6 @@
 #include "runner/export.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -268,8 +269,8 @@ std::string output_alpha(StageId stage) {
 }
 
 const char* lut_format_name(int f) {
-  static const char* names[] = {"A2B10G10R10 UNORM", "RGBA16F", "RGBA32F"};
-  return f >= 0 && f <= 2 ? names[f] : "?";
+  static const char* names[] = {"A2B10G10R10 UNORM", "RGBA16F", "RGBA32F", "RGBA8 UNORM"};
+  return f >= 0 && f <= 3 ? names[f] : "?";
 }
 
 json quantisation(StageId stage, const ParamBlock& p) {
@@ -345,16 +346,20 @@ json resolved_values(const ResolvedCase& rc, const OutputEncoding& enc) {
 
 json storage_json(const ResolvedCase& rc) {
   const ParamBlock& p = rc.params;
-  const bool uses_lut = rc.spec.stage->id == StageId::kCombineLuts ||
-                        rc.spec.stage->id == StageId::kTonemap ||
-                        rc.spec.stage->id == StageId::kVisualizeHdr;
+  const auto& passes = rc.spec.stage->passes;
+  const bool uses_lut = std::any_of(passes.begin(), passes.end(), [](const StagePass& pass) {
+    return pass.domain == Dispatch::kLutTexels;
+  });
+  const std::string pipeline(rc.spec.stage->pipeline);
   return {{"lut_size", p.lut_size},
           {"lut_format", {{"value", p.lut_format}, {"name", lut_format_name(p.lut_format)}}},
           {"lut_layout",
            {{"value", p.lut_layout},
             {"name", p.lut_layout == 0 ? "volume N^3" : "2-D unwrapped N^2 x N"}}},
           {"used_by_stage", uses_lut},
-          {"from", "r.LUT.Size, the LUTFormat and LUTLayout settings"}};
+          {"from", pipeline == "ue55" ? "r.LUT.Size, the LUTFormat and LUTLayout settings"
+                                      : "the settings of pipeline " + pipeline +
+                                            " (hdrconform cvars --pipeline " + pipeline + ")"}};
 }
 
 }  // namespace

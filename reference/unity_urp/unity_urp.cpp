@@ -502,8 +502,8 @@ Vec3 sample_bilinear(const Image& strip, double u, double v) {
   const double x = u * strip.width - 0.5, y = v * strip.height - 0.5;
   const double x0 = std::floor(x), y0 = std::floor(y);
   const double fx = x - x0, fy = y - y0;
-  auto clampi = [](double i, int n) {
-    return static_cast<int>(std::clamp(i, 0.0, static_cast<double>(n - 1)));
+  auto clampi = [](double i, int n) {  // clamp-to-edge; a NaN coordinate reads texel 0
+    return i >= 0 ? static_cast<int>(std::min(i, static_cast<double>(n - 1))) : 0;
   };
   const int xa = clampi(x0, strip.width), xb = clampi(x0 + 1, strip.width);
   const int ya = clampi(y0, strip.height), yb = clampi(y0 + 1, strip.height);
