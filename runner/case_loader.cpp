@@ -104,7 +104,12 @@ bool is_suite_config_file(const std::string& cases_dir, const std::string& path)
                                                 "tolerance_overlays_analytic.json"};
   std::error_code ec;
   const fs::path rel = fs::relative(path, cases_dir, ec);
-  return !ec && !rel.has_parent_path() && kConfig.count(rel.filename().string()) != 0;
+  if (ec || rel.has_parent_path()) return false;
+  const std::string name = rel.filename().string();
+  // A pipeline's coverage declaration (runner/coverage.h: coverage_file_name).
+  const bool pipeline_coverage = name.rfind("coverage_", 0) == 0 && name.size() > 14 &&
+                                 name.compare(name.size() - 5, 5, ".json") == 0;
+  return kConfig.count(name) != 0 || pipeline_coverage;
 }
 
 std::string InputSpec::describe() const {

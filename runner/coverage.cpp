@@ -9,7 +9,7 @@
 #include <sstream>
 
 #include "core/nearest.h"
-#include "reference/ue_cpp/resolve.h"
+#include "core/pipeline.h"
 #include "runner/json_read.h"
 
 namespace hdrc {
@@ -18,8 +18,15 @@ namespace fs = std::filesystem;
 using json = nlohmann::ordered_json;
 
 double effective_value(const Case& c, const std::string& name) {
-  if (find_cvar(name)) return c.cvars.get(name);
+  // Only UE 5.5 has cvars (core/pipeline.h); a case's settings are its pipeline's.
+  if (c.stage && c.stage->pipeline == "ue55" && find_cvar(name)) return c.cvars.get(name);
   return c.settings.get(name);
+}
+
+std::string coverage_file_name(const Pipeline& pipeline, const std::string& suite) {
+  if (&pipeline == &default_pipeline())
+    return suite == "exhaustive" ? "coverage_exhaustive.json" : "coverage.json";
+  return "coverage_" + std::string(pipeline.name) + ".json";
 }
 
 namespace {
@@ -35,16 +42,22 @@ std::string show(const json& v) {
   return s.size() > 60 ? s.substr(0, 57) + "..." : s;
 }
 
-bool known_name(const std::string& n) {
-  if (find_cvar(n)) return true;
-  const SettingInfo* s = find_setting(n);
+const CvarInfo* pipeline_cvar(const Pipeline& p, const std::string& n) {
+  for (const auto& c : p.cvars())
+    if (c.name == n) return &c;
+  return nullptr;
+}
+
+bool known_name(const Pipeline& p, const std::string& n) {
+  if (pipeline_cvar(p, n)) return true;
+  const SettingInfo* s = find_setting(p.settings(), n);
   return s && s->components == 1;
 }
 
-std::vector<std::string> all_names() {
+std::vector<std::string> all_names(const Pipeline& p) {
   std::vector<std::string> names;
-  for (const auto& c : cvar_table()) names.emplace_back(c.name);
-  for (const auto& s : setting_table())
+  for (const auto& c : p.cvars()) names.emplace_back(c.name);
+  for (const auto& s : p.settings())
     if (s.components == 1) names.emplace_back(s.name);
   return names;
 }
@@ -68,8 +81,10 @@ std::vector<double> domain(const CoverageSpec& spec, const std::string& name,
 }  // namespace
 
 CoverageSpec load_coverage_spec(const std::string& cases_dir, std::vector<Error>* errors,
-                                const std::string& file_name) {
+                                const std::string& file_name, const Pipeline* pipeline) {
   CoverageSpec spec;
+  spec.pipeline = pipeline ? pipeline : &default_pipeline();
+  const Pipeline& pl = *spec.pipeline;
   const fs::path path = fs::path(cases_dir) / file_name;
   spec.file = path.generic_string();
   auto fail = [&](const std::string& ptr, const std::string& msg, const std::string& choices = "") {
@@ -86,9 +101,9 @@ CoverageSpec load_coverage_spec(const std::string& cases_dir, std::vector<Error>
     return spec;
   }
   json doc = std::move(*parsed);
-  const std::vector<std::string> names = all_names();
+  const std::vector<std::string> names = all_names(pl);
   auto name_ok = [&](const json& n, const std::string& ptr) {
-    if (n.is_string() && known_name(n.get<std::string>())) return true;
+    if (n.is_string() && known_name(pl, n.get<std::string>())) return true;
     std::string near;
     if (n.is_string())
       for (const auto& s : nearest_names(n.get<std::string>(), names, 3))
@@ -119,11 +134,11 @@ CoverageSpec load_coverage_spec(const std::string& cases_dir, std::vector<Error>
       for (size_t i = 0; i < it.value().size(); ++i) {
         const json& v = it.value()[i];
         double lo = 0, hi = 0;
-        if (const CvarInfo* c = find_cvar(it.key())) {
+        if (const CvarInfo* c = pipeline_cvar(pl, it.key())) {
           lo = c->min_value;
           hi = c->max_value;
         } else {
-          const SettingInfo* s = find_setting(it.key());
+          const SettingInfo* s = find_setting(pl.settings(), it.key());
           lo = s->min_value;
           hi = s->max_value;
         }
@@ -158,12 +173,12 @@ CoverageSpec load_coverage_spec(const std::string& cases_dir, std::vector<Error>
     req.name = r.value("name", "");
     if (req.name.empty()) fail(ptr + "/name", "a requirement needs a name", "a non-empty string");
     if (!r.contains("stages") || !r["stages"].is_array() || r["stages"].empty()) {
-      fail(ptr + "/stages", "expected a non-empty array of stages", stage_names());
+      fail(ptr + "/stages", "expected a non-empty array of stages", stage_names(pl));
     } else {
       for (size_t k = 0; k < r["stages"].size(); ++k) {
         const json& s = r["stages"][k];
-        if (!s.is_string() || !find_stage(s.get<std::string>()))
-          fail(ptr + "/stages/" + std::to_string(k), "unknown stage " + show(s), stage_names());
+        if (!s.is_string() || !find_stage(pl, s.get<std::string>()))
+          fail(ptr + "/stages/" + std::to_string(k), "unknown stage " + show(s), stage_names(pl));
         else
           req.stages.push_back(s.get<std::string>());
       }
@@ -219,13 +234,18 @@ size_t CoverageReport::combinations_covered() const {
   return n;
 }
 
-CoverageReport compute_coverage(const CoverageSpec& spec, const std::vector<Case>& cases) {
+CoverageReport compute_coverage(const CoverageSpec& spec, const std::vector<Case>& all_cases) {
   CoverageReport report;
+  // The declaring pipeline's cases only: another pipeline's settings are not these.
+  const Pipeline& pipeline = spec.pipeline ? *spec.pipeline : default_pipeline();
+  std::vector<Case> cases;
+  for (const Case& c : all_cases)
+    if (c.stage && &pipeline_of(*c.stage) == &pipeline) cases.push_back(c);
   // Why each case is degenerate ("" when it is not), as the runner will report it.
   std::vector<std::string> degenerate(cases.size());
   for (size_t i = 0; i < cases.size(); ++i) {
-    auto r = ref::resolve(cases[i], std::max(cases[i].input.width, 1),
-                          std::max(cases[i].input.height, 1));
+    auto r = pipeline.resolve(cases[i], std::max(cases[i].input.width, 1),
+                              std::max(cases[i].input.height, 1));
     if (r) degenerate[i] = r->degenerate;
   }
   auto in_stages = [](const Case& c, const std::vector<std::string>& stages) {

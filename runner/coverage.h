@@ -25,8 +25,11 @@ struct CoverageRequirement {
   std::vector<std::string> of, with;  // pairs: each of `of` with each of `with`
 };
 
+struct Pipeline;
+
 struct CoverageSpec {
   std::string file;
+  const Pipeline* pipeline = nullptr;  // whose cvars, settings, stages and cases it declares
   std::map<std::string, std::vector<double>> values;  // declared values per cvar or setting
   std::vector<std::string> order;                     // names in file order
   std::vector<CoverageRequirement> requirements;
@@ -35,8 +38,14 @@ struct CoverageSpec {
 // Reads `cases_dir`/coverage.json (or another declaration beside it, e.g.
 // coverage_exhaustive.json for `coverage --suite exhaustive`); errors name file, pointer, value
 // and valid choices.
+// `pipeline`: the pipeline whose cvars, settings and stages the file names (UE 5.5's when null);
+// compute_coverage counts that pipeline's cases only.
 CoverageSpec load_coverage_spec(const std::string& cases_dir, std::vector<Error>* errors,
-                                const std::string& file_name = "coverage.json");
+                                const std::string& file_name = "coverage.json",
+                                const Pipeline* pipeline = nullptr);
+// The declaration a pipeline's coverage is checked against: coverage.json (coverage_exhaustive.json
+// for the exhaustive suite) for UE 5.5, coverage_<pipeline>.json beside it for every other.
+std::string coverage_file_name(const Pipeline& pipeline, const std::string& suite);
 
 struct ValueCoverage {
   double value;

@@ -180,6 +180,13 @@ int main(int argc, char** argv) {
       "run with it, and the required combinations between them; fails if anything is uncovered");
   coverage->footer(kExitCodes);
   coverage->add_option("--cases", cases_dir, "case directory")->capture_default_str();
+  std::string coverage_pipeline = "ue55";
+  coverage
+      ->add_option("--pipeline", coverage_pipeline,
+                   "the pipeline whose declaration (coverage.json for ue55, "
+                   "coverage_<pipeline>.json for the others) its cases are checked against")
+      ->check(CLI::IsMember(pipeline_list()))
+      ->capture_default_str();
 
   // The suite tier (docs/cases.md): quick (the default suite) or exhaustive (both tiers).
   std::string suite_name = "quick";
@@ -294,6 +301,12 @@ int main(int argc, char** argv) {
       ->add_option("--lut", probe_opts.lut,
                    "analytic: evaluate CombineLUTs directly; baked: "
                    "bake the LUT (size and format from r.LUT.Size, LUTFormat) and sample it")
+      ->capture_default_str();
+  probe
+      ->add_option("--pipeline", probe_opts.pipeline,
+                   "the pipeline (hdrconform pipelines); for one other than ue55 the colours go "
+                   "through its reference for --stage (default: its last stage that reads colours)")
+      ->check(CLI::IsMember(pipeline_list()))
       ->capture_default_str();
   probe->add_option("--stage", probe_opts.stage, "value to print: " + hdrc::probe_stage_names())
       ->capture_default_str();
@@ -469,13 +482,16 @@ int main(int argc, char** argv) {
 
   if (*coverage) {
     std::vector<hdrc::Error> errors;
+    const hdrc::Pipeline& pipeline = *hdrc::find_pipeline(coverage_pipeline);
     const hdrc::CoverageSpec spec = hdrc::load_coverage_spec(
-        cases_dir, &errors,
-        suite_name == "exhaustive" ? "coverage_exhaustive.json" : "coverage.json");
+        cases_dir, &errors, hdrc::coverage_file_name(pipeline, suite_name), &pipeline);
     for (const auto& e : errors) std::fprintf(stderr, "error: %s\n", e.to_string().c_str());
     if (!errors.empty()) return hdrc::kExitBadInput;
     const hdrc::CoverageReport rep = hdrc::compute_coverage(spec, cases);
-    std::printf("%zu cases\n%s", cases.size(), rep.text().c_str());
+    const size_t own = std::count_if(cases.begin(), cases.end(), [&](const hdrc::Case& c) {
+      return &hdrc::pipeline_of(*c.stage) == &pipeline;
+    });
+    std::printf("%zu cases of pipeline %s\n%s", own, coverage_pipeline.c_str(), rep.text().c_str());
     return rep.complete() ? hdrc::kExitPass : hdrc::kExitFail;
   }
 
@@ -487,8 +503,8 @@ int main(int argc, char** argv) {
                    cases_dir.c_str());
       return hdrc::kExitBadInput;
     }
-    const hdrc::GoldenUpdateReport rep =
-        hdrc::update_goldens(cases, goldens_dir, /*prune=*/filter.empty(), jobs);
+    const hdrc::GoldenUpdateReport rep = hdrc::update_goldens(
+        cases, goldens_dir, /*prune=*/filter.empty() && pipeline_filter.empty(), jobs);
     for (const auto& l : rep.lines) std::printf("%s\n", l.c_str());
     for (const auto& e : rep.errors) std::fprintf(stderr, "error: %s\n", e.to_string().c_str());
     std::printf(

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -160,6 +161,68 @@ TEST(Pipelines, CliListsAndSelectsPerPipeline) {
   EXPECT_NE(bad.out.find("unknown pipeline 'unreal'; valid choices: ue55, unity_urp, operators"),
             std::string::npos)
       << bad.out;
+}
+
+// `coverage --pipeline NAME` checks that pipeline's cases against its own declaration
+// (coverage_<name>.json): every declared value and required combination is covered.
+TEST(Pipelines, CoverageIsCompletePerPipeline) {
+  for (const char* pipeline : {"unity_urp", "operators"}) {
+    const Ran r = run(std::string("coverage --pipeline ") + pipeline);
+    EXPECT_EQ(r.code, 0) << r.out;
+    EXPECT_NE(r.out.find(std::string("cases of pipeline ") + pipeline), std::string::npos) << r.out;
+  }
+  const Ran urp = run("coverage --pipeline unity_urp");
+  EXPECT_NE(urp.out.find("ColorAdjustments.hueShift"), std::string::npos) << urp.out;
+  EXPECT_EQ(urp.out.find("r.HDR.Display.OutputDevice"), std::string::npos) << urp.out;
+  EXPECT_NE(urp.out.find("grading mode x tone mapping x LUT size"), std::string::npos) << urp.out;
+  // A declaration naming another pipeline's setting is refused with the valid names.
+  const fs::path dir = temp_dir("coverage_pipeline");
+  fs::copy(kCasesDir, dir, fs::copy_options::recursive);
+  std::string text = read(dir / "coverage_operators.json");
+  const std::string from = "\"WhitePoint\"";
+  text.replace(text.find(from), from.size(), "\"r.LUT.Size\"");
+  write(dir / "coverage_operators.json", text);
+  const Ran bad = run("coverage --pipeline operators --cases " + dir.string());
+  EXPECT_EQ(bad.code, 2) << bad.out;
+  EXPECT_NE(bad.out.find("coverage_operators.json: /values/r.LUT.Size: unknown cvar or scalar "
+                         "setting \"r.LUT.Size\""),
+            std::string::npos)
+      << bad.out;
+  fs::remove_all(dir);
+}
+
+// `probe --pipeline NAME` sends colours through that pipeline's reference: Reinhard's x/(1+x)
+// and Narkowicz's fit at hand-computed values, Unity's default HDR grading with the ACES tone
+// map at 18 % grey (docs/unity_urp-spec.md §6.6: 0.1101979, 0.1101635, 0.1101414 for the bake's
+// own lattice point; the lookup interpolates LogC-spaced texels).
+TEST(Pipelines, ProbePerPipeline) {
+  const fs::path dir = temp_dir("probe_pipeline");
+  auto probe = [&](const std::string& args, const std::string& lines) {
+    write(dir / "in.txt", lines);
+    return run("probe " + args + " < " + (dir / "in.txt").string());
+  };
+  const Ran r = probe("--pipeline operators --setting Operator=Reinhard", "1 0.25 0\n3 0 0\n");
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_EQ(r.out, "0.5 0.2 0\n0.75 0 0\n");
+  const Ran n = probe("--pipeline operators --setting Operator=AcesNarkowicz", "1 1 1\n");
+  EXPECT_EQ(n.code, 0) << n.out;
+  EXPECT_EQ(n.out, "0.803797468 0.803797468 0.803797468\n");  // 127/158
+  const Ran u = probe(
+      "--pipeline unity_urp --setting GradingMode=HighDynamicRange --setting Tonemapping.mode=ACES",
+      "0.18 0.18 0.18\n");
+  EXPECT_EQ(u.code, 0) << u.out;
+  double rgb[3] = {0, 0, 0};
+  ASSERT_EQ(std::sscanf(u.out.c_str(), "%lf %lf %lf", &rgb[0], &rgb[1], &rgb[2]), 3) << u.out;
+  // Measured (0.110441941, 0.111283369, 0.111195872): the 32^3 LUT's LogC-spaced, half-stored
+  // texels interpolated at 18 % grey, within 1 % of the bake's lattice value.
+  for (double v : rgb) EXPECT_NEAR(v, 0.1102, 2e-3) << u.out;
+  const Ran bad = probe("--pipeline unity_urp --stage tonemap", "0 0 0\n");
+  EXPECT_EQ(bad.code, 2) << bad.out;
+  EXPECT_NE(bad.out.find("not a stage of pipeline unity_urp that reads colours; valid choices: "
+                         "color_grading"),
+            std::string::npos)
+      << bad.out;
+  fs::remove_all(dir);
 }
 
 // Runs one pipeline's cases with `from` replaced by `to` in a copy of the suite's shaders; the

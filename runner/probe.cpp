@@ -12,6 +12,7 @@
 #include <ostream>
 #include <sstream>
 
+#include "core/pipeline.h"
 #include "reference/color/d3d_math.h"
 #include "reference/combine_luts.h"
 #include "reference/lut_shaper.h"
@@ -126,7 +127,127 @@ constexpr size_t kMaxProbeLine = kMaxInputLine;
 
 }  // namespace
 
+namespace {
+
+// "R G B" from a line, or nullopt.
+std::optional<ref::Vec3> parse_rgb_line(const std::string& line) {
+  double fast[3];
+  if (parse_rgb_fast(line, fast)) return ref::Vec3{fast[0], fast[1], fast[2]};
+  std::istringstream fields(line);
+  std::string a, b, d, extra;
+  fields >> a >> b >> d;
+  const auto r = parse_number(a), g = parse_number(b), bl = parse_number(d);
+  if (!r || !g || !bl || (fields >> extra)) return std::nullopt;
+  return ref::Vec3{*r, *g, *bl};
+}
+
+// --setting NAME=VALUE (a number, r,g,b,a, or a named value) into `settings`.
+Status parse_probe_setting(const std::string& kv, SettingValues* settings) {
+  const size_t eq = kv.find('=');
+  if (eq == std::string::npos) return Error{"--setting", kv, "expected NAME=VALUE", ""};
+  if (settings->choices(kv.substr(0, eq)) && !parse_number(kv.substr(eq + 1))) {  // a name
+    if (Status st = settings->set_choice(kv.substr(0, eq), kv.substr(eq + 1)); !st)
+      return Error{"--setting", kv, st.error().message, st.error().choices};
+    return {};
+  }
+  Vec4d v{0, 0, 0, 0};
+  int n = 0;
+  std::stringstream list(kv.substr(eq + 1));
+  for (std::string part; std::getline(list, part, ',');) {
+    const auto x = parse_number(part);
+    if (!x || n == 4) return Error{"--setting", kv, "expected a number or r,g,b,a", ""};
+    v[n++] = *x;
+  }
+  if (Status st = settings->set(kv.substr(0, eq), v, n); !st)
+    return Error{"--setting", kv, st.error().message, st.error().choices};
+  return {};
+}
+
+// probe for a pipeline other than UE 5.5: the colours as one row of pixels through the pipeline's
+// reference for the chosen stage.
+Status run_pipeline_probe(const Pipeline& pipeline, const ProbeOptions& o, std::istream& in,
+                          std::ostream& out) {
+  Case c;
+  c.id = "probe";
+  c.settings = pipeline.new_settings();
+  std::string choices;
+  for (const StageInfo& s : pipeline.stages())
+    if (s.takes_input) {
+      choices += (choices.empty() ? "" : ", ") + std::string(s.name);
+      c.stage = &s;  // the default: the last stage that takes an input
+    }
+  if (o.stage != "output") {
+    const StageInfo* s = find_stage(pipeline, o.stage);
+    if (!s || !s->takes_input)
+      return Error{"--stage", o.stage,
+                   "not a stage of pipeline " + std::string(pipeline.name) + " that reads colours",
+                   choices};
+    c.stage = s;
+  }
+  if (!c.stage)
+    return Error{"--pipeline", std::string(pipeline.name), "no stage of it reads colours", ""};
+  if (!o.set.empty())
+    return Error{
+        "--set", o.set.front(), "pipeline " + std::string(pipeline.name) + " has no cvars",
+        "--setting NAME=VALUE (hdrconform cvars --pipeline " + std::string(pipeline.name) + ")"};
+  if (o.json)
+    return Error{"--json", "", "JSON output is UE 5.5's (its named intermediate stages)",
+                 "plain \"R G B\" lines"};
+  for (const std::string& kv : o.setting)
+    if (Status st = parse_probe_setting(kv, &c.settings); !st) return st;
+
+  std::vector<ref::Vec3> colours;
+  std::string line;
+  for (int number = 1; read_bounded_line(in, &line, kMaxInputLine); ++number) {
+    if (line.size() > kMaxInputLine)
+      return Error{"<stdin>", "line " + std::to_string(number),
+                   "longer than " + std::to_string(kMaxInputLine) + " characters",
+                   "\"R G B\" lines"};
+    const size_t first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos || line[first] == '#') continue;
+    const auto rgb = parse_rgb_line(line);
+    if (!rgb)
+      return Error{"<stdin>", "line " + std::to_string(number),
+                   "expected three numbers \"R G B\", got \"" + line + "\"", ""};
+    if (colours.size() == kMaxProbeColours)
+      return Error{"<stdin>", "line " + std::to_string(number), "too many colours",
+                   "at most " + std::to_string(kMaxProbeColours) + " per run"};
+    colours.push_back(*rgb);
+  }
+  if (colours.empty()) return {};
+  ResolvedCase rc;
+  rc.spec = c;
+  rc.input = Image(static_cast<int>(colours.size()), 1);
+  for (size_t i = 0; i < colours.size(); ++i) {
+    double* px = rc.input.px(static_cast<int>(i), 0);
+    for (int k = 0; k < 3; ++k) px[k] = colours[i][k];
+    px[3] = 1.0;
+  }
+  auto resolution = pipeline.resolve(c, rc.input.width, 1);
+  if (!resolution) return resolution.error();
+  rc.params = resolution->params;
+  auto image = pipeline.reference(rc, /*analytic_lut=*/false);
+  if (!image) return image.error();
+  std::string pending;
+  for (size_t i = 0; i < colours.size(); ++i) {
+    const double* px = image->px(static_cast<int>(i), 0);
+    append_line(pending, ref::Vec3{px[0], px[1], px[2]});
+    if (pending.size() > (1u << 16)) {
+      out.write(pending.data(), static_cast<std::streamsize>(pending.size()));
+      pending.clear();
+    }
+  }
+  out.write(pending.data(), static_cast<std::streamsize>(pending.size()));
+  out.flush();
+  return {};
+}
+
+}  // namespace
+
 Status run_probe(const ProbeOptions& o, std::istream& in, std::ostream& out) {
+  const Pipeline* pipeline = find_pipeline(o.pipeline);
+  if (!pipeline) return Error{"--pipeline", o.pipeline, "unknown pipeline", pipeline_names()};
+  if (pipeline != &default_pipeline()) return run_pipeline_probe(*pipeline, o, in, out);
   Case c;
   c.id = "probe";
   c.stage = find_stage("tonemap");
@@ -137,25 +258,8 @@ Status run_probe(const ProbeOptions& o, std::istream& in, std::ostream& out) {
     if (Status st = c.cvars.set(kv.substr(0, eq), *value); !st)
       return Error{"--set", kv, st.error().message, st.error().choices};
   }
-  for (const std::string& kv : o.setting) {
-    const size_t eq = kv.find('=');
-    if (eq == std::string::npos) return Error{"--setting", kv, "expected NAME=VALUE", ""};
-    Vec4d v{0, 0, 0, 0};
-    int n = 0;
-    if (setting_choices(kv.substr(0, eq)) && !parse_number(kv.substr(eq + 1))) {  // a name
-      if (Status st = c.settings.set_choice(kv.substr(0, eq), kv.substr(eq + 1)); !st)
-        return Error{"--setting", kv, st.error().message, st.error().choices};
-      continue;
-    }
-    std::stringstream list(kv.substr(eq + 1));
-    for (std::string part; std::getline(list, part, ',');) {
-      const auto x = parse_number(part);
-      if (!x || n == 4) return Error{"--setting", kv, "expected a number or r,g,b,a", ""};
-      v[n++] = *x;
-    }
-    if (Status st = c.settings.set(kv.substr(0, eq), v, n); !st)
-      return Error{"--setting", kv, st.error().message, st.error().choices};
-  }
+  for (const std::string& kv : o.setting)
+    if (Status st = parse_probe_setting(kv, &c.settings); !st) return st;
   if (o.lut != "analytic" && o.lut != "baked")
     return Error{"--lut", o.lut, "unknown LUT mode", "analytic, baked"};
   if (std::find(stages().begin(), stages().end(), o.stage) == stages().end())
@@ -210,22 +314,13 @@ Status run_probe(const ProbeOptions& o, std::istream& in, std::ostream& out) {
                    "\"R G B\" lines"};
     const size_t first = line.find_first_not_of(" \t\r");
     if (first == std::string::npos || line[first] == '#') continue;
-    double fast[3];
-    ref::Vec3 rgb;
-    if (parse_rgb_fast(line, fast)) {
-      rgb = {fast[0], fast[1], fast[2]};
-    } else {
-      std::istringstream fields(line);
-      std::string a, b, d, extra;
-      fields >> a >> b >> d;
-      const auto r = parse_number(a), g = parse_number(b), bl = parse_number(d);
-      if (!r || !g || !bl || (fields >> extra)) {
-        flush(true);
-        return Error{"<stdin>", "line " + std::to_string(number),
-                     "expected three numbers \"R G B\", got \"" + line + "\"", ""};
-      }
-      rgb = {*r, *g, *bl};
+    const auto parsed = parse_rgb_line(line);
+    if (!parsed) {
+      flush(true);
+      return Error{"<stdin>", "line " + std::to_string(number),
+                   "expected three numbers \"R G B\", got \"" + line + "\"", ""};
     }
+    const ref::Vec3 rgb = *parsed;
     if (o.stage == "ui_composite" || o.stage == "visualize_false_colour") {
       ref::Vec3 v;
       if (o.stage == "ui_composite") {
