@@ -125,7 +125,10 @@ TEST(CandidateProtocol, DevicesThreeAndFourOnlyOverTheWholeSuite) {
   RecordProperty("cases", std::to_string(total));
   RecordProperty("pass", std::to_string(pass));
   RecordProperty("unsupported", std::to_string(unsupported));
-  r = run("verify --require-all " + cmd);
+  // --require-all on the shaper cases alone, which hold both kinds (devices 3 and 4 pass, the
+  // others are declined per case): the whole suite's outcome was checked above, and a second
+  // whole-suite replay only to read an exit code cost half this test (measured: 150 s of 298 s).
+  r = run("verify --require-all " + cmd + " --filter 'tonemap/shaper*'");
   EXPECT_EQ(r.code, 1) << r.out.substr(r.out.size() > 2000 ? r.out.size() - 2000 : 0);
   EXPECT_NE(r.out.find("--require-all: they fail the run"), std::string::npos);
   fs::remove_all(out);

@@ -7,6 +7,12 @@ root="$(cd "$(dirname "$0")/.." && pwd)"
 "$root/scripts/setup.sh"
 build="${HDRC_BUILD_DIR:-$root/build}"
 type="${HDRC_BUILD_TYPE:-}"
+# ccache (CMakeLists.txt) shares its cache between clones of this tree in different folders
+# (a CI runner's fresh clone, a second worktree): paths under the tree are hashed relative to the
+# build folder, and the build folder itself is not hashed. The cost: a cached object's debug info
+# names the folder it was first compiled in. A caller's own settings win.
+export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$root}"
+export CCACHE_NOHASHDIR="${CCACHE_NOHASHDIR:-true}"
 configured_type="$(sed -n 's/^CMAKE_BUILD_TYPE:STRING=//p' "$build/CMakeCache.txt" 2>/dev/null || true)"
 if [ ! -f "$build/CMakeCache.txt" ] || { [ -n "$type" ] && [ "$type" != "$configured_type" ]; }; then
   cmake -S "$root" -B "$build" -G Ninja ${type:+-DCMAKE_BUILD_TYPE="$type"} >/dev/null
