@@ -549,26 +549,7 @@ TEST(Cli, WarnLevelGivesExitCode4AndOverlaysApply) {
 std::vector<std::string> failing_with_planted_constant(const std::string& lib_file,
                                                        const std::string& from,
                                                        const std::string& to, std::string* out) {
-  const fs::path shaders = temp_dir("planted_constant");
-  const fs::path results = temp_dir("planted_constant_out");
-  fs::copy(fs::path(HDRC_SOURCE_DIR) / "gpu/shaders", shaders, fs::copy_options::recursive);
-  std::string text = read(shaders / "lib" / lib_file);
-  const size_t at = text.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  if (at == std::string::npos) return {};
-  text.replace(at, from.size(), to);
-  std::ofstream(shaders / "lib" / lib_file) << text;
-  const Ran r = run("run --filter 'lut/devices/*' --no-goldens --shader-dir " + shaders.string() +
-                    " --out " + results.string());
-  *out = r.out;
-  EXPECT_EQ(r.code, 1) << r.out;
-  std::vector<std::string> failing;
-  const auto j = nlohmann::json::parse(read(results / "results.json"));
-  for (const auto& c : j["cases"])
-    if (c["verdict"] == "FAIL") failing.push_back(c["id"].get<std::string>());
-  fs::remove_all(shaders);
-  fs::remove_all(results);
-  return failing;
+  return planted_shader_failures("lib/" + lib_file, from, to, "--filter 'lut/devices/*'", out);
 }
 
 // One ACES matrix entry changed in its 4th decimal (AP0_2_AP1_MAT row 2, 1.1762296998 →

@@ -230,26 +230,7 @@ TEST(Pipelines, ProbePerPipeline) {
 std::vector<std::string> failing_with_planted(const std::string& shader, const std::string& from,
                                               const std::string& to, const std::string& pipeline,
                                               std::string* out) {
-  const fs::path shaders = temp_dir("planted_pipeline");
-  const fs::path results = temp_dir("planted_pipeline_out");
-  fs::copy(fs::path(HDRC_SOURCE_DIR) / "gpu/shaders", shaders, fs::copy_options::recursive);
-  std::string text = read(shaders / shader);
-  const size_t at = text.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  if (at == std::string::npos) return {};
-  text.replace(at, from.size(), to);
-  write(shaders / shader, text);
-  const Ran r = run("run --pipeline " + pipeline + " --no-goldens --shader-dir " +
-                    shaders.string() + " --out " + results.string());
-  *out = r.out;
-  EXPECT_EQ(r.code, 1) << r.out;
-  std::vector<std::string> failing;
-  const auto j = nlohmann::json::parse(read(results / "results.json"));
-  for (const auto& c : j["cases"])
-    if (c["verdict"] == "FAIL") failing.push_back(c["id"].get<std::string>());
-  fs::remove_all(shaders);
-  fs::remove_all(results);
-  return failing;
+  return planted_shader_failures(shader, from, to, "--pipeline " + pipeline, out);
 }
 
 bool contains(const std::vector<std::string>& ids, const std::string& id) {

@@ -10,6 +10,7 @@
 // 128 + the signal's number, never as an exit code the binary could have chosen.
 #pragma once
 
+#include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -18,8 +19,10 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #ifndef HDRC_BINARY
 #error "HDRC_BINARY must be defined"
@@ -72,5 +75,39 @@ inline void write(const std::filesystem::path& p, const std::string& text) {
   std::ofstream f(p, std::ios::binary | std::ios::trunc);
   f << text;
 }
+
+#ifdef HDRC_SOURCE_DIR
+// A planted defect: `from` replaced by `to` in `shader` (a path under gpu/shaders) of a copy of the
+// suite's shaders, then `hdrconform run SELECTION` (e.g. "--pipeline unity_urp" or "--filter
+// 'lut/devices/*'") on that copy without goldens. Returns the ids of the FAIL cases (results.json)
+// and the console output in `out`; the run must exit 1 and `from` must be in the shader.
+inline std::vector<std::string> planted_shader_failures(const std::string& shader,
+                                                        const std::string& from,
+                                                        const std::string& to,
+                                                        const std::string& selection,
+                                                        std::string* out) {
+  namespace fs = std::filesystem;
+  const fs::path shaders = temp_dir("planted_shader");
+  const fs::path results = temp_dir("planted_shader_out");
+  fs::copy(fs::path(HDRC_SOURCE_DIR) / "gpu/shaders", shaders, fs::copy_options::recursive);
+  std::string text = read(shaders / shader);
+  const size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << shader << ": " << from;
+  if (at == std::string::npos) return {};
+  text.replace(at, from.size(), to);
+  write(shaders / shader, text);
+  const Ran r = run("run " + selection + " --no-goldens --shader-dir " + shaders.string() +
+                    " --out " + results.string());
+  *out = r.out;
+  EXPECT_EQ(r.code, 1) << r.out;
+  std::vector<std::string> failing;
+  const auto j = nlohmann::json::parse(read(results / "results.json"));
+  for (const auto& c : j["cases"])
+    if (c["verdict"] == "FAIL") failing.push_back(c["id"].get<std::string>());
+  fs::remove_all(shaders);
+  fs::remove_all(results);
+  return failing;
+}
+#endif
 
 }  // namespace hdrc::test

@@ -5,6 +5,7 @@
 #include "reference/color/ue_matrices.h"
 #include "reference/operators/operators.h"
 #include "reference/operators/operators_settings.h"
+#include "reference/pipeline_support.h"
 
 namespace hdrc::ref::operators {
 
@@ -26,32 +27,9 @@ const std::vector<StageInfo>& operators_stages() {
   return table;
 }
 
-const std::vector<CvarInfo>& no_cvars() {
-  static const std::vector<CvarInfo> none;
-  return none;
-}
-
-Result<Resolution> resolve(const Case& c, int width, int height) {
-  Resolution r;
-  r.params.width = width;
-  r.params.height = height;
-  derive_operators(c.settings, &r.params);
-  return r;
-}
-
-std::array<double, 3> no_lattice(const ParamBlock&, int, int, int) {
-  return {0, 0, 0};
-}
-
 // Display-linear Rec.709: 1.0 is SDR white, 100 nits.
 OutputEncoding encoding(const StageInfo&, const ParamBlock&) {
-  OutputEncoding e;
-  e.transfer = OutputEncoding::Transfer::kLinear;
-  e.nits_scale = 100.0;
-  e.transfer_name = "display-linear x 100 nits";
-  e.to_rec2020 = standard::rgb_to_rgb(standard::kSrgb, standard::kRec2020);
-  e.gamut = "Rec.709";
-  return e;
+  return linear_rec709_encoding("display-linear x 100 nits");
 }
 
 Result<Image> reference(const ResolvedCase& c, bool /*analytic_lut: no LUT*/) {
@@ -81,7 +59,7 @@ const Pipeline& operators_pipeline() {
       &no_cvars,
       &operators_setting_table,
       &operators_setting_choices,
-      &resolve,
+      &resolve_from_settings<&derive_operators>,
       &no_lattice,
       &encoding,
       &reference,

@@ -4,6 +4,7 @@
 #include "reference/unity_urp/unity_urp_pipeline.h"
 
 #include "reference/color/ue_matrices.h"
+#include "reference/pipeline_support.h"
 #include "reference/unity_urp/unity_urp.h"
 #include "reference/unity_urp/unity_urp_settings.h"
 
@@ -36,19 +37,6 @@ const std::vector<StageInfo>& unity_urp_stages() {
   return table;
 }
 
-const std::vector<CvarInfo>& no_cvars() {
-  static const std::vector<CvarInfo> none;
-  return none;
-}
-
-Result<Resolution> resolve(const Case& c, int width, int height) {
-  Resolution r;
-  r.params.width = width;
-  r.params.height = height;
-  derive_unity_urp(c.settings, &r.params);
-  return r;
-}
-
 std::array<double, 3> lattice(const ParamBlock& p, int r, int g, int b) {
   const Vec3 v = lattice_code(p.lut_size, r, g, b);
   return {v[0], v[1], v[2]};
@@ -57,13 +45,8 @@ std::array<double, 3> lattice(const ParamBlock& p, int r, int g, int b) {
 // Both stages output linear Rec.709 (the LUT's texels are what the final pass adds to the frame
 // before its display encode): 1.0 is SDR white, 100 nits.
 OutputEncoding encoding(const StageInfo& stage, const ParamBlock&) {
-  OutputEncoding e;
-  e.transfer = OutputEncoding::Transfer::kLinear;
-  e.nits_scale = 100.0;
-  e.transfer_name = stage.name == "lut_bake" ? "texel, linear x 100 nits" : "linear x 100 nits";
-  e.to_rec2020 = standard::rgb_to_rgb(standard::kSrgb, standard::kRec2020);
-  e.gamut = "Rec.709";
-  return e;
+  return linear_rec709_encoding(stage.name == "lut_bake" ? "texel, linear x 100 nits"
+                                                         : "linear x 100 nits");
 }
 
 // analytic_lut: Unity's LUT is always baked (the strip is a stage of its own); both modes sample
@@ -86,7 +69,7 @@ const Pipeline& unity_urp_pipeline() {
       &no_cvars,
       &unity_urp_setting_table,
       &unity_urp_setting_choices,
-      &resolve,
+      &resolve_from_settings<&derive_unity_urp>,
       &lattice,
       &encoding,
       &reference,
