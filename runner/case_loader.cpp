@@ -9,6 +9,7 @@
 #include <set>
 #include <sstream>
 
+#include "core/cube/cube.h"
 #include "core/nearest.h"
 #include "core/pipeline.h"
 #include "core/utf8.h"
@@ -457,6 +458,82 @@ class Parser {
     return errors_->size() == before;
   }
 
+  // A user LUT path (`"lut"`, `"matrix": {"luts": [...]}`): a .cube file under cases/ with one
+  // 3-D table, of the size `stage` requires. Each file is read once per case file. Returns null
+  // when invalid (errors recorded).
+  std::shared_ptr<const UserLut> lut(const json& v, const std::string& pointer,
+                                     const StageInfo* stage) {
+    const std::string valid =
+        "a .cube file under " + cases_dir_ + " with one 3-D table" +
+        (stage && stage->user_lut > 0 ? " of LUT_3D_SIZE " + std::to_string(stage->user_lut)
+                                      : std::string());
+    if (!v.is_string() || v.get<std::string>().empty()) {
+      fail(pointer, "expected a .cube path string, got " + show(v), valid);
+      return nullptr;
+    }
+    const std::string named = v.get<std::string>();
+    std::error_code ec;
+    const fs::path root = fs::weakly_canonical(cases_dir_, ec);
+    const fs::path p = fs::weakly_canonical(fs::path(cases_dir_) / named, ec);
+    const std::string rel = fs::relative(p, root, ec).generic_string();
+    if (rel.empty() || rel.rfind("..", 0) == 0 || fs::path(named).is_absolute()) {
+      fail(pointer, "LUT path " + show(v) + " leaves the cases directory", valid);
+      return nullptr;
+    }
+    if (p.extension() != ".cube") {
+      fail(pointer, "LUT path " + show(v) + " does not name a .cube file", valid);
+      return nullptr;
+    }
+    if (!fs::is_regular_file(p, ec)) {
+      fail(pointer,
+           "LUT file " + show(v) +
+               (fs::exists(p, ec) ? " is not a regular file" : " does not exist") +
+               " (looked for " + valid_utf8(p.generic_string()) + ")",
+           valid);
+      return nullptr;
+    }
+    if (auto it = luts_.find(rel); it != luts_.end()) {
+      if (!check_lut_size(*it->second, pointer, stage, valid)) return nullptr;
+      return it->second;
+    }
+    auto cube = cube::read_cube_file(p.generic_string());
+    if (!cube) {
+      const Error& e = cube.error();
+      fail(pointer,
+           "LUT file " + show(v) + ": " + e.file + (e.pointer.empty() ? "" : ": " + e.pointer) +
+               ": " + e.message,
+           e.choices.empty() ? valid : e.choices);
+      return nullptr;
+    }
+    if (cube->size_3d == 0) {
+      fail(pointer,
+           "LUT file " + show(v) + " has no 3-D table (LUT_1D_SIZE " +
+               std::to_string(cube->size_1d) + " only: a 1-D LUT)",
+           valid);
+      return nullptr;
+    }
+    if (cube->size_1d != 0) {
+      fail(pointer,
+           "LUT file " + show(v) + " has a 1-D shaper (LUT_1D_SIZE " +
+               std::to_string(cube->size_1d) +
+               ") before its 3-D table, which the strip texture has no place for",
+           valid);
+      return nullptr;
+    }
+    auto lut = std::make_shared<UserLut>();
+    lut->file = p.generic_string();
+    lut->name = rel;
+    lut->label = p.stem().string();
+    lut->title = cube->title.value_or("");
+    lut->size = cube->size_3d;
+    lut->domain_min = cube->domain_min_3d;
+    lut->domain_max = cube->domain_max_3d;
+    lut->table = std::move(cube->table_3d);
+    luts_[rel] = lut;
+    if (!check_lut_size(*lut, pointer, stage, valid)) return nullptr;
+    return lut;
+  }
+
   // `"tolerance": NAME` (a set of defaults.json), or an object over the project default, or an
   // object with "base": NAME over that set.
   void tolerance(const json& v, const std::string& pointer, const SuiteDefaults& defaults,
@@ -498,9 +575,20 @@ class Parser {
   }
 
  private:
+  bool check_lut_size(const UserLut& lut, const std::string& pointer, const StageInfo* stage,
+                      const std::string& valid) {
+    if (!stage || stage->user_lut <= 0 || lut.size == stage->user_lut) return true;
+    fail(pointer,
+         "LUT file \"" + lut.name + "\" has LUT_3D_SIZE " + std::to_string(lut.size) + "; stage " +
+             std::string(stage->name) + " takes a " + std::to_string(stage->user_lut) + "^3 LUT",
+         valid);
+    return false;
+  }
+
   std::string file_, cases_dir_;
   std::vector<Error>* errors_;
   bool ok_ = true;
+  std::map<std::string, std::shared_ptr<const UserLut>> luts_;  // by path under cases/
 };
 
 // A suite configuration file is absent only when nothing at all is there: a dangling symlink or
@@ -512,13 +600,25 @@ bool config_file_present(const fs::path& p) {
 
 // One matrix dimension: a cvar, a setting, or the inputs.
 struct Dim {
-  enum Kind { kCvar, kSetting, kInputs } kind;
-  std::string name;  // cvar or setting name; "inputs"
+  enum Kind { kCvar, kSetting, kInputs, kLuts } kind;
+  std::string name;  // cvar or setting name; "inputs"; "luts"
   std::vector<json> values;
   std::string pointer;
+  std::vector<std::shared_ptr<const UserLut>> luts;  // kLuts: the LUT of each value
 };
 
 constexpr size_t kMaxIdLength = 160;
+
+// "stage (pipeline), ...": the stages a case may give a user LUT.
+std::string user_lut_stage_names() {
+  std::string out;
+  for (const Pipeline* pl : pipeline_table())
+    for (const StageInfo& st : pl->stages())
+      if (st.user_lut != 0)
+        out +=
+            (out.empty() ? "" : ", ") + std::string(st.name) + " (" + std::string(pl->name) + ")";
+  return out.empty() ? "no stage takes one" : "stages that take one: " + out;
+}
 
 std::string value_label(const json& v) {
   if (v.is_array()) {
@@ -609,9 +709,10 @@ std::vector<Case> parse_case_file(const std::string& file, const std::string& te
     p.fail("", "a case file is a JSON object, got " + json_type(doc));
     return out;
   }
-  p.check_keys(doc, "",
-               {"$schema", "description", "pipeline", "stage", "preset", "cvars", "settings",
-                "input", "bloom", "bloom_dirt", "matrix", "tolerance", "pins_nonfinite", "tier"});
+  p.check_keys(
+      doc, "",
+      {"$schema", "description", "pipeline", "stage", "preset", "cvars", "settings", "input",
+       "bloom", "bloom_dirt", "lut", "matrix", "tolerance", "pins_nonfinite", "tier"});
 
   Case base;
   base.file = file;
@@ -719,6 +820,18 @@ std::vector<Case> parse_case_file(const std::string& file, const std::string& te
     p.input(doc[key], std::string("/") + key,
             std::string(key) == "bloom" ? &base.bloom : &base.bloom_dirt);
   }
+  if (doc.contains("lut")) {
+    if (base.stage && base.stage->user_lut == 0)
+      p.fail("/lut", "stage " + std::string(base.stage->name) + " takes no user LUT",
+             user_lut_stage_names());
+    else
+      base.lut = p.lut(doc["lut"], "/lut", base.stage);
+  } else if (base.stage && base.stage->user_lut != 0 &&
+             !(doc.contains("matrix") && doc["matrix"].is_object() &&
+               doc["matrix"].contains("luts"))) {
+    p.fail("/lut", "stage " + std::string(base.stage->name) + " needs a user LUT",
+           "\"lut\": a .cube path under cases/, or \"matrix\": {\"luts\": [...]}");
+  }
   if (doc.contains("tolerance"))
     p.tolerance(doc["tolerance"], "/tolerance", defaults, &base.tolerance);
   if (doc.contains("pins_nonfinite")) {
@@ -743,7 +856,8 @@ std::vector<Case> parse_case_file(const std::string& file, const std::string& te
     if (!m.is_object()) {
       p.fail("/matrix", "expected an object, got " + show(m));
     } else {
-      p.check_keys(m, "/matrix", {"mode", "full", "cvars", "settings", "inputs", "strength"});
+      p.check_keys(m, "/matrix",
+                   {"mode", "full", "cvars", "settings", "inputs", "luts", "strength"});
       if (m.contains("mode")) {
         const json& md = m["mode"];
         if (md != "full" && md != "pairwise" && md != "covering") {
@@ -788,7 +902,7 @@ std::vector<Case> parse_case_file(const std::string& file, const std::string& te
             p.fail(ptr, std::string(is_cvar ? "cvar " : "setting ") + it.key() +
                             " is set in both /" + group + " and " + gptr);
           }
-          Dim d{is_cvar ? Dim::kCvar : Dim::kSetting, it.key(), {}, ptr};
+          Dim d{is_cvar ? Dim::kCvar : Dim::kSetting, it.key(), {}, ptr, {}};
           std::set<std::string> seen;
           for (size_t i = 0; i < it.value().size(); ++i) {
             const json& val = it.value()[i];
@@ -826,6 +940,32 @@ std::vector<Case> parse_case_file(const std::string& file, const std::string& te
             if (p.input(m["inputs"][i], "/matrix/inputs/" + std::to_string(i), &in))
               inputs.push_back(in);
           }
+        }
+      }
+      if (m.contains("luts")) {
+        const json& l = m["luts"];
+        if (doc.contains("lut")) p.fail("/matrix/luts", "a case names either /lut or /matrix/luts");
+        if (base.stage && base.stage->user_lut == 0) {
+          p.fail("/matrix/luts", "stage " + std::string(base.stage->name) + " takes no user LUT",
+                 user_lut_stage_names());
+        } else if (!l.is_array() || l.empty()) {
+          p.fail("/matrix/luts", "expected a non-empty array of .cube paths, got " + show(l));
+        } else {
+          Dim d{Dim::kLuts, "luts", {}, "/matrix/luts", {}};
+          std::set<std::string> seen;
+          for (size_t i = 0; i < l.size(); ++i) {
+            const std::string at = "/matrix/luts/" + std::to_string(i);
+            auto lut = p.lut(l[i], at, base.stage);
+            if (!lut) continue;
+            if (!seen.insert(lut->label).second) {
+              p.fail(at, "LUT " + show(l[i]) + " is listed twice (or shares its file name)",
+                     "distinct .cube file names");
+              continue;
+            }
+            d.values.push_back(l[i]);
+            d.luts.push_back(lut);
+          }
+          dims.push_back(std::move(d));
         }
       }
       if (m.contains("full")) {
@@ -919,6 +1059,11 @@ std::vector<Case> parse_case_file(const std::string& file, const std::string& te
     std::string suffix;
     for (size_t d = 0; d < dims.size(); ++d) {
       const json& val = dims[d].values[row[d]];
+      if (dims[d].kind == Dim::kLuts) {
+        c.lut = dims[d].luts[row[d]];
+        suffix += (suffix.empty() ? "" : "_") + std::string("lut") + c.lut->label;
+        continue;
+      }
       if (dims[d].kind == Dim::kCvar) {
         c.cvars.set(dims[d].name, val.get<double>());
       } else {
@@ -1214,6 +1359,17 @@ Result<ResolvedCase> resolve_case(const Case& c) {
   if (!resolution) return resolution.error();
   r.params = resolution->params;
   r.degenerate = resolution->degenerate;
+  // The user LUT, for every pipeline alike: its strip texture and P.user_lut_*.
+  if (c.lut) {
+    r.user_lut = user_lut_strip(*c.lut);
+    if (r.user_lut.data.empty())
+      return Error{c.file, "/lut", "LUT \"" + c.lut->name + "\" has an inconsistent table", ""};
+    r.params.user_lut_size = c.lut->size;
+    for (int i = 0; i < 3; ++i) {
+      r.params.user_lut_domain_min[i] = c.lut->domain_min[i];
+      r.params.user_lut_domain_max[i] = c.lut->domain_max[i];
+    }
+  }
   return r;
 }
 

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <set>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "core/pipeline.h"
@@ -27,7 +28,7 @@ const std::string kCasesDir = std::string(HDRC_SOURCE_DIR) + "/cases";
 TEST(Pipelines, RegistryListsEveryPipelineUe55First) {
   std::vector<std::string> names;
   for (const hdrc::Pipeline* p : hdrc::pipeline_table()) names.emplace_back(p->name);
-  EXPECT_EQ(names, (std::vector<std::string>{"ue55", "unity_urp", "operators"}));
+  EXPECT_EQ(names, (std::vector<std::string>{"ue55", "unity_urp", "operators", "pq_grading"}));
   EXPECT_EQ(hdrc::default_pipeline().name, "ue55");
   EXPECT_EQ(hdrc::find_pipeline("nope"), nullptr);
 }
@@ -79,9 +80,9 @@ TEST(Pipelines, CaseFilesNameTheirPipeline) {
   };
   const Row rows[] = {
       {R"({"pipeline": "unity", "stage": "lut_bake"})", "/pipeline", "unknown pipeline \"unity\"",
-       "ue55, unity_urp, operators"},
+       "ue55, unity_urp, operators, pq_grading"},
       {R"({"pipeline": 3, "stage": "lut_bake"})", "/pipeline", "unknown pipeline 3",
-       "ue55, unity_urp, operators"},
+       "ue55, unity_urp, operators, pq_grading"},
       {R"({"stage": "lut_bake"})", "/stage",
        "unknown stage \"lut_bake\" (it is a stage of pipeline unity_urp: set "
        "\"pipeline\": \"unity_urp\")",
@@ -158,7 +159,8 @@ TEST(Pipelines, CliListsAndSelectsPerPipeline) {
   EXPECT_GT(n, 50u);
   const Ran bad = run("list --pipeline unreal");
   EXPECT_EQ(bad.code, 2) << bad.out;
-  EXPECT_NE(bad.out.find("unknown pipeline 'unreal'; valid choices: ue55, unity_urp, operators"),
+  EXPECT_NE(bad.out.find(
+                "unknown pipeline 'unreal'; valid choices: ue55, unity_urp, operators, pq_grading"),
             std::string::npos)
       << bad.out;
 }
@@ -166,7 +168,7 @@ TEST(Pipelines, CliListsAndSelectsPerPipeline) {
 // `coverage --pipeline NAME` checks that pipeline's cases against its own declaration
 // (coverage_<name>.json): every declared value and required combination is covered.
 TEST(Pipelines, CoverageIsCompletePerPipeline) {
-  for (const char* pipeline : {"unity_urp", "operators"}) {
+  for (const char* pipeline : {"unity_urp", "operators", "pq_grading"}) {
     const Ran r = run(std::string("coverage --pipeline ") + pipeline);
     EXPECT_EQ(r.code, 0) << r.out;
     EXPECT_NE(r.out.find(std::string("cases of pipeline ") + pipeline), std::string::npos) << r.out;
@@ -323,6 +325,81 @@ TEST(Pipelines, PlantedHableConstantFailsOnlyTheHableCases) {
   EXPECT_TRUE(contains(failing, "operators/operators/operator2_log_ramp")) << out;
   EXPECT_GE(failing.size(), 10u) << out;
   for (const auto& id : failing) EXPECT_NE(id.find("/operator2_"), std::string::npos) << id;
+}
+
+// pq_grading's user LUTs are no setting, so coverage_pq_grading.json cannot declare them: every
+// test LUT meets every display mapping and back buffer here (the issue's full product), and every
+// LUT every Amplify value.
+TEST(Pipelines, PqGradingCasesCrossEveryLutDisplayAndEncoding) {
+  const hdrc::LoadedCases loaded = hdrc::load_cases(kCasesDir);
+  ASSERT_TRUE(loaded.errors.empty()) << loaded.errors[0].to_string();
+  std::set<std::string> luts;
+  std::set<std::tuple<std::string, int, int>> product;
+  std::set<std::pair<std::string, double>> amplify;
+  for (const hdrc::Case& c : loaded.cases) {
+    if (c.stage->name != "pq_grade") continue;
+    ASSERT_TRUE(c.lut) << c.id;
+    luts.insert(c.lut->label);
+    product.insert({c.lut->label, static_cast<int>(c.settings.get("Display")),
+                    static_cast<int>(c.settings.get("BackBuffer"))});
+    amplify.insert({c.lut->label, c.settings.get("Amplify")});
+  }
+  EXPECT_EQ(luts, (std::set<std::string>{"pq_clip_33", "pq_domain_33", "pq_hue_33",
+                                         "pq_identity_33", "pq_look_33"}));
+  EXPECT_EQ(product.size(), luts.size() * 2 * 4);
+  EXPECT_EQ(amplify.size(), luts.size() * 5);
+}
+
+// The ids of pq_grading's cases in the default suite whose id contains `part` ("" for all).
+std::vector<std::string> pq_case_ids(const std::string& part) {
+  std::vector<std::string> ids;
+  for (const hdrc::Case& c : hdrc::load_cases(kCasesDir).cases)
+    if (c.stage->pipeline == "pq_grading" && c.id.find(part) != std::string::npos)
+      ids.push_back(c.id);
+  return ids;
+}
+
+// The .cube's red and blue swapped in pq_grading's LUT lookup (the coordinate .bgr): every case
+// fails, the identity LUT's included (it then returns (b, g, r)): every stimulus has colour (the
+// ramps' single-channel rows, the random colours, the hue sweeps).
+TEST(Pipelines, PlantedRedBlueSwapInTheLutLookupFailsEveryCase) {
+  std::string out;
+  const auto failing =
+      failing_with_planted("pq_grading/lib/pq_grading.glsl", "  return pqg_sample_strip(t);",
+                           "  return pqg_sample_strip(t.bgr);", "pq_grading", &out);
+  EXPECT_TRUE(contains(failing, "pq_grading/luts/display1_backbuffer0_lutpq_hue_33_random")) << out;
+  EXPECT_TRUE(contains(failing, "pq_grading/luts/display0_backbuffer2_lutpq_identity_33_hues"))
+      << out;
+  EXPECT_EQ(failing.size(), pq_case_ids("").size()) << out;
+}
+
+// Half a texel of offset in the strip sampling (UVW = t (N - 1)/N + 1/N instead of + 0.5/N):
+// every LUT's cases fail, the identity's too.
+TEST(Pipelines, PlantedHalfTexelOffsetInTheStripSamplingFailsEveryLut) {
+  std::string out;
+  const auto failing = failing_with_planted(
+      "pq_grading/lib/pq_grading.glsl", "vec3 uvw = t * ((n - 1.0) / n) + 0.5 / n;",
+      "vec3 uvw = t * ((n - 1.0) / n) + 1.0 / n;", "pq_grading", &out);
+  EXPECT_TRUE(contains(failing, "pq_grading/luts/display1_backbuffer0_lutpq_identity_33_random"))
+      << out;
+  for (const char* lut :
+       {"lutpq_identity_33", "lutpq_look_33", "lutpq_hue_33", "lutpq_clip_33", "lutpq_domain_33"})
+    EXPECT_TRUE(std::any_of(failing.begin(), failing.end(), [&](const std::string& id) {
+      return id.find(lut) != std::string::npos;
+    })) << lut;
+}
+
+// DOMAIN ignored in the lookup (the PQ signal used as the coordinate as it is): only the LUT with
+// a non-default DOMAIN_MIN/MAX (pq_domain_33) can show it, and its cases fail.
+TEST(Pipelines, PlantedDomainIgnoredFailsTheDomainLutCases) {
+  std::string out;
+  const auto failing = failing_with_planted(
+      "pq_grading/lib/pq_grading.glsl", "  vec3 t = pqg_domain_normalise(pq);",
+      "  vec3 t = vec3(saturate_d3d(pq.r), saturate_d3d(pq.g), saturate_d3d(pq.b));", "pq_grading",
+      &out);
+  EXPECT_TRUE(contains(failing, "pq_grading/luts/display1_backbuffer0_lutpq_domain_33_random"))
+      << out;
+  EXPECT_EQ(failing, pq_case_ids("lutpq_domain_33")) << out;  // every one of them, no other
 }
 
 }  // namespace
