@@ -458,80 +458,31 @@ class Parser {
     return errors_->size() == before;
   }
 
-  // A user LUT path (`"lut"`, `"matrix": {"luts": [...]}`): a .cube file under cases/ with one
-  // 3-D table, of the size `stage` requires. Each file is read once per case file. Returns null
-  // when invalid (errors recorded).
+  // A user LUT path (`"lut"`, `"matrix": {"luts": [...]}`): read_user_lut's rules; each file is
+  // read once per case file. Returns null when invalid (errors recorded).
   std::shared_ptr<const UserLut> lut(const json& v, const std::string& pointer,
                                      const StageInfo* stage) {
-    const std::string valid =
-        "a .cube file under " + cases_dir_ + " with one 3-D table" +
-        (stage && stage->user_lut > 0 ? " of LUT_3D_SIZE " + std::to_string(stage->user_lut)
-                                      : std::string());
     if (!v.is_string() || v.get<std::string>().empty()) {
-      fail(pointer, "expected a .cube path string, got " + show(v), valid);
+      fail(pointer, "expected a .cube path string, got " + show(v),
+           user_lut_choices(cases_dir_, stage));
       return nullptr;
     }
     const std::string named = v.get<std::string>();
-    std::error_code ec;
-    const fs::path root = fs::weakly_canonical(cases_dir_, ec);
-    const fs::path p = fs::weakly_canonical(fs::path(cases_dir_) / named, ec);
-    const std::string rel = fs::relative(p, root, ec).generic_string();
-    if (rel.empty() || rel.rfind("..", 0) == 0 || fs::path(named).is_absolute()) {
-      fail(pointer, "LUT path " + show(v) + " leaves the cases directory", valid);
-      return nullptr;
-    }
-    if (p.extension() != ".cube") {
-      fail(pointer, "LUT path " + show(v) + " does not name a .cube file", valid);
-      return nullptr;
-    }
-    if (!fs::is_regular_file(p, ec)) {
-      fail(pointer,
-           "LUT file " + show(v) +
-               (fs::exists(p, ec) ? " is not a regular file" : " does not exist") +
-               " (looked for " + valid_utf8(p.generic_string()) + ")",
-           valid);
-      return nullptr;
-    }
-    if (auto it = luts_.find(rel); it != luts_.end()) {
-      if (!check_lut_size(*it->second, pointer, stage, valid)) return nullptr;
+    if (auto it = luts_.find(named); it != luts_.end()) {
+      if (Status st = check_user_lut_size(*it->second, stage, cases_dir_); !st) {
+        fail(pointer, st.error().message, st.error().choices);
+        return nullptr;
+      }
       return it->second;
     }
-    auto cube = cube::read_cube_file(p.generic_string());
-    if (!cube) {
-      const Error& e = cube.error();
-      fail(pointer,
-           "LUT file " + show(v) + ": " + e.file + (e.pointer.empty() ? "" : ": " + e.pointer) +
-               ": " + e.message,
-           e.choices.empty() ? valid : e.choices);
+    auto lut = read_user_lut(cases_dir_, named, stage);
+    if (!lut) {
+      fail(pointer, lut.error().message, lut.error().choices);
+      // A wrong size is the stage's rule, not the file's: keep the file for other stages.
       return nullptr;
     }
-    if (cube->size_3d == 0) {
-      fail(pointer,
-           "LUT file " + show(v) + " has no 3-D table (LUT_1D_SIZE " +
-               std::to_string(cube->size_1d) + " only: a 1-D LUT)",
-           valid);
-      return nullptr;
-    }
-    if (cube->size_1d != 0) {
-      fail(pointer,
-           "LUT file " + show(v) + " has a 1-D shaper (LUT_1D_SIZE " +
-               std::to_string(cube->size_1d) +
-               ") before its 3-D table, which the strip texture has no place for",
-           valid);
-      return nullptr;
-    }
-    auto lut = std::make_shared<UserLut>();
-    lut->file = p.generic_string();
-    lut->name = rel;
-    lut->label = p.stem().string();
-    lut->title = cube->title.value_or("");
-    lut->size = cube->size_3d;
-    lut->domain_min = cube->domain_min_3d;
-    lut->domain_max = cube->domain_max_3d;
-    lut->table = std::move(cube->table_3d);
-    luts_[rel] = lut;
-    if (!check_lut_size(*lut, pointer, stage, valid)) return nullptr;
-    return lut;
+    luts_[named] = *lut;
+    return *lut;
   }
 
   // `"tolerance": NAME` (a set of defaults.json), or an object over the project default, or an
@@ -575,20 +526,10 @@ class Parser {
   }
 
  private:
-  bool check_lut_size(const UserLut& lut, const std::string& pointer, const StageInfo* stage,
-                      const std::string& valid) {
-    if (!stage || stage->user_lut <= 0 || lut.size == stage->user_lut) return true;
-    fail(pointer,
-         "LUT file \"" + lut.name + "\" has LUT_3D_SIZE " + std::to_string(lut.size) + "; stage " +
-             std::string(stage->name) + " takes a " + std::to_string(stage->user_lut) + "^3 LUT",
-         valid);
-    return false;
-  }
-
   std::string file_, cases_dir_;
   std::vector<Error>* errors_;
   bool ok_ = true;
-  std::map<std::string, std::shared_ptr<const UserLut>> luts_;  // by path under cases/
+  std::map<std::string, std::shared_ptr<const UserLut>> luts_;  // by the path as named
 };
 
 // A suite configuration file is absent only when nothing at all is there: a dangling symlink or
@@ -608,6 +549,99 @@ struct Dim {
 };
 
 constexpr size_t kMaxIdLength = 160;
+
+}  // namespace
+
+std::string user_lut_choices(const std::string& cases_dir, const StageInfo* stage) {
+  return "a .cube file" + (cases_dir.empty() ? std::string() : " under " + cases_dir) +
+         " with one 3-D table" +
+         (stage && stage->user_lut > 0 ? " of LUT_3D_SIZE " + std::to_string(stage->user_lut)
+                                       : std::string());
+}
+
+Status check_user_lut_size(const UserLut& lut, const StageInfo* stage,
+                           const std::string& cases_dir) {
+  if (!stage || stage->user_lut <= 0 || lut.size == stage->user_lut) return {};
+  return Error{"", "",
+               "LUT file \"" + lut.name + "\" has LUT_3D_SIZE " + std::to_string(lut.size) +
+                   "; stage " + std::string(stage->name) + " takes a " +
+                   std::to_string(stage->user_lut) + "^3 LUT",
+               user_lut_choices(cases_dir, stage)};
+}
+
+Result<std::shared_ptr<const UserLut>> read_user_lut(const std::string& cases_dir,
+                                                     const std::string& path,
+                                                     const StageInfo* stage) {
+  const std::string valid = user_lut_choices(cases_dir, stage);
+  const std::string shown = show(json(path));
+  auto fail = [&](const std::string& message, const std::string& choices) {
+    return Error{"", "", message, choices};
+  };
+  std::error_code ec;
+  fs::path p = fs::path(path);
+  std::string rel = path;
+  if (!cases_dir.empty()) {
+    const fs::path root = fs::weakly_canonical(cases_dir, ec);
+    p = fs::weakly_canonical(fs::path(cases_dir) / path, ec);
+    rel = fs::relative(p, root, ec).generic_string();
+    if (rel.empty() || rel.rfind("..", 0) == 0 || fs::path(path).is_absolute())
+      return fail("LUT path " + shown + " leaves the cases directory", valid);
+  }
+  if (p.extension() != ".cube")
+    return fail("LUT path " + shown + " does not name a .cube file", valid);
+  if (!fs::is_regular_file(p, ec))
+    return fail("LUT file " + shown +
+                    (fs::exists(p, ec) ? " is not a regular file" : " does not exist") +
+                    " (looked for " + valid_utf8(p.generic_string()) + ")",
+                valid);
+  auto cube = cube::read_cube_file(p.generic_string());
+  if (!cube) {
+    const Error& e = cube.error();
+    return fail("LUT file " + shown + ": " + e.file + (e.pointer.empty() ? "" : ": " + e.pointer) +
+                    ": " + e.message,
+                e.choices.empty() ? valid : e.choices);
+  }
+  if (cube->size_3d == 0)
+    return fail("LUT file " + shown + " has no 3-D table (LUT_1D_SIZE " +
+                    std::to_string(cube->size_1d) + " only: a 1-D LUT)",
+                valid);
+  if (cube->size_1d != 0)
+    return fail("LUT file " + shown + " has a 1-D shaper (LUT_1D_SIZE " +
+                    std::to_string(cube->size_1d) +
+                    ") before its 3-D table, which the strip texture has no place for",
+                valid);
+  auto lut = std::make_shared<UserLut>();
+  lut->file = p.generic_string();
+  lut->name = rel;
+  lut->label = p.stem().string();
+  lut->title = cube->title.value_or("");
+  lut->size = cube->size_3d;
+  lut->domain_min = cube->domain_min_3d;
+  lut->domain_max = cube->domain_max_3d;
+  lut->table = std::move(cube->table_3d);
+  if (Status st = check_user_lut_size(*lut, stage, cases_dir); !st) return st.error();
+  return std::shared_ptr<const UserLut>(std::move(lut));
+}
+
+Status attach_user_lut(const std::shared_ptr<const UserLut>& lut, ResolvedCase* r) {
+  r->spec.lut = lut;
+  r->user_lut = Image();
+  r->params.user_lut_size = 0;
+  r->params.user_lut_domain_min = {0, 0, 0, 0};
+  r->params.user_lut_domain_max = {0, 0, 0, 0};
+  if (!lut) return {};
+  r->user_lut = user_lut_strip(*lut);
+  if (r->user_lut.data.empty())
+    return Error{r->spec.file, "/lut", "LUT \"" + lut->name + "\" has an inconsistent table", ""};
+  r->params.user_lut_size = lut->size;
+  for (int i = 0; i < 3; ++i) {
+    r->params.user_lut_domain_min[i] = lut->domain_min[i];
+    r->params.user_lut_domain_max[i] = lut->domain_max[i];
+  }
+  return {};
+}
+
+namespace {
 
 // "stage (pipeline), ...": the stages a case may give a user LUT.
 std::string user_lut_stage_names() {
@@ -1360,16 +1394,7 @@ Result<ResolvedCase> resolve_case(const Case& c) {
   r.params = resolution->params;
   r.degenerate = resolution->degenerate;
   // The user LUT, for every pipeline alike: its strip texture and P.user_lut_*.
-  if (c.lut) {
-    r.user_lut = user_lut_strip(*c.lut);
-    if (r.user_lut.data.empty())
-      return Error{c.file, "/lut", "LUT \"" + c.lut->name + "\" has an inconsistent table", ""};
-    r.params.user_lut_size = c.lut->size;
-    for (int i = 0; i < 3; ++i) {
-      r.params.user_lut_domain_min[i] = c.lut->domain_min[i];
-      r.params.user_lut_domain_max[i] = c.lut->domain_max[i];
-    }
-  }
+  if (Status st = attach_user_lut(c.lut, &r); !st) return st.error();
   return r;
 }
 

@@ -218,6 +218,19 @@ TEST(Pipelines, ProbePerPipeline) {
   // Measured (0.110441941, 0.111283369, 0.111195872): the 32^3 LUT's LogC-spaced, half-stored
   // texels interpolated at 18 % grey, within 1 % of the bake's lattice value.
   for (double v : rgb) EXPECT_NEAR(v, 0.1102, 2e-3) << u.out;
+  // pq_grading with the identity .cube: 0.25 at Amplify 4 grades to 1, Narkowicz's fit gives
+  // 2.54 / 3.16 = 127/158, RGB8's gamma (127/158)^(1/2.2) = 0.905492450 (hand-derived,
+  // reference/pq_grading/pq_grading_test.cpp); without --cube the stage refuses.
+  const std::string cube = std::string(HDRC_SOURCE_DIR) + "/cases/lut/cube/pq_identity_33.cube";
+  const Ran pq = probe("--pipeline pq_grading --cube " + cube +
+                           " --setting Amplify=4 --setting Display=SDR --setting BackBuffer=RGB8",
+                       "0.25 0.25 0.25\n");
+  EXPECT_EQ(pq.code, 0) << pq.out;
+  EXPECT_EQ(pq.out, "0.90549245 0.90549245 0.90549245\n");
+  const Ran no_cube = probe("--pipeline pq_grading", "0.25 0.25 0.25\n");
+  EXPECT_EQ(no_cube.code, 2) << no_cube.out;
+  EXPECT_NE(no_cube.out.find("--cube: stage pq_grade needs a user LUT"), std::string::npos)
+      << no_cube.out;
   const Ran bad = probe("--pipeline unity_urp --stage tonemap", "0 0 0\n");
   EXPECT_EQ(bad.code, 2) << bad.out;
   EXPECT_NE(bad.out.find("not a stage of pipeline unity_urp that reads colours; valid choices: "
