@@ -415,4 +415,26 @@ TEST(Pipelines, PlantedDomainIgnoredFailsTheDomainLutCases) {
   EXPECT_EQ(failing, pq_case_ids("lutpq_domain_33")) << out;  // every one of them, no other
 }
 
+// The user LUT's texture is `lut convert --to strip`'s image, texel for texel (and the export's
+// user_lut.exr with it): one layout for the CLI, the loader and both engines.
+TEST(Pipelines, UserLutTextureIsLutConvertsStrip) {
+  const fs::path dir = temp_dir("user_lut_strip");
+  const std::string cube = kCasesDir + "/lut/cube/pq_domain_33.cube";
+  const Ran r =
+      run("lut convert --to strip --format exr --out " + (dir / "strip.exr").string() + " " + cube);
+  ASSERT_EQ(r.code, 0) << r.out;
+  auto converted = hdrc::read_image((dir / "strip.exr").string());
+  ASSERT_TRUE(converted.ok()) << converted.error().to_string();
+  auto lut = hdrc::read_user_lut(kCasesDir, "lut/cube/pq_domain_33.cube", nullptr);
+  ASSERT_TRUE(lut.ok()) << lut.error().to_string();
+  const hdrc::Image strip = hdrc::user_lut_strip(**lut);
+  ASSERT_EQ(strip.width, converted->width);
+  ASSERT_EQ(strip.height, converted->height);
+  size_t differ = 0;
+  for (size_t p = 0; p < strip.pixel_count(); ++p)
+    for (int c = 0; c < 3; ++c) differ += strip.data[p * 4 + c] != converted->data[p * 4 + c];
+  EXPECT_EQ(differ, 0u);
+  fs::remove_all(dir);
+}
+
 }  // namespace
