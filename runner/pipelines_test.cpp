@@ -437,4 +437,26 @@ TEST(Pipelines, UserLutTextureIsLutConvertsStrip) {
   fs::remove_all(dir);
 }
 
+// A port renders a pq_grading case from what export writes alone: params.json, input.exr and the
+// user LUT beside them (user_lut.exr, the strip it binds; user_lut.cube, the table). The example
+// candidate (examples/vulkan_candidate.cpp: load_exported_case and the Vulkan engine) passes.
+TEST(Pipelines, PqGradingCasesRenderFromTheirExportAlone) {
+  const fs::path out = temp_dir("pq_export");
+  const Ran v =
+      run("verify --filter 'pq_grading/luts/display[01]_backbuffer0_lutpq_domain_33_*' "
+          "-j 2 --candidate-cmd '" +
+          std::string(HDRC_EXAMPLE_CANDIDATE) + " --params {params} --output {output}' --out " +
+          out.string());
+  EXPECT_EQ(v.code, 0) << v.out;
+  EXPECT_NE(v.out.find("4 passed"), std::string::npos) << v.out;
+  const fs::path dir = out / "cases/pq_grading/luts/display1_backbuffer0_lutpq_domain_33_random";
+  EXPECT_TRUE(fs::exists(dir / "user_lut.cube"));
+  EXPECT_TRUE(hdrc::read_image((dir / "user_lut.exr").string()).ok());
+  const auto params = nlohmann::json::parse(read(dir / "params.json"));
+  EXPECT_EQ(params["user_lut"]["source"], "lut/cube/pq_domain_33.cube");
+  EXPECT_EQ(params["user_lut"]["size"], 33);
+  EXPECT_EQ(params["params"]["user_lut_size"], 33);
+  fs::remove_all(out);
+}
+
 }  // namespace
