@@ -55,8 +55,9 @@ Loaded load(const std::string& file, double amplify, Display display, BackBuffer
   return l;
 }
 
-// ST 2084 (SMPTE ST 2084:2014, and ITU-R BT.2100's PQ table; BT.2390 §5 lists the 10-bit codes):
-// 100 cd/m² → 0.508078 (10-bit full range 520), 1000 cd/m² → 0.751827 (769), 10000 → 1. With
+// ST 2084's published signal values (ITU-R BT.2100 / BT.2390 tables, as
+// reference/color/st2084_test.cpp cites them): 100 cd/m² → 0.508078 (10-bit full-range code 520),
+// 1000 cd/m² → 0.751827 (769), 10000 → 1. With
 // Amplify 1 (ExposureFract 1e-4) a scene value s reaches PQ as s · 1e-4 · 10000 = s nits.
 TEST(PqGrading, PqEncodeMatchesPublishedValues) {
   const Loaded l = load("pq_identity_33.cube", 1.0, Display::kHdr, BackBuffer::kR10G10B10A2);
@@ -94,7 +95,7 @@ TEST(PqGrading, HandDerivedSdrValues) {
     BackBuffer bb;
     double expected;
   };
-  // PQ(80.379747 nits) from ST 2084 eq. 5.2 with its constants (m1 = 2610/16384, m2 =
+  // PQ(80.379747 nits) from ST 2084's inverse EOTF with its constants (m1 = 2610/16384, m2 =
   // 2523/4096·128, c1 = 3424/4096, c2 = 2413/4096·32, c3 = 2392/4096·32), evaluated step by step
   // in a Python session: Y = 0.0080379747, Y^m1 = 0.46375241, c2 Y^m1 = 8.7424575, c3 Y^m1 =
   // 8.6663731, (c1 + 8.7424575) / (1 + 8.6663731) = 0.99089854, ^m2 = 0.48632465.
