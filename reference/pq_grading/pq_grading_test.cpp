@@ -123,6 +123,12 @@ TEST(PqGrading, LightingTargetIsRgba16fAndSaturateTakesNaNToBlack) {
   EXPECT_EQ(store_rgba16f(-1e5), -65504.0);
   EXPECT_EQ(store_rgba16f(std::numeric_limits<double>::infinity()), 65504.0);
   EXPECT_EQ(store_rgba16f(33.3333), 33.34375);
+  // Ties go to the even half: halves near 1 are 2^-10 apart, so 1 + 2^-11 lies between 1 (even
+  // mantissa) and 1 + 2^-10 (odd), and 1 + 3·2^-11 between 1 + 2^-10 (odd) and 1 + 2^-9 (even).
+  EXPECT_EQ(store_rgba16f(1.0 + std::ldexp(1.0, -11)), 1.0);
+  EXPECT_EQ(store_rgba16f(1.0 + 3 * std::ldexp(1.0, -11)), 1.0 + std::ldexp(1.0, -9));
+  // Half subnormals (below 2^-14) are kept, in steps of 2^-24.
+  EXPECT_EQ(store_rgba16f(3 * std::ldexp(1.0, -24)), 3 * std::ldexp(1.0, -24));
   EXPECT_TRUE(std::isnan(store_rgba16f(std::nan(""))));
   const Loaded l = load("pq_identity_33.cube", 3.0, Display::kSdr, BackBuffer::kRgb8);
   const StripLut lut = strip_lut(l.strip, l.p);
