@@ -3,6 +3,7 @@
 #include "runner/case_loader.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -344,6 +345,54 @@ TEST(CaseLoader, StimulusParametersAndInputNames) {
 }
 
 // Every error of a file is reported, and none of its cases is produced.
+// A user LUT that does not parse: the error names the case file and pointer, then the .cube, its
+// line and what core/cube found there. A file named in a matrix is read once and shared by the
+// cases it expands to; /lut and /matrix/luts together are refused.
+TEST(CaseLoader, UserLutErrorsNameTheCubeLineAndLutsAreShared) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("hdrc_user_lut_" + std::to_string(::getpid()));
+  fs::create_directories(dir / "lut");
+  std::ofstream(dir / "lut/bad_33.cube") << "LUT_3D_SIZE 33\n0 0 zero\n";
+  fs::copy_file(kCasesDir + "/lut/cube/pq_identity_33.cube", dir / "lut/id_33.cube");
+  fs::copy_file(kCasesDir + "/lut/cube/pq_hue_33.cube", dir / "lut/hue_33.cube");
+  const std::string head =
+      R"({"pipeline": "pq_grading", "stage": "pq_grade", "input": {"stimulus": "log_ramp"}, )";
+  std::vector<hdrc::Error> errors;
+  auto cases = hdrc::parse_case_file("t.json", head + R"("lut": "lut/bad_33.cube"})", dir.string(),
+                                     "t", &errors);
+  EXPECT_TRUE(cases.empty());
+  ASSERT_EQ(errors.size(), 1u);
+  const std::string got = errors[0].to_string();
+  EXPECT_EQ(got.rfind("t.json: /lut: LUT file \"lut/bad_33.cube\": ", 0), 0u) << got;
+  EXPECT_NE(got.find("bad_33.cube: line 2: "), std::string::npos) << got;
+  EXPECT_NE(got.find("zero"), std::string::npos) << got;
+
+  errors.clear();
+  cases = hdrc::parse_case_file(
+      "t.json",
+      head +
+          R"("matrix": {"settings": {"Display": ["SDR", "HDR"]}, "luts": ["lut/id_33.cube", "lut/hue_33.cube"]}})",
+      dir.string(), "t", &errors);
+  ASSERT_TRUE(errors.empty()) << errors[0].to_string();
+  ASSERT_EQ(cases.size(), 4u);
+  EXPECT_EQ(cases[0].id, "t/display0_lutid_33_log_ramp");
+  EXPECT_EQ(cases[0].lut, cases[2].lut);  // one UserLut per file
+  EXPECT_NE(cases[0].lut, cases[1].lut);
+  EXPECT_EQ(cases[1].lut->label, "hue_33");
+  EXPECT_EQ(cases[1].lut->size, 33);
+  EXPECT_EQ(cases[1].lut->table.size(), 33u * 33 * 33);
+
+  errors.clear();
+  cases = hdrc::parse_case_file(
+      "t.json", head + R"("lut": "lut/id_33.cube", "matrix": {"luts": ["lut/hue_33.cube"]}})",
+      dir.string(), "t", &errors);
+  EXPECT_TRUE(cases.empty());
+  ASSERT_EQ(errors.size(), 1u);
+  EXPECT_EQ(errors[0].to_string(),
+            "t.json: /matrix/luts: a case names either /lut or /matrix/luts");
+  fs::remove_all(dir);
+}
+
 TEST(CaseLoader, ReportsEveryErrorOfAFile) {
   std::vector<hdrc::Error> errors;
   auto cases =
