@@ -4,6 +4,7 @@
 #include <array>
 #include <limits>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -90,6 +91,25 @@ struct InputSpec {
   std::string describe() const;
 };
 
+// A 3-D LUT a case names (`"lut"` or a `"luts"` matrix dimension: a .cube file under cases/,
+// docs/cases.md), as the loader read it (core/cube): the file's one 3-D table and its domain. Both
+// engines receive it as the strip texture of ResolvedCase::user_lut and P.user_lut_*; shared by
+// every case a matrix expands from one file.
+struct UserLut {
+  std::string file;   // resolved path of the .cube
+  std::string name;   // the path as the case file names it, relative to cases/
+  std::string label;  // the name case ids use for it: the file's stem
+  std::string title;  // its TITLE ("" when none)
+  int size = 0;       // LUT_3D_SIZE N
+  std::array<float, 3> domain_min{0.f, 0.f, 0.f};  // DOMAIN_MIN (or LUT_3D_INPUT_RANGE's min)
+  std::array<float, 3> domain_max{1.f, 1.f, 1.f};  // DOMAIN_MAX
+  std::vector<std::array<float, 3>> table;         // N^3 rows: red fastest, then green, then blue
+};
+
+// The texture both engines bind for a user LUT: the strip N^2 x N of `hdrconform lut convert --to
+// strip` (docs/cube-workflow.md), table row (r, g, b) at texel (r + N b, g), alpha 1.
+Image user_lut_strip(const UserLut& lut);
+
 struct Case {
   std::string id;    // stable, readable: "linear_device/dev7_gamut2_log_ramp"
   std::string file;  // the case file it came from
@@ -99,6 +119,8 @@ struct Case {
   InputSpec input;
   InputSpec bloom;       // tonemap: the bloom texture (stimulus "" and file "": no bloom)
   InputSpec bloom_dirt;  // tonemap: the bloom dirt mask texture (empty: none)
+  // The user LUT (null: none); only for a stage whose StageInfo::user_lut allows one.
+  std::shared_ptr<const UserLut> lut;
   Tolerance tolerance;
   // Non-empty (the reason) when the case pins UE's non-finite behaviour itself: it may compare no
   // finite value and is judged by the non-finite census (docs/diff-metrics.md). Any other case
@@ -116,6 +138,9 @@ struct ResolvedCase {
   Image input;
   Image ui;  // ui_composite: the UI layer (premultiplied, sRGB-encoded), same size as `input`
   Image bloom, bloom_dirt;  // tonemap: bloom and dirt mask textures (empty when not given)
+  // The user LUT's strip texture (user_lut_strip of spec.lut; empty when none), bound at
+  // kBindingUserLut; its size and domain are P.user_lut_size / user_lut_domain_min / _max.
+  Image user_lut;
   // Non-empty when UE computes degenerate parameters for this combination (e.g. an ACES device
   // while MaxLuminance resolves to 0): the case is reported as DEGENERATE, never evaluated as a
   // pass.

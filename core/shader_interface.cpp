@@ -9,9 +9,10 @@ namespace hdrc {
 std::string_view param_owner(std::string_view name) {
 #define HDRC_NAME(type, field, doc) #field,
   static const std::vector<std::pair<std::string_view, std::vector<std::string_view>>> owners = {
-      {"ue55", {HDRC_UE55_PARAMS(HDRC_NAME)}},
+      {"ue55", {HDRC_UE55_PARAMS(HDRC_NAME)}},  // with HDRC_USER_LUT_PARAMS
       {"operators", {HDRC_OPERATORS_PARAMS(HDRC_NAME)}},
       {"unity_urp", {HDRC_UNITY_URP_PARAMS(HDRC_NAME)}},
+      {"pq_grading", {HDRC_PQ_GRADING_PARAMS(HDRC_NAME)}},
   };
 #undef HDRC_NAME
   for (const auto& [owner, fields] : owners)
@@ -121,12 +122,14 @@ std::string glsl_param_block() {
   s << "#define HDRC_BINDING_AUX0 " << kBindingAux0 << "\n";
   s << "#define HDRC_BINDING_AUX1 " << kBindingAux1 << "\n";
   s << "#define HDRC_BINDING_SCRATCH " << kBindingScratch << "\n";
+  s << "#define HDRC_BINDING_USER_LUT " << kBindingUserLut << "\n";
   s << "layout(set = 0, binding = HDRC_BINDING_LUT_STORE_3D) writeonly uniform image3D "
        "lut_store_3d;\n";
   s << "layout(set = 0, binding = HDRC_BINDING_LUT_STORE_2D) writeonly uniform image2D "
        "lut_store_2d;\n";
   s << "layout(set = 0, binding = HDRC_BINDING_LUT_3D) uniform sampler3D lut_3d;\n";
   s << "layout(set = 0, binding = HDRC_BINDING_LUT_2D) uniform sampler2D lut_2d;\n";
+  s << "layout(set = 0, binding = HDRC_BINDING_USER_LUT) uniform sampler2D user_lut;\n";
   s << "layout(std430, set = 0, binding = HDRC_BINDING_AUX0) readonly buffer HdrcAux0 "
        "{ vec4 aux0_px[]; };\n";
   s << "layout(std430, set = 0, binding = HDRC_BINDING_AUX1) readonly buffer HdrcAux1 "

@@ -15,6 +15,7 @@
 
 #include "reference/color/vec.h"
 #include "reference/operators/operators_params.h"
+#include "reference/pq_grading/pq_grading_params.h"
 #include "reference/unity_urp/unity_urp_params.h"
 
 namespace hdrc {
@@ -24,7 +25,8 @@ namespace hdrc {
 // reference/ue_cpp/resolve.cpp, as UE's C++ does, and both engines read them from here.
 // UE 5.5's fields come first (the layout ports of UE's pipeline read), then every other
 // pipeline's, each from its own header. Adding a pipeline adds one line here.
-#define HDRC_PARAM_BLOCK(X) HDRC_UE55_PARAMS(X) HDRC_OPERATORS_PARAMS(X) HDRC_UNITY_URP_PARAMS(X)
+#define HDRC_PARAM_BLOCK(X) \
+  HDRC_UE55_PARAMS(X) HDRC_OPERATORS_PARAMS(X) HDRC_UNITY_URP_PARAMS(X) HDRC_PQ_GRADING_PARAMS(X)
 
 #define HDRC_UE55_PARAMS(X)                                                                       \
   X(I, width, "image width in pixels")                                                            \
@@ -108,7 +110,16 @@ namespace hdrc {
   X(M3, wcs_to_xyz, "WorkingColorSpace.ToXYZ (white balance is built from it on the host)")       \
   X(M3, wcs_from_xyz, "WorkingColorSpace.FromXYZ")                                                \
   X(M3, white_balance, "FromXYZ * CA(src, dst) * ToXYZ (identity when skipped)")                  \
-  X(M3, ap1_to_output, "OuputGamutMappingMatrix(output_gamut), product of UE's literals")
+  X(M3, ap1_to_output, "OuputGamutMappingMatrix(output_gamut), product of UE's literals")         \
+  HDRC_USER_LUT_PARAMS(X)
+
+// The case's user LUT (a .cube file the case names, docs/cases.md), bound at kBindingUserLut: set
+// from the case by the loader for every pipeline, so they sit with the fields every pipeline's
+// shaders read (owner "ue55" in param_owner).
+#define HDRC_USER_LUT_PARAMS(X)                                                                   \
+  X(I, user_lut_size, "the case's user LUT: LUT_3D_SIZE N of its .cube; 0 when it names none")    \
+  X(V4, user_lut_domain_min, "its DOMAIN_MIN (r, g, b, 0): the input of the first lattice point") \
+  X(V4, user_lut_domain_max, "its DOMAIN_MAX (r, g, b, 0): the input of the last lattice point")
 
 struct ParamBlock {
 #define HDRC_X_I(name) int32_t name = 0;
@@ -167,13 +178,17 @@ inline constexpr uint32_t kBindingLut3d = 5;       // sampler3D lut_3d: the same
                                                    // filtering, clamp-to-edge (the Tonemap pass)
 inline constexpr uint32_t kBindingLut2d = 6;       // sampler2D lut_2d: the unwrapped LUT, linear,
                                                    // clamp-to-edge
-inline constexpr uint32_t kBindingAux0 = 7;     // readonly buffer vec4 aux0_px[]: bloom (tonemap),
-                                                // the UI layer (ui_composite); P.aux0_width/height
-inline constexpr uint32_t kBindingAux1 = 8;     // readonly buffer vec4 aux1_px[]: bloom dirt mask;
-                                                // P.aux1_width/height
-inline constexpr uint32_t kBindingScratch = 9;  // read-write buffer vec4 scratch_px[]: data passed
-                                                // between the passes of one stage
-inline constexpr uint32_t kBindingCount = 10;
+inline constexpr uint32_t kBindingAux0 = 7;      // readonly buffer vec4 aux0_px[]: bloom (tonemap),
+                                                 // the UI layer (ui_composite); P.aux0_width/height
+inline constexpr uint32_t kBindingAux1 = 8;      // readonly buffer vec4 aux1_px[]: bloom dirt mask;
+                                                 // P.aux1_width/height
+inline constexpr uint32_t kBindingScratch = 9;   // read-write buffer vec4 scratch_px[]: data passed
+                                                 // between the passes of one stage
+inline constexpr uint32_t kBindingUserLut = 10;  // sampler2D user_lut: the case's user LUT
+                                                 // (.cube) as a strip N^2 x N, texel (r + N b, g),
+                                                 // RGBA32F, linear filtering, clamp-to-edge;
+                                                 // P.user_lut_size (a 1-texel dummy when 0)
+inline constexpr uint32_t kBindingCount = 11;
 inline constexpr uint32_t kLocalSizeX = 64;  // compute workgroup size (1-D over pixels/texels)
 
 // The ParamBlock as the std430 bytes the shaders read.

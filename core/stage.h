@@ -45,6 +45,9 @@ struct StageInfo {
   std::vector<int> devices;            // output devices the stage is defined for
   bool takes_input = true;             // false: the output does not depend on an input image
   std::string_view pipeline = "ue55";  // the pipeline it belongs to (core/pipeline.h)
+  // The user LUT a case may name ("lut", docs/cases.md): 0 none allowed; -1 required, any
+  // LUT_3D_SIZE; N > 0 required, LUT_3D_SIZE exactly N.
+  int user_lut = 0;
 };
 
 // UE 5.5's stages (pipeline "ue55").

@@ -38,6 +38,7 @@ std::string generated_interface_hlsl() {
   binding(kBindingLutStore2d, "RWTexture2D<float4> lut_store_2d");
   binding(kBindingLut3d, "Texture3D<float4> lut_3d");
   binding(kBindingLut2d, "Texture2D<float4> lut_2d");
+  binding(kBindingUserLut, "Texture2D<float4> user_lut");
   s << "SamplerState lut_sampler;\n";
   s << "#endif\n";
   // The shared constants and matrices, the same float values the GLSL include holds.

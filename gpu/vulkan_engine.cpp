@@ -388,6 +388,34 @@ void record_clear_to_general(VkCommandBuffer cmd, VkImage image) {
                        0, nullptr, 0, nullptr, 1, &to_shader);
 }
 
+// Records: UNDEFINED → TRANSFER_DST, `staging` copied into the whole of `image` (tightly packed
+// texels), then GENERAL, visible to compute shaders' reads.
+void record_upload_to_general(VkCommandBuffer cmd, VkBuffer staging, VkImage image,
+                              VkExtent3D extent) {
+  VkImageMemoryBarrier to_dst{};
+  to_dst.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER;
+  to_dst.srcAccessMask = 0;
+  to_dst.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+  to_dst.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  to_dst.newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+  to_dst.srcQueueFamilyIndex = to_dst.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  to_dst.image = image;
+  to_dst.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0,
+                       nullptr, 0, nullptr, 1, &to_dst);
+  VkBufferImageCopy region{};
+  region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+  region.imageExtent = extent;
+  vkCmdCopyBufferToImage(cmd, staging, image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
+  VkImageMemoryBarrier to_shader = to_dst;
+  to_shader.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+  to_shader.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
+  to_shader.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+  to_shader.newLayout = VK_IMAGE_LAYOUT_GENERAL;
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0,
+                       0, nullptr, 0, nullptr, 1, &to_shader);
+}
+
 // The LUT storage formats (P.lut_format), as UE creates them: PF_A2B10G10R10 is UE's default for
 // the volume LUT (PostProcessCombineLUTs.cpp: the LUT's render-target format), RGBA16F and RGBA32F
 // are the higher-precision choices.
@@ -476,7 +504,12 @@ struct CaseWork {
   Buffer params, input, output, aux0, aux1, scratch, readback;
   Texture lut;
   int lut_format = -1, lut_layout = -1, lut_size = -1;  // what `lut` holds
-  uint32_t descriptor_capacity = 0;                     // sets the pool holds
+  // The case's user LUT (binding kBindingUserLut): an RGBA32F strip N^2 x N, uploaded from
+  // `user_lut_staging` at the start of every case that has one.
+  Texture user_lut;
+  Buffer user_lut_staging;
+  int user_lut_size = -1;            // the N `user_lut` was made for
+  uint32_t descriptor_capacity = 0;  // sets the pool holds
   Owned<VkDescriptorPool, vkDestroyDescriptorPool> descriptor_pool;
   Owned<VkFence, vkDestroyFence> fence;
   struct Commands {
@@ -718,7 +751,7 @@ Status VulkanEngine::State::create_gpu() {
   pci.queueFamilyIndex = queue_family;
   HDRC_VK(vkCreateCommandPool(d, &pci, nullptr, &g->command_pool.handle));
 
-  // One layout for every pass of every stage: bindings 0–9 of core/shader_interface.h.
+  // One layout for every pass of every stage: bindings 0–10 of core/shader_interface.h.
   VkDescriptorSetLayoutBinding bindings[kBindingCount] = {};
   for (uint32_t i = 0; i < kBindingCount; ++i) {
     bindings[i].binding = i;
@@ -730,6 +763,7 @@ Status VulkanEngine::State::create_gpu() {
   bindings[kBindingLutStore2d].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
   bindings[kBindingLut3d].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
   bindings[kBindingLut2d].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+  bindings[kBindingUserLut].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
   VkDescriptorSetLayoutCreateInfo lci{};
   lci.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO;
   lci.bindingCount = kBindingCount;
@@ -1127,6 +1161,39 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
     }
   }
 
+  // The user LUT: the strip texture the loader made from the case's .cube (ResolvedCase::user_lut),
+  // RGBA32F so that every float32 value of the .cube reaches the sampler unchanged.
+  const bool has_user_lut = !c.user_lut.data.empty();
+  if (has_user_lut) {
+    const int un = params.user_lut_size;
+    if (un < 2 || un > 256 || c.user_lut.width != un * un || c.user_lut.height != un)
+      return Error{"", "",
+                   "the user LUT texture is " + std::to_string(c.user_lut.width) + "x" +
+                       std::to_string(c.user_lut.height) + " for user_lut_size " +
+                       std::to_string(un),
+                   "a strip N^2 x N, N 2-256"};
+    const LutFormat& f32 = kLutFormats[2];
+    const VkExtent3D extent{uint32_t(un * un), uint32_t(un), 1};
+    if (Status st = check_lut_format(g.physical, s.info.device, f32, VK_IMAGE_TYPE_2D, extent); !st)
+      return st.error();
+    if (w.user_lut.image && w.user_lut_size != un) release(&w.user_lut);
+    if (!w.user_lut.image) {
+      w.user_lut_size = -1;
+      if (Status st = make_texture(d, g.memory, VK_IMAGE_TYPE_2D, f32.format, extent, &w.user_lut);
+          !st)
+        return st.error();
+      w.user_lut_size = un;
+    }
+    const VkDeviceSize bytes = c.user_lut.pixel_count() * 16;
+    if (Status st = ensure_buffer(d, g.memory, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+                                  &w.user_lut_staging);
+        !st)
+      return st.error();
+    float* dst = static_cast<float*>(w.user_lut_staging.mapped);
+    for (size_t i = 0; i < c.user_lut.data.size(); ++i)
+      dst[i] = static_cast<float>(c.user_lut.data[i]);
+  }
+
   // Buffers. Sizes are at least 16 bytes (a zero-sized buffer is invalid).
   const std::vector<uint8_t> packed = pack_std430(params);
   const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
@@ -1179,7 +1246,7 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
     const VkDescriptorPoolSize pool_sizes[] = {
         {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 6 * capacity},
         {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 2 * capacity},
-        {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 2 * capacity}};
+        {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 3 * capacity}};
     VkDescriptorPoolCreateInfo dpci{};
     dpci.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
     dpci.maxSets = capacity;
@@ -1221,7 +1288,8 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
                                                            {},
                                                            aux_of(aux0, w.aux0),
                                                            aux_of(aux1, w.aux1),
-                                                           {w.scratch.buffer, 0, scratch_bytes}};
+                                                           {w.scratch.buffer, 0, scratch_bytes},
+                                                           {}};
     const VkDescriptorImageInfo images[kBindingCount] = {
         {},
         {},
@@ -1232,7 +1300,9 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
         {g.sampler.handle, view_2d, VK_IMAGE_LAYOUT_GENERAL},
         {},
         {},
-        {}};
+        {},
+        {g.sampler.handle, has_user_lut ? w.user_lut.view : g.dummy_2d.view,
+         VK_IMAGE_LAYOUT_GENERAL}};
     VkWriteDescriptorSet writes[kBindingCount] = {};
     for (uint32_t b = 0; b < kBindingCount; ++b) {
       writes[b].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
@@ -1242,7 +1312,7 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
       if (b == kBindingLutStore3d || b == kBindingLutStore2d) {
         writes[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
         writes[b].pImageInfo = &images[b];
-      } else if (b == kBindingLut3d || b == kBindingLut2d) {
+      } else if (b == kBindingLut3d || b == kBindingLut2d || b == kBindingUserLut) {
         writes[b].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
         writes[b].pImageInfo = &images[b];
       } else {
@@ -1272,6 +1342,9 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
   bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   HDRC_VK_CASE(vkBeginCommandBuffer(cmd, &bi));
   if (bakes_lut) record_clear_to_general(cmd, w.lut.image);
+  if (has_user_lut)
+    record_upload_to_general(cmd, w.user_lut_staging.buffer, w.user_lut.image,
+                             {uint32_t(c.user_lut.width), uint32_t(c.user_lut.height), 1});
 
   const uint32_t max_groups = std::max<uint32_t>(g.limits.maxComputeWorkGroupCount[0], 1);
   for (size_t i = 0; i < stage.passes.size(); ++i) {

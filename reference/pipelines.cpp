@@ -4,6 +4,7 @@
 
 #include "core/pipeline.h"
 #include "reference/operators/operators_pipeline.h"
+#include "reference/pq_grading/pq_grading_pipeline.h"
 #include "reference/ue_cpp/ue55_pipeline.h"
 #include "reference/unity_urp/unity_urp_pipeline.h"
 
@@ -14,6 +15,7 @@ const std::vector<const Pipeline*>& pipeline_table() {
       &ref::ue55_pipeline(),
       &ref::unity_urp::unity_urp_pipeline(),
       &ref::operators::operators_pipeline(),
+      &ref::pq_grading::pq_grading_pipeline(),
   };
   return table;
 }

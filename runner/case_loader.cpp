@@ -9,6 +9,7 @@
 #include <set>
 #include <sstream>
 
+#include "core/cube/cube.h"
 #include "core/nearest.h"
 #include "core/pipeline.h"
 #include "core/utf8.h"
@@ -457,6 +458,33 @@ class Parser {
     return errors_->size() == before;
   }
 
+  // A user LUT path (`"lut"`, `"matrix": {"luts": [...]}`): read_user_lut's rules; each file is
+  // read once per case file. Returns null when invalid (errors recorded).
+  std::shared_ptr<const UserLut> lut(const json& v, const std::string& pointer,
+                                     const StageInfo* stage) {
+    if (!v.is_string() || v.get<std::string>().empty()) {
+      fail(pointer, "expected a .cube path string, got " + show(v),
+           user_lut_choices(cases_dir_, stage));
+      return nullptr;
+    }
+    const std::string named = v.get<std::string>();
+    if (auto it = luts_.find(named); it != luts_.end()) {
+      if (Status st = check_user_lut_size(*it->second, stage, cases_dir_); !st) {
+        fail(pointer, st.error().message, st.error().choices);
+        return nullptr;
+      }
+      return it->second;
+    }
+    auto lut = read_user_lut(cases_dir_, named, stage);
+    if (!lut) {
+      fail(pointer, lut.error().message, lut.error().choices);
+      // A wrong size is the stage's rule, not the file's: keep the file for other stages.
+      return nullptr;
+    }
+    luts_[named] = *lut;
+    return *lut;
+  }
+
   // `"tolerance": NAME` (a set of defaults.json), or an object over the project default, or an
   // object with "base": NAME over that set.
   void tolerance(const json& v, const std::string& pointer, const SuiteDefaults& defaults,
@@ -501,6 +529,7 @@ class Parser {
   std::string file_, cases_dir_;
   std::vector<Error>* errors_;
   bool ok_ = true;
+  std::map<std::string, std::shared_ptr<const UserLut>> luts_;  // by the path as named
 };
 
 // A suite configuration file is absent only when nothing at all is there: a dangling symlink or
@@ -512,13 +541,118 @@ bool config_file_present(const fs::path& p) {
 
 // One matrix dimension: a cvar, a setting, or the inputs.
 struct Dim {
-  enum Kind { kCvar, kSetting, kInputs } kind;
-  std::string name;  // cvar or setting name; "inputs"
+  enum Kind { kCvar, kSetting, kInputs, kLuts } kind;
+  std::string name;  // cvar or setting name; "inputs"; "luts"
   std::vector<json> values;
   std::string pointer;
+  std::vector<std::shared_ptr<const UserLut>> luts;  // kLuts: the LUT of each value
 };
 
 constexpr size_t kMaxIdLength = 160;
+
+}  // namespace
+
+std::string user_lut_choices(const std::string& cases_dir, const StageInfo* stage) {
+  return "a .cube file" + (cases_dir.empty() ? std::string() : " under " + cases_dir) +
+         " with one 3-D table" +
+         (stage && stage->user_lut > 0 ? " of LUT_3D_SIZE " + std::to_string(stage->user_lut)
+                                       : std::string());
+}
+
+Status check_user_lut_size(const UserLut& lut, const StageInfo* stage,
+                           const std::string& cases_dir) {
+  if (!stage || stage->user_lut <= 0 || lut.size == stage->user_lut) return {};
+  return Error{"", "",
+               "LUT file \"" + lut.name + "\" has LUT_3D_SIZE " + std::to_string(lut.size) +
+                   "; stage " + std::string(stage->name) + " takes a " +
+                   std::to_string(stage->user_lut) + "^3 LUT",
+               user_lut_choices(cases_dir, stage)};
+}
+
+Result<std::shared_ptr<const UserLut>> read_user_lut(const std::string& cases_dir,
+                                                     const std::string& path,
+                                                     const StageInfo* stage) {
+  const std::string valid = user_lut_choices(cases_dir, stage);
+  const std::string shown = show(json(path));
+  auto fail = [&](const std::string& message, const std::string& choices) {
+    return Error{"", "", message, choices};
+  };
+  std::error_code ec;
+  fs::path p = fs::path(path);
+  std::string rel = path;
+  if (!cases_dir.empty()) {
+    const fs::path root = fs::weakly_canonical(cases_dir, ec);
+    p = fs::weakly_canonical(fs::path(cases_dir) / path, ec);
+    rel = fs::relative(p, root, ec).generic_string();
+    if (rel.empty() || rel.rfind("..", 0) == 0 || fs::path(path).is_absolute())
+      return fail("LUT path " + shown + " leaves the cases directory", valid);
+  }
+  if (p.extension() != ".cube")
+    return fail("LUT path " + shown + " does not name a .cube file", valid);
+  if (!fs::is_regular_file(p, ec))
+    return fail("LUT file " + shown +
+                    (fs::exists(p, ec) ? " is not a regular file" : " does not exist") +
+                    " (looked for " + valid_utf8(p.generic_string()) + ")",
+                valid);
+  auto cube = cube::read_cube_file(p.generic_string());
+  if (!cube) {
+    const Error& e = cube.error();
+    return fail("LUT file " + shown + ": " + e.file + (e.pointer.empty() ? "" : ": " + e.pointer) +
+                    ": " + e.message,
+                e.choices.empty() ? valid : e.choices);
+  }
+  if (cube->size_3d == 0)
+    return fail("LUT file " + shown + " has no 3-D table (LUT_1D_SIZE " +
+                    std::to_string(cube->size_1d) + " only: a 1-D LUT)",
+                valid);
+  if (cube->size_1d != 0)
+    return fail("LUT file " + shown + " has a 1-D shaper (LUT_1D_SIZE " +
+                    std::to_string(cube->size_1d) +
+                    ") before its 3-D table, which the strip texture has no place for",
+                valid);
+  auto lut = std::make_shared<UserLut>();
+  lut->file = p.generic_string();
+  lut->name = rel;
+  lut->label = p.stem().string();
+  lut->title = cube->title.value_or("");
+  lut->size = cube->size_3d;
+  lut->domain_min = cube->domain_min_3d;
+  lut->domain_max = cube->domain_max_3d;
+  lut->table = std::move(cube->table_3d);
+  if (Status st = check_user_lut_size(*lut, stage, cases_dir); !st) return st.error();
+  return std::shared_ptr<const UserLut>(std::move(lut));
+}
+
+Status attach_user_lut(const std::shared_ptr<const UserLut>& lut, ResolvedCase* r) {
+  r->spec.lut = lut;
+  r->user_lut = Image();
+  r->params.user_lut_size = 0;
+  r->params.user_lut_domain_min = {0, 0, 0, 0};
+  r->params.user_lut_domain_max = {0, 0, 0, 0};
+  if (!lut) return {};
+  r->user_lut = user_lut_strip(*lut);
+  if (r->user_lut.data.empty())
+    return Error{r->spec.file, "/lut", "LUT \"" + lut->name + "\" has an inconsistent table", ""};
+  r->params.user_lut_size = lut->size;
+  for (int i = 0; i < 3; ++i) {
+    r->params.user_lut_domain_min[i] = lut->domain_min[i];
+    r->params.user_lut_domain_max[i] = lut->domain_max[i];
+  }
+  return {};
+}
+
+namespace {
+
+// "stage (pipeline), ...": the stages a case may give a user LUT.
+std::string user_lut_stage_names() {
+  std::string out;
+  for (const Pipeline* pl : pipeline_table())
+    for (const StageInfo& st : pl->stages())
+      if (st.user_lut != 0)
+        out +=
+            (out.empty() ? "" : ", ") + std::string(st.name) + " (" + std::string(pl->name) + ")";
+  return out.empty() ? "no stage takes one" : "stages that take one: " + out;
+}
 
 std::string value_label(const json& v) {
   if (v.is_array()) {
@@ -609,9 +743,10 @@ std::vector<Case> parse_case_file(const std::string& file, const std::string& te
     p.fail("", "a case file is a JSON object, got " + json_type(doc));
     return out;
   }
-  p.check_keys(doc, "",
-               {"$schema", "description", "pipeline", "stage", "preset", "cvars", "settings",
-                "input", "bloom", "bloom_dirt", "matrix", "tolerance", "pins_nonfinite", "tier"});
+  p.check_keys(
+      doc, "",
+      {"$schema", "description", "pipeline", "stage", "preset", "cvars", "settings", "input",
+       "bloom", "bloom_dirt", "lut", "matrix", "tolerance", "pins_nonfinite", "tier"});
 
   Case base;
   base.file = file;
@@ -719,6 +854,18 @@ std::vector<Case> parse_case_file(const std::string& file, const std::string& te
     p.input(doc[key], std::string("/") + key,
             std::string(key) == "bloom" ? &base.bloom : &base.bloom_dirt);
   }
+  if (doc.contains("lut")) {
+    if (base.stage && base.stage->user_lut == 0)
+      p.fail("/lut", "stage " + std::string(base.stage->name) + " takes no user LUT",
+             user_lut_stage_names());
+    else
+      base.lut = p.lut(doc["lut"], "/lut", base.stage);
+  } else if (base.stage && base.stage->user_lut != 0 &&
+             !(doc.contains("matrix") && doc["matrix"].is_object() &&
+               doc["matrix"].contains("luts"))) {
+    p.fail("/lut", "stage " + std::string(base.stage->name) + " needs a user LUT",
+           "\"lut\": a .cube path under cases/, or \"matrix\": {\"luts\": [...]}");
+  }
   if (doc.contains("tolerance"))
     p.tolerance(doc["tolerance"], "/tolerance", defaults, &base.tolerance);
   if (doc.contains("pins_nonfinite")) {
@@ -743,7 +890,8 @@ std::vector<Case> parse_case_file(const std::string& file, const std::string& te
     if (!m.is_object()) {
       p.fail("/matrix", "expected an object, got " + show(m));
     } else {
-      p.check_keys(m, "/matrix", {"mode", "full", "cvars", "settings", "inputs", "strength"});
+      p.check_keys(m, "/matrix",
+                   {"mode", "full", "cvars", "settings", "inputs", "luts", "strength"});
       if (m.contains("mode")) {
         const json& md = m["mode"];
         if (md != "full" && md != "pairwise" && md != "covering") {
@@ -788,7 +936,7 @@ std::vector<Case> parse_case_file(const std::string& file, const std::string& te
             p.fail(ptr, std::string(is_cvar ? "cvar " : "setting ") + it.key() +
                             " is set in both /" + group + " and " + gptr);
           }
-          Dim d{is_cvar ? Dim::kCvar : Dim::kSetting, it.key(), {}, ptr};
+          Dim d{is_cvar ? Dim::kCvar : Dim::kSetting, it.key(), {}, ptr, {}};
           std::set<std::string> seen;
           for (size_t i = 0; i < it.value().size(); ++i) {
             const json& val = it.value()[i];
@@ -826,6 +974,32 @@ std::vector<Case> parse_case_file(const std::string& file, const std::string& te
             if (p.input(m["inputs"][i], "/matrix/inputs/" + std::to_string(i), &in))
               inputs.push_back(in);
           }
+        }
+      }
+      if (m.contains("luts")) {
+        const json& l = m["luts"];
+        if (doc.contains("lut")) p.fail("/matrix/luts", "a case names either /lut or /matrix/luts");
+        if (base.stage && base.stage->user_lut == 0) {
+          p.fail("/matrix/luts", "stage " + std::string(base.stage->name) + " takes no user LUT",
+                 user_lut_stage_names());
+        } else if (!l.is_array() || l.empty()) {
+          p.fail("/matrix/luts", "expected a non-empty array of .cube paths, got " + show(l));
+        } else {
+          Dim d{Dim::kLuts, "luts", {}, "/matrix/luts", {}};
+          std::set<std::string> seen;
+          for (size_t i = 0; i < l.size(); ++i) {
+            const std::string at = "/matrix/luts/" + std::to_string(i);
+            auto lut = p.lut(l[i], at, base.stage);
+            if (!lut) continue;
+            if (!seen.insert(lut->label).second) {
+              p.fail(at, "LUT " + show(l[i]) + " is listed twice (or shares its file name)",
+                     "distinct .cube file names");
+              continue;
+            }
+            d.values.push_back(l[i]);
+            d.luts.push_back(lut);
+          }
+          dims.push_back(std::move(d));
         }
       }
       if (m.contains("full")) {
@@ -919,6 +1093,11 @@ std::vector<Case> parse_case_file(const std::string& file, const std::string& te
     std::string suffix;
     for (size_t d = 0; d < dims.size(); ++d) {
       const json& val = dims[d].values[row[d]];
+      if (dims[d].kind == Dim::kLuts) {
+        c.lut = dims[d].luts[row[d]];
+        suffix += (suffix.empty() ? "" : "_") + std::string("lut") + c.lut->label;
+        continue;
+      }
       if (dims[d].kind == Dim::kCvar) {
         c.cvars.set(dims[d].name, val.get<double>());
       } else {
@@ -1214,6 +1393,8 @@ Result<ResolvedCase> resolve_case(const Case& c) {
   if (!resolution) return resolution.error();
   r.params = resolution->params;
   r.degenerate = resolution->degenerate;
+  // The user LUT, for every pipeline alike: its strip texture and P.user_lut_*.
+  if (Status st = attach_user_lut(c.lut, &r); !st) return st.error();
   return r;
 }
 

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -91,7 +92,24 @@ bool matches_filter(const std::string& id, const std::string& glob);
 // "LUTFormat" -> "fmt").
 std::string id_name(const std::string& cvar_or_setting);
 
-// Builds the engine input: the stimulus or the image file, and the resolved parameters.
+// Builds the engine input: the stimulus or the image file, the resolved parameters and the user
+// LUT (attach_user_lut).
 Result<ResolvedCase> resolve_case(const Case& c);
+
+// A user LUT (docs/cases.md, "lut"): the .cube at `path` (relative to `cases_dir`, and refused when
+// it leaves it; any path when `cases_dir` is empty), read with core/cube, with one 3-D table and,
+// when `stage` requires a size, that size. Errors (no file or pointer: the caller's) name the
+// value and the valid choices: not .cube, missing, unparsable (the .cube's line), 1-D only, a 1-D
+// shaper, the wrong size.
+Result<std::shared_ptr<const UserLut>> read_user_lut(const std::string& cases_dir,
+                                                     const std::string& path,
+                                                     const StageInfo* stage);
+// The size rule of read_user_lut alone (a LUT read for another stage); and its valid choices.
+Status check_user_lut_size(const UserLut& lut, const StageInfo* stage,
+                           const std::string& cases_dir);
+std::string user_lut_choices(const std::string& cases_dir, const StageInfo* stage);
+// Gives `r` the user LUT (null: none): spec.lut, the strip texture user_lut and
+// P.user_lut_size / user_lut_domain_min / _max (zeros without one).
+Status attach_user_lut(const std::shared_ptr<const UserLut>& lut, ResolvedCase* r);
 
 }  // namespace hdrc

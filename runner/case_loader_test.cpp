@@ -3,6 +3,7 @@
 #include "runner/case_loader.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -45,8 +46,8 @@ const BadCase kBadCases[] = {
      "dither, ui_composite, visualize_hdr"},
     {"unknown_key", R"({"stage": "shaper", "inptu": 1, "input": {"stimulus": "log_ramp"}})",
      "t.json: /inptu: unknown key 'inptu', did you mean 'input'?; valid choices: $schema, "
-     "description, pipeline, stage, preset, cvars, settings, input, bloom, bloom_dirt, matrix, "
-     "tolerance, pins_nonfinite, tier"},
+     "description, pipeline, stage, preset, cvars, settings, input, bloom, bloom_dirt, lut, "
+     "matrix, tolerance, pins_nonfinite, tier"},
     {"unknown_cvar",
      R"({"stage": "shaper", "cvars": {"r.HDR.Display.OutputDevise": 3}, "input": {"stimulus": "log_ramp"}})",
      "t.json: /cvars/r.HDR.Display.OutputDevise: unknown cvar 'r.HDR.Display.OutputDevise'; valid "
@@ -122,7 +123,8 @@ const BadCase kBadCases[] = {
      "t.json: /tolerance: unknown tolerance set \"shaper_qp\", did you mean 'shaper_pq'? (sets are "
      "defined in CASES/defaults.json: /tolerances); valid choices: combine_luts, "
      "combine_luts_storage, combine_luts_storage_linear, dither, "
-     "linear_dev7, linear_dev8, operators, shaper_log, shaper_pq, tonemap, ui_composite, "
+     "linear_dev7, linear_dev8, operators, pq_grading, shaper_log, shaper_pq, tonemap, "
+     "ui_composite, "
      "unity_urp_grading, unity_urp_lut, visualize_hdr"},
     {"unknown_preset",
      R"({"stage": "shaper", "preset": "hdr01", "input": {"stimulus": "log_ramp"}})",
@@ -158,6 +160,49 @@ const BadCase kBadCases[] = {
      R"({"stage": "shaper", "input": {"stimulus": "log_ramp"}, "tolerance": {"pq_code_10": 1, "reason": "x"}})",
      "t.json: /tolerance/pq_code_10: unknown key 'pq_code_10'; valid choices: linear_abs, "
      "linear_rel, pq_code10, pq_code12, delta_e_itp, rel_floor, reason"},
+    {"lut_missing",
+     R"({"pipeline": "pq_grading", "stage": "pq_grade", "input": {"stimulus": "log_ramp"}})",
+     "t.json: /lut: stage pq_grade needs a user LUT; valid choices: \"lut\": a .cube path under "
+     "cases/, or \"matrix\": {\"luts\": [...]}"},
+    {"lut_on_stage_without_one",
+     R"({"stage": "shaper", "input": {"stimulus": "log_ramp"}, "lut": "lut/cube/pq_identity_33.cube"})",
+     "t.json: /lut: stage shaper takes no user LUT; valid choices: stages that take one: pq_grade "
+     "(pq_grading)"},
+    {"lut_not_a_string",
+     R"({"pipeline": "pq_grading", "stage": "pq_grade", "input": {"stimulus": "log_ramp"}, "lut": 3})",
+     "t.json: /lut: expected a .cube path string, got 3; valid choices: a .cube file under CASES "
+     "with one 3-D table of LUT_3D_SIZE 33"},
+    {"lut_outside_cases",
+     R"({"pipeline": "pq_grading", "stage": "pq_grade", "input": {"stimulus": "log_ramp"}, "lut": "../x.cube"})",
+     "t.json: /lut: LUT path \"../x.cube\" leaves the cases directory; valid choices: a .cube file "
+     "under CASES with one 3-D table of LUT_3D_SIZE 33"},
+    {"lut_not_cube",
+     R"({"pipeline": "pq_grading", "stage": "pq_grade", "input": {"stimulus": "log_ramp"}, "lut": "lut/devices.json"})",
+     "t.json: /lut: LUT path \"lut/devices.json\" does not name a .cube file; valid choices: a "
+     ".cube file under CASES with one 3-D table of LUT_3D_SIZE 33"},
+    {"lut_file_missing",
+     R"({"pipeline": "pq_grading", "stage": "pq_grade", "input": {"stimulus": "log_ramp"}, "lut": "lut/cube/nope_33.cube"})",
+     "t.json: /lut: LUT file \"lut/cube/nope_33.cube\" does not exist (looked for "
+     "CASES/lut/cube/nope_33.cube); valid choices: a .cube file under CASES with one 3-D table of "
+     "LUT_3D_SIZE 33"},
+    {"lut_1d_only",
+     R"({"pipeline": "pq_grading", "stage": "pq_grade", "input": {"stimulus": "log_ramp"}, "lut": "lut/cube/gamma_1d.cube"})",
+     "t.json: /lut: LUT file \"lut/cube/gamma_1d.cube\" has no 3-D table (LUT_1D_SIZE 1024 only: a "
+     "1-D LUT); valid choices: a .cube file under CASES with one 3-D table of LUT_3D_SIZE 33"},
+    {"lut_with_shaper",
+     R"({"pipeline": "pq_grading", "stage": "pq_grade", "input": {"stimulus": "log_ramp"}, "lut": "lut/cube/resolve_shaper.cube"})",
+     "t.json: /lut: LUT file \"lut/cube/resolve_shaper.cube\" has a 1-D shaper (LUT_1D_SIZE 256) "
+     "before its 3-D table, which the strip texture has no place for; valid choices: a .cube file "
+     "under CASES with one 3-D table of LUT_3D_SIZE 33"},
+    {"lut_wrong_size",
+     R"({"pipeline": "pq_grading", "stage": "pq_grade", "input": {"stimulus": "log_ramp"}, "lut": "lut/cube/identity_17.cube"})",
+     "t.json: /lut: LUT file \"lut/cube/identity_17.cube\" has LUT_3D_SIZE 17; stage pq_grade "
+     "takes a 33^3 LUT; valid choices: a .cube file under CASES with one 3-D table of LUT_3D_SIZE "
+     "33"},
+    {"matrix_lut_listed_twice",
+     R"({"pipeline": "pq_grading", "stage": "pq_grade", "input": {"stimulus": "log_ramp"}, "matrix": {"luts": ["lut/cube/pq_hue_33.cube", "lut/cube/pq_hue_33.cube"]}})",
+     "t.json: /matrix/luts/1: LUT \"lut/cube/pq_hue_33.cube\" is listed twice (or shares its file "
+     "name); valid choices: distinct .cube file names"},
 };
 
 class LoaderErrors : public ::testing::TestWithParam<BadCase> {};
@@ -300,6 +345,54 @@ TEST(CaseLoader, StimulusParametersAndInputNames) {
 }
 
 // Every error of a file is reported, and none of its cases is produced.
+// A user LUT that does not parse: the error names the case file and pointer, then the .cube, its
+// line and what core/cube found there. A file named in a matrix is read once and shared by the
+// cases it expands to; /lut and /matrix/luts together are refused.
+TEST(CaseLoader, UserLutErrorsNameTheCubeLineAndLutsAreShared) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("hdrc_user_lut_" + std::to_string(::getpid()));
+  fs::create_directories(dir / "lut");
+  std::ofstream(dir / "lut/bad_33.cube") << "LUT_3D_SIZE 33\n0 0 zero\n";
+  fs::copy_file(kCasesDir + "/lut/cube/pq_identity_33.cube", dir / "lut/id_33.cube");
+  fs::copy_file(kCasesDir + "/lut/cube/pq_hue_33.cube", dir / "lut/hue_33.cube");
+  const std::string head =
+      R"({"pipeline": "pq_grading", "stage": "pq_grade", "input": {"stimulus": "log_ramp"}, )";
+  std::vector<hdrc::Error> errors;
+  auto cases = hdrc::parse_case_file("t.json", head + R"("lut": "lut/bad_33.cube"})", dir.string(),
+                                     "t", &errors);
+  EXPECT_TRUE(cases.empty());
+  ASSERT_EQ(errors.size(), 1u);
+  const std::string got = errors[0].to_string();
+  EXPECT_EQ(got.rfind("t.json: /lut: LUT file \"lut/bad_33.cube\": ", 0), 0u) << got;
+  EXPECT_NE(got.find("bad_33.cube: line 2: "), std::string::npos) << got;
+  EXPECT_NE(got.find("zero"), std::string::npos) << got;
+
+  errors.clear();
+  cases = hdrc::parse_case_file(
+      "t.json",
+      head +
+          R"("matrix": {"settings": {"Display": ["SDR", "HDR"]}, "luts": ["lut/id_33.cube", "lut/hue_33.cube"]}})",
+      dir.string(), "t", &errors);
+  ASSERT_TRUE(errors.empty()) << errors[0].to_string();
+  ASSERT_EQ(cases.size(), 4u);
+  EXPECT_EQ(cases[0].id, "t/display0_lutid_33_log_ramp");
+  EXPECT_EQ(cases[0].lut, cases[2].lut);  // one UserLut per file
+  EXPECT_NE(cases[0].lut, cases[1].lut);
+  EXPECT_EQ(cases[1].lut->label, "hue_33");
+  EXPECT_EQ(cases[1].lut->size, 33);
+  EXPECT_EQ(cases[1].lut->table.size(), 33u * 33 * 33);
+
+  errors.clear();
+  cases = hdrc::parse_case_file(
+      "t.json", head + R"("lut": "lut/id_33.cube", "matrix": {"luts": ["lut/hue_33.cube"]}})",
+      dir.string(), "t", &errors);
+  EXPECT_TRUE(cases.empty());
+  ASSERT_EQ(errors.size(), 1u);
+  EXPECT_EQ(errors[0].to_string(),
+            "t.json: /matrix/luts: a case names either /lut or /matrix/luts");
+  fs::remove_all(dir);
+}
+
 TEST(CaseLoader, ReportsEveryErrorOfAFile) {
   std::vector<hdrc::Error> errors;
   auto cases =
@@ -332,6 +425,8 @@ TEST(CaseLoader, TheDefaultSuiteLoads) {
                                                   {"operators/film_presets", 15},
                                                   {"operators/operators", 30},
                                                   {"operators/parameters", 13},
+                                                  {"pq_grading/amplify", 25},
+                                                  {"pq_grading/luts", 80},
                                                   {"tonemap/cvars", 55},
                                                   {"tonemap/degenerate", 1},
                                                   {"tonemap/display", 100},
@@ -366,7 +461,7 @@ TEST(CaseLoader, TheDefaultSuiteLoads) {
                                                   {"visualize/visualize_hdr", 30},
                                                   {"visualize/working_color_space", 21}};
   EXPECT_EQ(per_file, expected);
-  EXPECT_EQ(loaded.cases.size(), 1229u);
+  EXPECT_EQ(loaded.cases.size(), 1334u);
   for (const auto& c : loaded.cases) EXPECT_NE(c.tolerance.source, "default") << c.id;
 }
 

@@ -9,6 +9,7 @@
 #include <type_traits>
 
 #include "core/atomic_file.h"
+#include "core/cube/cube.h"
 #include "core/pipeline.h"
 #include "reference/color/ue_matrices.h"
 #include "runner/case_loader.h"
@@ -142,6 +143,7 @@ std::vector<AuxImage> images_of(const ResolvedCase& rc) {
   if (rc.ui.width > 0) out.push_back({"ui", &rc.ui});
   if (rc.bloom.width > 0) out.push_back({"bloom", &rc.bloom});
   if (rc.bloom_dirt.width > 0) out.push_back({"bloom_dirt", &rc.bloom_dirt});
+  if (rc.user_lut.width > 0) out.push_back({"user_lut", &rc.user_lut});
   return out;
 }
 
@@ -362,6 +364,27 @@ json storage_json(const ResolvedCase& rc) {
                                             " (hdrconform cvars --pipeline " + pipeline + ")"}};
 }
 
+// The user LUT a case names (null when none): the .cube written beside the case, the strip texture
+// the engines bind (images/user_lut) and how it is sampled.
+json user_lut_json(const ResolvedCase& rc) {
+  const UserLut* lut = rc.spec.lut.get();
+  if (!lut) return nullptr;
+  const ParamBlock& p = rc.params;
+  return {{"cube", "user_lut.cube"},
+          {"source", lut->name},
+          {"title", lut->title},
+          {"size", p.user_lut_size},
+          {"domain_min",
+           {p.user_lut_domain_min[0], p.user_lut_domain_min[1], p.user_lut_domain_min[2]}},
+          {"domain_max",
+           {p.user_lut_domain_max[0], p.user_lut_domain_max[1], p.user_lut_domain_max[2]}},
+          {"texture", "user_lut.exr"},
+          {"layout", "strip N^2 x N: .cube row (r, g, b) at texel (r + N b, g), alpha 1"},
+          {"binding", kBindingUserLut},
+          {"format", "VK_FORMAT_R32G32B32A32_SFLOAT"},
+          {"sampler", "linear filtering, clamp-to-edge, normalised coordinates"}};
+}
+
 }  // namespace
 
 json case_export_json(const ResolvedCase& rc) {
@@ -403,6 +426,7 @@ json case_export_json(const ResolvedCase& rc) {
                                              : formula_name(stage, rc.params.output_device)},
         {"quantisation", quantisation(stage, rc.params)},
         {"layout", layout(stage, rc)}}},
+      {"user_lut", user_lut_json(rc)},
       {"degenerate", rc.degenerate.empty() ? json(nullptr) : json(rc.degenerate)},
       {"params", params_json(rc.params, c.stage->pipeline)},
   };
@@ -412,6 +436,17 @@ json case_export_json(const ResolvedCase& rc) {
 Status export_case(const ResolvedCase& rc, const std::string& dir) {
   for (const AuxImage& a : images_of(rc))
     if (Status st = write_exr(dir + "/" + a.name + ".exr", *a.image); !st) return st;
+  if (const UserLut* lut = rc.spec.lut.get()) {
+    cube::CubeLut c;
+    if (!lut->title.empty()) c.title = lut->title;
+    c.size_3d = lut->size;
+    c.domain_min_3d = lut->domain_min;
+    c.domain_max_3d = lut->domain_max;
+    c.table_3d = lut->table;
+    auto text = cube::write_cube(c);
+    if (!text) return text.error();
+    if (Status st = write_file_atomic(dir + "/user_lut.cube", *text); !st) return st;
+  }
   return write_file_atomic(dir + "/params.json", dump_json(case_export_json(rc), 2) + "\n");
 }
 
@@ -438,10 +473,11 @@ Result<ResolvedCase> load_exported_case(const std::string& params_path) {
                     : name == "ui"         ? &rc.ui
                     : name == "bloom"      ? &rc.bloom
                     : name == "bloom_dirt" ? &rc.bloom_dirt
+                    : name == "user_lut"   ? &rc.user_lut
                                            : nullptr;
     if (!target)
       return Error{params_path, "/images/" + name, "unknown image '" + name + "'",
-                   "input, ui, bloom, bloom_dirt"};
+                   "input, ui, bloom, bloom_dirt, user_lut"};
     if (!it.value().contains("file") || !it.value()["file"].is_string())
       return Error{params_path, "/images/" + name + "/file", "missing file name", ""};
     auto img = read_image((dir / it.value()["file"].get<std::string>()).string());

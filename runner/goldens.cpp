@@ -213,12 +213,15 @@ std::string case_hash(const Case& c) {
   j["input"] = input_json(c.input);
   j["bloom"] = input_json(c.bloom);
   j["bloom_dirt"] = input_json(c.bloom_dirt);
+  if (c.lut) j["lut"] = c.lut->name;  // only when present: the hashes of LUT-free cases stay
   return sha256_hex(j.dump());
 }
 
 std::string input_hash(const ResolvedCase& r) {
   std::string bytes = image_bytes(r.input);
   for (const Image* img : {&r.bloom, &r.bloom_dirt, &r.ui}) bytes += image_bytes(*img);
+  // Only when present: the hashes of LUT-free cases stay as they were.
+  if (!r.user_lut.data.empty()) bytes += image_bytes(r.user_lut);
   return sha256_hex(bytes);
 }
 

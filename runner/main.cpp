@@ -316,6 +316,9 @@ int main(int argc, char** argv) {
                    "sRGB-encoded r,g,b,a")
       ->capture_default_str();
   probe->add_flag("--json", probe_opts.json, "print a JSON document instead of lines");
+  probe->add_option("--cube", probe_opts.cube,
+                    "a stage that takes a user LUT (docs/cases.md): the .cube file, sampled as the "
+                    "engines sample a case's \"lut\"");
 
   std::string report_dir;
   CLI::App* report_cmd = app.add_subcommand(

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <set>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "core/pipeline.h"
@@ -27,7 +28,7 @@ const std::string kCasesDir = std::string(HDRC_SOURCE_DIR) + "/cases";
 TEST(Pipelines, RegistryListsEveryPipelineUe55First) {
   std::vector<std::string> names;
   for (const hdrc::Pipeline* p : hdrc::pipeline_table()) names.emplace_back(p->name);
-  EXPECT_EQ(names, (std::vector<std::string>{"ue55", "unity_urp", "operators"}));
+  EXPECT_EQ(names, (std::vector<std::string>{"ue55", "unity_urp", "operators", "pq_grading"}));
   EXPECT_EQ(hdrc::default_pipeline().name, "ue55");
   EXPECT_EQ(hdrc::find_pipeline("nope"), nullptr);
 }
@@ -79,9 +80,9 @@ TEST(Pipelines, CaseFilesNameTheirPipeline) {
   };
   const Row rows[] = {
       {R"({"pipeline": "unity", "stage": "lut_bake"})", "/pipeline", "unknown pipeline \"unity\"",
-       "ue55, unity_urp, operators"},
+       "ue55, unity_urp, operators, pq_grading"},
       {R"({"pipeline": 3, "stage": "lut_bake"})", "/pipeline", "unknown pipeline 3",
-       "ue55, unity_urp, operators"},
+       "ue55, unity_urp, operators, pq_grading"},
       {R"({"stage": "lut_bake"})", "/stage",
        "unknown stage \"lut_bake\" (it is a stage of pipeline unity_urp: set "
        "\"pipeline\": \"unity_urp\")",
@@ -158,7 +159,8 @@ TEST(Pipelines, CliListsAndSelectsPerPipeline) {
   EXPECT_GT(n, 50u);
   const Ran bad = run("list --pipeline unreal");
   EXPECT_EQ(bad.code, 2) << bad.out;
-  EXPECT_NE(bad.out.find("unknown pipeline 'unreal'; valid choices: ue55, unity_urp, operators"),
+  EXPECT_NE(bad.out.find(
+                "unknown pipeline 'unreal'; valid choices: ue55, unity_urp, operators, pq_grading"),
             std::string::npos)
       << bad.out;
 }
@@ -166,7 +168,7 @@ TEST(Pipelines, CliListsAndSelectsPerPipeline) {
 // `coverage --pipeline NAME` checks that pipeline's cases against its own declaration
 // (coverage_<name>.json): every declared value and required combination is covered.
 TEST(Pipelines, CoverageIsCompletePerPipeline) {
-  for (const char* pipeline : {"unity_urp", "operators"}) {
+  for (const char* pipeline : {"unity_urp", "operators", "pq_grading"}) {
     const Ran r = run(std::string("coverage --pipeline ") + pipeline);
     EXPECT_EQ(r.code, 0) << r.out;
     EXPECT_NE(r.out.find(std::string("cases of pipeline ") + pipeline), std::string::npos) << r.out;
@@ -216,6 +218,19 @@ TEST(Pipelines, ProbePerPipeline) {
   // Measured (0.110441941, 0.111283369, 0.111195872): the 32^3 LUT's LogC-spaced, half-stored
   // texels interpolated at 18 % grey, within 1 % of the bake's lattice value.
   for (double v : rgb) EXPECT_NEAR(v, 0.1102, 2e-3) << u.out;
+  // pq_grading with the identity .cube: 0.25 at Amplify 4 grades to 1, Narkowicz's fit gives
+  // 2.54 / 3.16 = 127/158, RGB8's gamma (127/158)^(1/2.2) = 0.905492450 (hand-derived,
+  // reference/pq_grading/pq_grading_test.cpp); without --cube the stage refuses.
+  const std::string cube = std::string(HDRC_SOURCE_DIR) + "/cases/lut/cube/pq_identity_33.cube";
+  const Ran pq = probe("--pipeline pq_grading --cube " + cube +
+                           " --setting Amplify=4 --setting Display=SDR --setting BackBuffer=RGB8",
+                       "0.25 0.25 0.25\n");
+  EXPECT_EQ(pq.code, 0) << pq.out;
+  EXPECT_EQ(pq.out, "0.90549245 0.90549245 0.90549245\n");
+  const Ran no_cube = probe("--pipeline pq_grading", "0.25 0.25 0.25\n");
+  EXPECT_EQ(no_cube.code, 2) << no_cube.out;
+  EXPECT_NE(no_cube.out.find("--cube: stage pq_grade needs a user LUT"), std::string::npos)
+      << no_cube.out;
   const Ran bad = probe("--pipeline unity_urp --stage tonemap", "0 0 0\n");
   EXPECT_EQ(bad.code, 2) << bad.out;
   EXPECT_NE(bad.out.find("not a stage of pipeline unity_urp that reads colours; valid choices: "
@@ -304,6 +319,125 @@ TEST(Pipelines, PlantedHableConstantFailsOnlyTheHableCases) {
   EXPECT_TRUE(contains(failing, "operators/operators/operator2_log_ramp")) << out;
   EXPECT_GE(failing.size(), 10u) << out;
   for (const auto& id : failing) EXPECT_NE(id.find("/operator2_"), std::string::npos) << id;
+}
+
+// pq_grading's user LUTs are no setting, so coverage_pq_grading.json cannot declare them: every
+// test LUT meets every display mapping and back buffer here (the issue's full product), and every
+// LUT every Amplify value.
+TEST(Pipelines, PqGradingCasesCrossEveryLutDisplayAndEncoding) {
+  const hdrc::LoadedCases loaded = hdrc::load_cases(kCasesDir);
+  ASSERT_TRUE(loaded.errors.empty()) << loaded.errors[0].to_string();
+  std::set<std::string> luts;
+  std::set<std::tuple<std::string, int, int>> product;
+  std::set<std::pair<std::string, double>> amplify;
+  for (const hdrc::Case& c : loaded.cases) {
+    if (c.stage->name != "pq_grade") continue;
+    ASSERT_TRUE(c.lut) << c.id;
+    luts.insert(c.lut->label);
+    product.insert({c.lut->label, static_cast<int>(c.settings.get("Display")),
+                    static_cast<int>(c.settings.get("BackBuffer"))});
+    amplify.insert({c.lut->label, c.settings.get("Amplify")});
+  }
+  EXPECT_EQ(luts, (std::set<std::string>{"pq_clip_33", "pq_domain_33", "pq_hue_33",
+                                         "pq_identity_33", "pq_look_33"}));
+  EXPECT_EQ(product.size(), luts.size() * 2 * 4);
+  EXPECT_EQ(amplify.size(), luts.size() * 5);
+}
+
+// The ids of pq_grading's cases in the default suite whose id contains `part` ("" for all).
+std::vector<std::string> pq_case_ids(const std::string& part) {
+  std::vector<std::string> ids;
+  for (const hdrc::Case& c : hdrc::load_cases(kCasesDir).cases)
+    if (c.stage->pipeline == "pq_grading" && c.id.find(part) != std::string::npos)
+      ids.push_back(c.id);
+  return ids;
+}
+
+// The .cube's red and blue swapped in pq_grading's LUT lookup (the coordinate .bgr): every case
+// fails, the identity LUT's included (it then returns (b, g, r)): every stimulus has colour (the
+// ramps' single-channel rows, the random colours, the hue sweeps).
+TEST(Pipelines, PlantedRedBlueSwapInTheLutLookupFailsEveryCase) {
+  std::string out;
+  const auto failing =
+      failing_with_planted("pq_grading/lib/pq_grading.glsl", "  return pqg_sample_strip(t);",
+                           "  return pqg_sample_strip(t.bgr);", "pq_grading", &out);
+  EXPECT_TRUE(contains(failing, "pq_grading/luts/display1_backbuffer0_lutpq_hue_33_random")) << out;
+  EXPECT_TRUE(contains(failing, "pq_grading/luts/display0_backbuffer2_lutpq_identity_33_hues"))
+      << out;
+  EXPECT_EQ(failing.size(), pq_case_ids("").size()) << out;
+}
+
+// Half a texel of offset in the strip sampling (UVW = t (N - 1)/N + 1/N instead of + 0.5/N):
+// every LUT's cases fail, the identity's too.
+TEST(Pipelines, PlantedHalfTexelOffsetInTheStripSamplingFailsEveryLut) {
+  std::string out;
+  const auto failing = failing_with_planted(
+      "pq_grading/lib/pq_grading.glsl", "vec3 uvw = t * ((n - 1.0) / n) + 0.5 / n;",
+      "vec3 uvw = t * ((n - 1.0) / n) + 1.0 / n;", "pq_grading", &out);
+  EXPECT_TRUE(contains(failing, "pq_grading/luts/display1_backbuffer0_lutpq_identity_33_random"))
+      << out;
+  for (const char* lut :
+       {"lutpq_identity_33", "lutpq_look_33", "lutpq_hue_33", "lutpq_clip_33", "lutpq_domain_33"})
+    EXPECT_TRUE(std::any_of(failing.begin(), failing.end(), [&](const std::string& id) {
+      return id.find(lut) != std::string::npos;
+    })) << lut;
+}
+
+// DOMAIN ignored in the lookup (the PQ signal used as the coordinate as it is): only the LUT with
+// a non-default DOMAIN_MIN/MAX (pq_domain_33) can show it, and its cases fail.
+TEST(Pipelines, PlantedDomainIgnoredFailsTheDomainLutCases) {
+  std::string out;
+  const auto failing = failing_with_planted(
+      "pq_grading/lib/pq_grading.glsl", "  vec3 t = pqg_domain_normalise(pq);",
+      "  vec3 t = vec3(saturate_d3d(pq.r), saturate_d3d(pq.g), saturate_d3d(pq.b));", "pq_grading",
+      &out);
+  EXPECT_TRUE(contains(failing, "pq_grading/luts/display1_backbuffer0_lutpq_domain_33_random"))
+      << out;
+  EXPECT_EQ(failing, pq_case_ids("lutpq_domain_33")) << out;  // every one of them, no other
+}
+
+// The user LUT's texture is `lut convert --to strip`'s image, texel for texel (and the export's
+// user_lut.exr with it): one layout for the CLI, the loader and both engines.
+TEST(Pipelines, UserLutTextureIsLutConvertsStrip) {
+  const fs::path dir = temp_dir("user_lut_strip");
+  const std::string cube = kCasesDir + "/lut/cube/pq_domain_33.cube";
+  const Ran r =
+      run("lut convert --to strip --format exr --out " + (dir / "strip.exr").string() + " " + cube);
+  ASSERT_EQ(r.code, 0) << r.out;
+  auto converted = hdrc::read_image((dir / "strip.exr").string());
+  ASSERT_TRUE(converted.ok()) << converted.error().to_string();
+  auto lut = hdrc::read_user_lut(kCasesDir, "lut/cube/pq_domain_33.cube", nullptr);
+  ASSERT_TRUE(lut.ok()) << lut.error().to_string();
+  const hdrc::Image strip = hdrc::user_lut_strip(**lut);
+  ASSERT_EQ(strip.width, converted->width);
+  ASSERT_EQ(strip.height, converted->height);
+  size_t differ = 0;
+  for (size_t p = 0; p < strip.pixel_count(); ++p)
+    for (int c = 0; c < 3; ++c) differ += strip.data[p * 4 + c] != converted->data[p * 4 + c];
+  EXPECT_EQ(differ, 0u);
+  fs::remove_all(dir);
+}
+
+// A port renders a pq_grading case from what export writes alone: params.json, input.exr and the
+// user LUT beside them (user_lut.exr, the strip it binds; user_lut.cube, the table). The example
+// candidate (examples/vulkan_candidate.cpp: load_exported_case and the Vulkan engine) passes.
+TEST(Pipelines, PqGradingCasesRenderFromTheirExportAlone) {
+  const fs::path out = temp_dir("pq_export");
+  const Ran v =
+      run("verify --filter 'pq_grading/luts/display[01]_backbuffer0_lutpq_domain_33_*' "
+          "-j 2 --candidate-cmd '" +
+          std::string(HDRC_EXAMPLE_CANDIDATE) + " --params {params} --output {output}' --out " +
+          out.string());
+  EXPECT_EQ(v.code, 0) << v.out;
+  EXPECT_NE(v.out.find("4 passed"), std::string::npos) << v.out;
+  const fs::path dir = out / "cases/pq_grading/luts/display1_backbuffer0_lutpq_domain_33_random";
+  EXPECT_TRUE(fs::exists(dir / "user_lut.cube"));
+  EXPECT_TRUE(hdrc::read_image((dir / "user_lut.exr").string()).ok());
+  const auto params = nlohmann::json::parse(read(dir / "params.json"));
+  EXPECT_EQ(params["user_lut"]["source"], "lut/cube/pq_domain_33.cube");
+  EXPECT_EQ(params["user_lut"]["size"], 33);
+  EXPECT_EQ(params["params"]["user_lut_size"], 33);
+  fs::remove_all(out);
 }
 
 }  // namespace

@@ -20,6 +20,7 @@
 #include "reference/tonemap.h"
 #include "reference/ue_cpp/resolve.h"
 #include "reference/visualize/visualize_hdr.h"
+#include "runner/case_loader.h"
 
 namespace hdrc {
 
@@ -195,6 +196,18 @@ Status run_pipeline_probe(const Pipeline& pipeline, const ProbeOptions& o, std::
                  "plain \"R G B\" lines"};
   for (const std::string& kv : o.setting)
     if (Status st = parse_probe_setting(kv, &c.settings); !st) return st;
+  // The user LUT (docs/cases.md): required where the stage takes one, refused elsewhere.
+  if (!o.cube.empty()) {
+    if (c.stage->user_lut == 0)
+      return Error{"--cube", o.cube, "stage " + std::string(c.stage->name) + " takes no user LUT",
+                   ""};
+    auto lut = read_user_lut("", o.cube, c.stage);
+    if (!lut) return Error{"--cube", o.cube, lut.error().message, lut.error().choices};
+    c.lut = *lut;
+  } else if (c.stage->user_lut != 0) {
+    return Error{"--cube", "", "stage " + std::string(c.stage->name) + " needs a user LUT",
+                 user_lut_choices("", c.stage)};
+  }
 
   std::vector<ref::Vec3> colours;
   std::string line;
@@ -226,6 +239,7 @@ Status run_pipeline_probe(const Pipeline& pipeline, const ProbeOptions& o, std::
   auto resolution = pipeline.resolve(c, rc.input.width, 1);
   if (!resolution) return resolution.error();
   rc.params = resolution->params;
+  if (Status st = attach_user_lut(c.lut, &rc); !st) return st;
   auto image = pipeline.reference(rc, /*analytic_lut=*/false);
   if (!image) return image.error();
   std::string pending;

@@ -19,6 +19,7 @@ struct ProbeOptions {
   std::string stage = "output";      // see probe_stage_names(); another pipeline: its stage that
                                      // takes an input (default: the last such stage)
   std::string ui = "0,0,0,0";        // --stage ui_composite: the UI pixel, premultiplied r,g,b,a
+  std::string cube;                  // a stage that takes a user LUT: the .cube file (any path)
   bool json = false;
 };
 

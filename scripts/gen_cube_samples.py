@@ -28,6 +28,13 @@ def hue_rotate(r, g, b, degrees=30.0):
     return [min(1.0, max(0.0, v[i] * c + cross[i] * s + k * dot * (1.0 - c))) for i in range(3)]
 
 
+def pq_look(r, g, b):
+    # Contrast 1.2 about PQ 0.5 (about 92 nits) on the channel mean, saturation 1.35 about it,
+    # clamped to [0, 1]: out_c = clamp(0.5 + 1.2 (m - 0.5) + 1.35 (c - m)), m = (r + g + b) / 3.
+    m = (r + g + b) / 3.0
+    return [min(1.0, max(0.0, 0.5 + 1.2 * (m - 0.5) + 1.35 * (c - m))) for c in (r, g, b)]
+
+
 def grid(n, lo, hi):
     return [lo + (hi - lo) * i / (n - 1) for i in range(n)]
 
@@ -94,6 +101,26 @@ def main():
           ["LUT_3D_SIZE 9", "LUT_3D_INPUT_RANGE -0.25 1.25"],
           rows_3d(9, (-0.25,) * 3, (1.25,) * 3,
                   lambda r, g, b: (r * r, g * b, 0.5 + 0.5 * math.sin(2 * r + b))))
+
+    # PQ-space grading LUTs (pipeline pq_grading, docs/pq_grading.md): 33 points, as Resolve's
+    # "Generate 3D LUT (33 Point Cube)" writes them; input and output are PQ signals.
+    write("pq_identity_33.cube", "PQ 3-D identity, out = in",
+          ['TITLE "PQ identity 33"', "LUT_3D_SIZE 33"], rows_3d(33, z, o, ident))
+    write("pq_look_33.cube",
+          "PQ look: out_c = clamp(0.5 + 1.2 (m - 0.5) + 1.35 (c - m), 0, 1), m = (r + g + b) / 3",
+          ['TITLE "PQ look: contrast 1.2, saturation 1.35"', "LUT_3D_SIZE 33"],
+          rows_3d(33, z, o, pq_look))
+    write("pq_hue_33.cube", "PQ hue rotation: 40 degrees about the grey axis, clamped to [0, 1]",
+          ['TITLE "PQ hue rotation 40 degrees"', "LUT_3D_SIZE 33"],
+          rows_3d(33, z, o, lambda r, g, b: hue_rotate(r, g, b, 40.0)))
+    write("pq_clip_33.cube", "PQ clip: out_c = min(c, 0.7) (PQ 0.7: about 622 nits)",
+          ['TITLE "PQ clip at 0.7"', "LUT_3D_SIZE 33"],
+          rows_3d(33, z, o, lambda r, g, b: (min(r, 0.7), min(g, 0.7), min(b, 0.7))))
+    lo_pq, hi_pq = (0.05, 0.0, 0.1), (0.9, 0.85, 0.95)
+    write("pq_domain_33.cube",
+          "PQ look (as pq_look_33) on the lattice of DOMAIN_MIN 0.05 0 0.1, DOMAIN_MAX 0.9 0.85 0.95",
+          ['TITLE "PQ look over a partial domain"', "LUT_3D_SIZE 33", "DOMAIN_MIN 0.05 0 0.1",
+           "DOMAIN_MAX 0.9 0.85 0.95"], rows_3d(33, lo_pq, hi_pq, pq_look))
 
 
 if __name__ == "__main__":

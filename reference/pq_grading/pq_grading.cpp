@@ -1,0 +1,226 @@
+#include "reference/pq_grading/pq_grading.h"
+
+#include <Imath/half.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/cube/cube.h"
+#include "reference/color/d3d_math.h"
+#include "reference/color/st2084.h"
+#include "reference/grading/film_tonemap.h"
+#include "reference/operators/operators.h"
+
+namespace hdrc::ref::pq_grading {
+
+const char* display_name(int d) {
+  static const char* const kNames[] = {"SDR", "HDR"};
+  return (d >= 0 && d < 2) ? kNames[d] : nullptr;
+}
+
+const char* back_buffer_name(int b) {
+  static const char* const kNames[kBackBufferCount] = {"R10G10B10A2", "RGBA16F", "SRGB8", "RGB8"};
+  return (b >= 0 && b < kBackBufferCount) ? kNames[b] : nullptr;
+}
+
+double store_rgba16f(double v) {
+  if (std::isnan(v)) return v;
+  const double c = std::clamp(v, -kHalfMax, kHalfMax);
+  // Imath's float -> half conversion rounds to nearest, ties to even (Imath half.h, imath_float_to_
+  // half); the input is float32 already (resolve_case rounds every input value).
+  return static_cast<double>(static_cast<float>(Imath::half(static_cast<float>(c))));
+}
+
+double srgb_encode(double v) {
+  // IEC 61966-2-1:1999 §5.3 (equations of the encoding): the 0.0031308 break point and the 1.055 /
+  // 0.055 / 2.4 constants of the standard.
+  if (!(v > 0.0031308)) return 12.92 * v;
+  return 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
+}
+
+StripLut strip_lut(const Image& strip, const ParamBlock& p) {
+  StripLut l;
+  l.strip = &strip;
+  l.size = p.user_lut_size;
+  const int n = l.size;
+  auto c = std::make_shared<cube::CubeLut>();
+  c->size_3d = n;
+  for (int i = 0; i < 3; ++i) {
+    l.domain_min[i] = p.user_lut_domain_min[i];
+    l.domain_max[i] = p.user_lut_domain_max[i];
+    c->domain_min_3d[i] = static_cast<float>(l.domain_min[i]);
+    c->domain_max_3d[i] = static_cast<float>(l.domain_max[i]);
+  }
+  if (n >= 2 && strip.width == n * n && strip.height == n) {
+    c->table_3d.resize(static_cast<size_t>(n) * n * n);
+    for (int b = 0; b < n; ++b)
+      for (int g = 0; g < n; ++g)
+        for (int r = 0; r < n; ++r) {
+          const double* px = strip.px(r + n * b, g);
+          c->table_3d[static_cast<size_t>(r) + static_cast<size_t>(n) * (g + n * b)] = {
+              static_cast<float>(px[0]), static_cast<float>(px[1]), static_cast<float>(px[2])};
+        }
+  }
+  l.cube = std::move(c);
+  return l;
+}
+
+Vec3 domain_normalise(const StripLut& lut, const Vec3& v) {
+  Vec3 t;
+  for (int c = 0; c < 3; ++c)
+    t[c] = d3d::saturate((v[c] - lut.domain_min[c]) / (lut.domain_max[c] - lut.domain_min[c]));
+  return t;
+}
+
+namespace {
+
+// Vulkan's linear filter along one axis with clamp-to-edge: texel coordinate x·size − 0.5, the
+// two neighbours (clamped into [0, size − 1]) weighted by its fraction.
+struct Tap {
+  int i0, i1;
+  double f;
+};
+Tap tap(double x, int size) {
+  const double t = x * size - 0.5;
+  const double fl = std::floor(t);
+  const int i = static_cast<int>(fl);
+  return {std::clamp(i, 0, size - 1), std::clamp(i + 1, 0, size - 1), t - fl};
+}
+
+Vec3 texel(const Image& img, int x, int y) {
+  const double* px = img.px(x, y);
+  return {px[0], px[1], px[2]};
+}
+
+Vec3 mix(const Vec3& a, const Vec3& b, double f) {
+  return {a[0] + (b[0] - a[0]) * f, a[1] + (b[1] - a[1]) * f, a[2] + (b[2] - a[2]) * f};
+}
+
+Vec3 bilinear(const Image& img, double u, double v) {
+  const Tap tx = tap(u, img.width), ty = tap(v, img.height);
+  return mix(mix(texel(img, tx.i0, ty.i0), texel(img, tx.i1, ty.i0), tx.f),
+             mix(texel(img, tx.i0, ty.i1), texel(img, tx.i1, ty.i1), tx.f), ty.f);
+}
+
+}  // namespace
+
+Vec3 sample_strip(const StripLut& lut, const Vec3& t) {
+  const double n = lut.size;
+  Vec3 uvw;
+  for (int c = 0; c < 3; ++c) uvw[c] = t[c] * ((n - 1.0) / n) + 0.5 / n;
+  const double w = uvw[2] * n - 0.5;
+  const double int_w = std::floor(w);
+  const double frac_w = w - int_w;
+  const double u = (uvw[0] + int_w) / n;
+  return mix(bilinear(*lut.strip, u, uvw[1]), bilinear(*lut.strip, u + 1.0 / n, uvw[1]), frac_w);
+}
+
+Vec3 lookup(const StripLut& lut, const Vec3& pq, LutEval eval) {
+  if (eval == LutEval::kStrip) return sample_strip(lut, domain_normalise(lut, pq));
+  const auto out = cube::apply(
+      *lut.cube, {pq[0], pq[1], pq[2]},
+      eval == LutEval::kTrilinear ? cube::Interp::trilinear : cube::Interp::tetrahedral);
+  return {out[0], out[1], out[2]};
+}
+
+Vec3 display_map(const ParamBlock& p, const Vec3& graded) {
+  if (p.pq_display == static_cast<int>(Display::kHdr)) {
+    const grading::FilmParams film{p.film_slope, p.film_toe, p.film_shoulder, p.film_black_clip,
+                                   p.film_white_clip};
+    return operators::ue_filmic(graded, film, {p.pq_rec709_to_ap1, p.pq_ap1_to_rec709});
+  }
+  if (p.pq_display == static_cast<int>(Display::kSdr))
+    return {operators::aces_narkowicz(graded[0]), operators::aces_narkowicz(graded[1]),
+            operators::aces_narkowicz(graded[2])};
+  return {d3d::kNaN, d3d::kNaN, d3d::kNaN};
+}
+
+double encode_output(const ParamBlock& p, double d) {
+  switch (static_cast<BackBuffer>(p.pq_back_buffer)) {
+    case BackBuffer::kR10G10B10A2:
+      return d3d::saturate(st2084::pq_from_nits(d * p.pq_white_nits));
+    case BackBuffer::kRgba16f:
+      return d * p.pq_white_nits / kScRgbWhiteNits;
+    case BackBuffer::kSrgb8:
+      return srgb_encode(d3d::saturate(d));
+    case BackBuffer::kRgb8:
+      return std::pow(d3d::saturate(d), 1.0 / kRgb8Gamma);
+  }
+  return d3d::kNaN;
+}
+
+Trace grade(const ParamBlock& p, const StripLut& lut, const Vec3& scene, LutEval eval) {
+  Trace t;
+  for (int c = 0; c < 3; ++c) {
+    t.stored[c] = store_rgba16f(scene[c]);
+    t.exposed[c] = d3d::saturate(t.stored[c] * p.pq_exposure_fract);
+    t.pq[c] = st2084::pq_from_nits(t.exposed[c] * st2084::kPeakNits);
+  }
+  t.graded_pq = lookup(lut, t.pq, eval);
+  for (int c = 0; c < 3; ++c)
+    t.graded[c] = st2084::nits_from_pq(t.graded_pq[c]) / st2084::kPeakNits / p.pq_exposure_fract *
+                  p.pq_amplify;
+  t.display = display_map(p, t.graded);
+  for (int c = 0; c < 3; ++c) t.out[c] = encode_output(p, t.display[c]);
+  return t;
+}
+
+// --- Settings ---
+
+namespace {
+constexpr std::array<double, 4> s1(double v) {
+  return {v, 0, 0, 0};
+}
+}  // namespace
+
+const std::vector<SettingInfo>& pq_grading_setting_table() {
+  static const std::vector<SettingInfo> table = {
+      {"Amplify", 1, s1(kDefaultAmplify), 1e-3, 1e3,
+       "pq_amplify, and pq_exposure_fract = 1e-4 x Amplify (the issue's ExposureFract)"},
+      {"Display", 1, s1(static_cast<double>(Display::kHdr)), 0, 1,
+       "pq_display: 0 SDR (Narkowicz's ACES fit), 1 HDR (UE's FilmToneMap) (a name or its number)"},
+      {"BackBuffer", 1, s1(static_cast<double>(BackBuffer::kR10G10B10A2)), 0, kBackBufferCount - 1,
+       "pq_back_buffer: 0 R10G10B10A2 (PQ), 1 RGBA16F (scRGB), 2 SRGB8, 3 RGB8 (gamma 2.2) (a name "
+       "or its number)"},
+      {"PeakNits", 1, s1(kDefaultPeakNits), 80, 10000,
+       "pq_white_nits of the HDR display: the nits of display value 1.0 in the PQ and RGBA16F "
+       "encodings (SDR: 100)"},
+  };
+  return table;
+}
+
+const std::vector<SettingChoice>* pq_grading_setting_choices(std::string_view setting) {
+  static const std::vector<SettingChoice> displays = {{"SDR", 0}, {"HDR", 1}};
+  static const std::vector<SettingChoice> buffers = [] {
+    std::vector<SettingChoice> c;
+    for (int i = 0; i < kBackBufferCount; ++i) c.push_back({back_buffer_name(i), double(i)});
+    return c;
+  }();
+  if (setting == "Display") return &displays;
+  if (setting == "BackBuffer") return &buffers;
+  return nullptr;
+}
+
+void derive_pq_grading(const SettingValues& s, ParamBlock* p) {
+  auto get = [&s](std::string_view name) {
+    if (find_setting(s.table(), name)) return s.get(name);
+    return find_setting(pq_grading_setting_table(), name)->default_value[0];
+  };
+  p->pq_amplify = get("Amplify");
+  p->pq_exposure_fract = kExposureFractPerAmplify * p->pq_amplify;
+  p->pq_display = static_cast<int>(get("Display"));
+  p->pq_back_buffer = static_cast<int>(get("BackBuffer"));
+  p->pq_white_nits =
+      p->pq_display == static_cast<int>(Display::kHdr) ? get("PeakNits") : kSdrWhiteNits;
+  const grading::FilmParams film{};  // UE's Default (Scene.cpp FPostProcessSettings)
+  p->film_slope = film.slope;
+  p->film_toe = film.toe;
+  p->film_shoulder = film.shoulder;
+  p->film_black_clip = film.black_clip;
+  p->film_white_clip = film.white_clip;
+  const operators::UeFilmicSpace space = operators::ue_filmic_space();
+  p->pq_rec709_to_ap1 = space.rec709_to_ap1;
+  p->pq_ap1_to_rec709 = space.ap1_to_rec709;
+}
+
+}  // namespace hdrc::ref::pq_grading
