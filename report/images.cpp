@@ -20,9 +20,43 @@ double srgb_oetf(double x) {
   return x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1.0 / 2.4) - 0.055;
 }
 
-uint8_t preview_code(double nits, double ev) {
-  const double linear = nits / 100.0 * std::exp2(ev);
+uint8_t preview_code_exact(double linear) {
   return static_cast<uint8_t>(std::lround(srgb_oetf(linear) * 255.0));
+}
+
+namespace {
+
+// kThresholds[k - 1] is the smallest double whose preview_code_exact is at least k (k = 1..255).
+// The code is nondecreasing in the value (srgb_oetf is monotonic and lround too), so the code of
+// x is the count of thresholds <= x: one binary search instead of a pow per channel, the same
+// byte for every value (report_test.cpp, PreviewCodeTableAgreesWithTheFormula). The search starts
+// at the formula's inverse of (k - 0.5) / 255 and steps by one ulp to the exact boundary.
+struct PreviewThresholds {
+  std::array<double, 255> t{};
+  PreviewThresholds() {
+    for (int k = 1; k <= 255; ++k) {
+      const double v = (k - 0.5) / 255.0;
+      double x = v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
+      // Bounded: the inverse lands within a few ulps of the boundary.
+      for (int i = 0; i < 1000 && preview_code_exact(x) >= k; ++i) x = std::nextafter(x, -1.0);
+      for (int i = 0; i < 1000 && preview_code_exact(x) < k; ++i) x = std::nextafter(x, 2.0);
+      t[static_cast<size_t>(k - 1)] = x;
+    }
+  }
+};
+
+}  // namespace
+
+uint8_t preview_code(double nits, double ev) {
+  return preview_code_linear(nits / 100.0 * std::exp2(ev));
+}
+
+uint8_t preview_code_linear(double linear) {
+  static const PreviewThresholds table;
+  if (std::isnan(linear)) return 0;  // srgb_oetf(NaN) = 0
+  return static_cast<uint8_t>(std::upper_bound(table.t.begin(), table.t.end(), linear,
+                                               [](double a, double b) { return a < b; }) -
+                              table.t.begin());
 }
 
 std::array<uint8_t, 3> colorize8(double x) {
@@ -160,10 +194,11 @@ Rgb8 thumbnail(const Rgb8& src, int max_w, int min_h, int max_h) {
   return out;
 }
 
-Status write_png(const std::string& path, const Rgb8& img) {
+Status write_png(const std::string& path, const Rgb8& img, int level) {
   auto out = OIIO::ImageOutput::create(path);
   if (!out) return Error{path, "", "cannot create a PNG writer: " + OIIO::geterror(), ""};
-  const OIIO::ImageSpec spec(img.width, img.height, 3, OIIO::TypeDesc::UINT8);
+  OIIO::ImageSpec spec(img.width, img.height, 3, OIIO::TypeDesc::UINT8);
+  spec.attribute("png:compressionLevel", level);
   if (!out->open(path, spec)) return Error{path, "", "cannot open: " + out->geterror(), ""};
   const bool ok = out->write_image(OIIO::TypeDesc::UINT8, img.data.data());
   const bool closed = out->close();

@@ -42,6 +42,11 @@ double srgb_oetf(double linear);
 
 // One channel value → 8-bit display code: sRGB_OETF(clamp(nits / 100 · 2^ev, 0, 1)).
 uint8_t preview_code(double nits, double ev);
+// The code of linear = nits / 100 · 2^ev, from a table of the 255 code boundaries; and the same
+// byte computed by the formula, lround(srgb_oetf(linear) · 255), which the table reproduces for
+// every double (tests).
+uint8_t preview_code_linear(double linear);
+uint8_t preview_code_exact(double linear);
 
 // UE's Colorize(x) (PostProcessVisualizeHDR.usf): x = saturate(x);
 // lerp(green, lerp(blue, red, x), |0.5 − x|·2): 0 blue, 0.5 green, 1 red. As 8-bit RGB.
@@ -79,7 +84,11 @@ ErrorMaps error_maps(const Image& reference, const Image& candidate, const Outpu
 Rgb8 thumbnail(const Rgb8& src, int max_w, int min_h, int max_h);
 
 // Writes an 8-bit RGB PNG through OpenImageIO.
-Status write_png(const std::string& path, const Rgb8& img);
+// zlib level of the report's PNGs: 1, as its float data (float32_packed_base64). The report is
+// written at the end of every run, and level 6 spent most of the PNG writes' time for files a few
+// per cent smaller (docs/performance.md, "The report").
+inline constexpr int kPngCompressionLevel = 1;
+Status write_png(const std::string& path, const Rgb8& img, int level = kPngCompressionLevel);
 
 // Base64 of the float32 (little-endian) values of the given channels of `img`.
 std::string float32_base64(const Image& img, int channels);

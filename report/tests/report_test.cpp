@@ -9,6 +9,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "report/html_report.h"
@@ -68,6 +69,37 @@ TEST(ReportPreview, HundredNitsIsSdrWhiteAtZeroEv) {
   EXPECT_EQ(preview_code(18, 0), 118);    // round(sRGB(0.18) · 255), by hand: 117.65
   EXPECT_EQ(preview_code(-5, 0), 0);
   EXPECT_EQ(preview_code(1e4, 0), 255);  // clipped
+}
+
+// The preview's byte comes from a table of the 255 code boundaries (no pow per channel); it must
+// be the formula's byte for every value: at and beside each boundary (a few ulps either side),
+// across [0, 1] on a fine grid, and for the values outside it.
+TEST(ReportImages, PreviewCodeTableAgreesWithTheFormula) {
+  int checked = 0;
+  for (int k = 1; k <= 255; ++k) {
+    const double v = (k - 0.5) / 255.0;
+    double x = v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
+    for (int i = 0; i < 8; ++i) x = std::nextafter(x, -1.0);
+    for (int i = 0; i < 16; ++i, x = std::nextafter(x, 2.0)) {
+      ASSERT_EQ(preview_code_linear(x), preview_code_exact(x)) << k << " " << x;
+      ++checked;
+    }
+  }
+  for (int i = -1000; i <= 1001000; ++i) {
+    const double x = i / 1e6;
+    ASSERT_EQ(preview_code_linear(x), preview_code_exact(x)) << x;
+    ++checked;
+  }
+  for (double x :
+       {-1e300, -0.0, 0.0, 1.0, 1.0000001, 1e300, std::numeric_limits<double>::infinity(),
+        -std::numeric_limits<double>::infinity(), std::nan("")}) {
+    EXPECT_EQ(preview_code_linear(x), preview_code_exact(x)) << x;
+    ++checked;
+  }
+  EXPECT_GT(checked, 1000000);
+  // A boundary by hand: code 1 starts at (0.5 / 255) / 12.92 = 1.51770e-4 (linear segment).
+  EXPECT_EQ(preview_code_linear(1.517e-4), 0);
+  EXPECT_EQ(preview_code_linear(1.518e-4), 1);
 }
 
 TEST(ReportPreview, NonFinitePixelsAreFlagged) {
