@@ -194,11 +194,10 @@ Rgb8 thumbnail(const Rgb8& src, int max_w, int min_h, int max_h) {
   return out;
 }
 
-Status write_png(const std::string& path, const Rgb8& img, int level) {
+Status write_png(const std::string& path, const Rgb8& img) {
   auto out = OIIO::ImageOutput::create(path);
   if (!out) return Error{path, "", "cannot create a PNG writer: " + OIIO::geterror(), ""};
-  OIIO::ImageSpec spec(img.width, img.height, 3, OIIO::TypeDesc::UINT8);
-  spec.attribute("png:compressionLevel", level);
+  const OIIO::ImageSpec spec(img.width, img.height, 3, OIIO::TypeDesc::UINT8);
   if (!out->open(path, spec)) return Error{path, "", "cannot open: " + out->geterror(), ""};
   const bool ok = out->write_image(OIIO::TypeDesc::UINT8, img.data.data());
   const bool closed = out->close();

@@ -84,11 +84,7 @@ ErrorMaps error_maps(const Image& reference, const Image& candidate, const Outpu
 Rgb8 thumbnail(const Rgb8& src, int max_w, int min_h, int max_h);
 
 // Writes an 8-bit RGB PNG through OpenImageIO.
-// zlib level of the report's PNGs: 1, as its float data (float32_packed_base64). The report is
-// written at the end of every run, and level 6 spent most of the PNG writes' time for files a few
-// per cent smaller (docs/performance.md, "The report").
-inline constexpr int kPngCompressionLevel = 1;
-Status write_png(const std::string& path, const Rgb8& img, int level = kPngCompressionLevel);
+Status write_png(const std::string& path, const Rgb8& img);
 
 // Base64 of the float32 (little-endian) values of the given channels of `img`.
 std::string float32_base64(const Image& img, int channels);
