@@ -19,6 +19,8 @@
 #include <limits>
 #include <random>
 
+#include "core/cube/ocio_oracle.h"
+
 #ifndef HDRC_SOURCE_DIR
 #error "HDRC_SOURCE_DIR must be defined"
 #endif
@@ -518,18 +520,7 @@ TEST(CubeApply, TetrahedralIsExactForAPlaneAndDiffersFromTrilinearForAProduct) {
 // ---------------------------------------------------------------------------------------------
 // OpenColorIO oracle.
 
-OCIO::ConstCPUProcessorRcPtr ocio_processor(const std::string& path, OCIO::Interpolation interp) {
-  static const OCIO::ConfigRcPtr cfg = [] {
-    OCIO::ConfigRcPtr c = OCIO::Config::CreateRaw()->createEditableCopy();
-    c->setProcessorCacheFlags(OCIO::PROCESSOR_CACHE_OFF);
-    return c;
-  }();
-  auto t = OCIO::FileTransform::Create();
-  t->setSrc(path.c_str());
-  t->setInterpolation(interp);
-  t->setDirection(OCIO::TRANSFORM_DIR_FORWARD);
-  return cfg->getProcessor(t)->getOptimizedCPUProcessor(OCIO::OPTIMIZATION_NONE);
-}
+using hdrc::cube::testing::ocio_processor;  // core/cube/ocio_oracle.h
 
 struct Sample {
   const char* file;

@@ -13,6 +13,7 @@
 
 #include "core/case.h"
 #include "core/cube/cube.h"
+#include "core/cube/ocio_oracle.h"
 #include "core/settings.h"
 
 namespace {
@@ -158,18 +159,7 @@ TEST(PqGrading, DomainMapsInputsOntoTheLattice) {
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(below[c], first[c], 1e-12) << c;
 }
 
-OCIO::ConstCPUProcessorRcPtr ocio_processor(const std::string& path, OCIO::Interpolation interp) {
-  static const OCIO::ConfigRcPtr cfg = [] {
-    OCIO::ConfigRcPtr c = OCIO::Config::CreateRaw()->createEditableCopy();
-    c->setProcessorCacheFlags(OCIO::PROCESSOR_CACHE_OFF);
-    return c;
-  }();
-  auto t = OCIO::FileTransform::Create();
-  t->setSrc(path.c_str());
-  t->setInterpolation(interp);
-  t->setDirection(OCIO::TRANSFORM_DIR_FORWARD);
-  return cfg->getProcessor(t)->getOptimizedCPUProcessor(OCIO::OPTIMIZATION_NONE);
-}
+using hdrc::cube::testing::ocio_processor;  // core/cube/ocio_oracle.h
 
 // The LUT step against OpenColorIO's FileTransform on the same .cube files and PQ colours: the
 // strip sampling (two bilinear taps lerped across slices, evaluated exactly) is trilinear
