@@ -54,8 +54,9 @@ std::string probe(const std::string& lib, int mode) {
   std::string s = hdrc::gpu::testing::probe_preamble() + lib;
   s += "void main() {\n  uint i = gl_GlobalInvocationID.x;\n"
        "  if (i >= uint(P.width * P.height)) return;\n  vec4 x = in_px[i];\n";
-  s += mode == 0 ? "  out_px[i] = vec4(ue_unwrapped_texture3d_sample(user_lut, x.rgb), 0.0);\n"
-                 : "  out_px[i] = vec4(ue_lut_blend_one(x.rgb, 1.0 - x.a, x.a, user_lut), 0.0);\n";
+  s += mode == 0
+           ? "  out_px[i] = vec4(ue_unwrapped_texture3d_sample(user_lut[0], x.rgb), 0.0);\n"
+           : "  out_px[i] = vec4(ue_lut_blend_one(x.rgb, 1.0 - x.a, x.a, user_lut[0]), 0.0);\n";
   s += "}\n";
   return s;
 }
@@ -113,7 +114,7 @@ Measured measure(const std::function<std::string(std::string)>& edit, const Lut&
           v = std::fmin(std::fmax(v, 0.0), 1.0) * (15.0 / 16.0) + 0.5 / 16.0;
         }
     hdrc::ResolvedCase rc = hdrc::gpu::testing::make_case("shaper", 0, in);
-    rc.user_lut = lut.strip;
+    rc.user_luts[0] = lut.strip;
     rc.params.user_lut_size = hdrc::ref::kUeUserLutSize;
     rc.params.user_lut_domain_max = {1, 1, 1, 0};
     auto out = hdrc::gpu::testing::run_probe(probe(library(edit), mode == 0 ? 0 : 1), rc);

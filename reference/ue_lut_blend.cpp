@@ -84,4 +84,24 @@ Vec3 blend_user_luts(const Vec3& film_color, int count, const std::array<double,
   return srgb_to_linear(blended);
 }
 
+UeLutSet ue_lut_set(const std::array<Image, kUserLutSlots>& strips) {
+  UeLutSet set;
+  for (size_t s = 0; s < strips.size(); ++s) {
+    const Image& img = strips[s];
+    if (img.width != kUeUserLutWidth || img.height != kUeUserLutHeight) continue;
+    UeLutTexture& t = set.slots[s];
+    t.texels.resize(img.pixel_count());
+    for (size_t i = 0; i < t.texels.size(); ++i)
+      t.texels[i] = {img.data[i * 4], img.data[i * 4 + 1], img.data[i * 4 + 2]};
+  }
+  return set;
+}
+
+Vec3 blend_user_luts(const Vec3& film_color, const ParamBlock& p, const UeLutSet& luts) {
+  const std::array<double, 5> w = {p.lut_weights[0], p.lut_weights[1], p.lut_weights[2],
+                                   p.lut_weights[3], p.lut_weight_4};
+  return blend_user_luts(film_color, p.lut_blend_count, w,
+                         {&luts.slots[0], &luts.slots[1], &luts.slots[2], &luts.slots[3]});
+}
+
 }  // namespace hdrc::ref

@@ -15,6 +15,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/image.h"
+#include "core/shader_interface.h"
 #include "reference/color/vec.h"
 
 namespace hdrc::ref {
@@ -56,5 +58,16 @@ Vec3 unwrapped_texture3d_sample(const UeLutTexture& lut, const Vec3& uvw);
 // Textures_i.
 Vec3 blend_user_luts(const Vec3& film_color, int count, const std::array<double, 5>& weights,
                      const std::array<const UeLutTexture*, 4>& luts);
+
+// The textures of the user-LUT slots (Textures_1..4) from the strips both engines bind
+// (ResolvedCase::user_luts: 256 × 16, values as stored); an empty slot stays empty.
+struct UeLutSet {
+  std::array<UeLutTexture, kUserLutSlots> slots;
+};
+UeLutSet ue_lut_set(const std::array<Image, kUserLutSlots>& strips);
+
+// blend_user_luts with the host's table: BLENDCOUNT P.lut_blend_count, LUTWeights
+// (P.lut_weights, P.lut_weight_4), Textures_i = luts.slots[i − 1].
+Vec3 blend_user_luts(const Vec3& film_color, const ParamBlock& p, const UeLutSet& luts);
 
 }  // namespace hdrc::ref

@@ -419,6 +419,12 @@ TEST(CaseLoader, TheDefaultSuiteLoads) {
                                                   {"lut/grading_film", 15},
                                                   {"lut/grading_white", 14},
                                                   {"lut/storage", 13},
+                                                  {"lut/user_lut/blend3", 5},
+                                                  {"lut/user_lut/blend4", 5},
+                                                  {"lut/user_lut/blend5", 5},
+                                                  {"lut/user_lut/intensity", 45},
+                                                  {"lut/user_lut/storage", 12},
+                                                  {"lut/user_lut/tie", 2},
                                                   {"lut/working_color_space", 71},
                                                   {"lut/working_color_space_custom", 50},
                                                   {"operators/exposure", 30},
@@ -461,7 +467,7 @@ TEST(CaseLoader, TheDefaultSuiteLoads) {
                                                   {"visualize/visualize_hdr", 30},
                                                   {"visualize/working_color_space", 21}};
   EXPECT_EQ(per_file, expected);
-  EXPECT_EQ(loaded.cases.size(), 1334u);
+  EXPECT_EQ(loaded.cases.size(), 1408u);
   for (const auto& c : loaded.cases) EXPECT_NE(c.tolerance.source, "default") << c.id;
 }
 

@@ -440,4 +440,59 @@ TEST(Pipelines, PqGradingCasesRenderFromTheirExportAlone) {
   fs::remove_all(out);
 }
 
+// ---- UE's user colour-grading LUT blend (docs/ue55-lut-blend-spec.md, issue 16) ----------------
+
+std::vector<std::string> failing_user_lut_cases(const std::string& from, const std::string& to,
+                                                std::string* out) {
+  return hdrc::test::planted_shader_failures("lib/ue_lut_blend.glsl", from, to,
+                                             "--filter 'lut/user_lut/*'", out);
+}
+
+// Red and blue swapped in the lookup (a BGRA texture read as RGBA): every case where a LUT
+// changes the colour fails; the HDR device (3), where 5.5 ignores the LUT, and intensity 0
+// (BLENDCOUNT 1: the block is absent) do not.
+TEST(Pipelines, PlantedUeLutRedBlueSwapFailsTheBlendCases) {
+  std::string out;
+  const auto failing = failing_user_lut_cases("return mix(rg0, rg1, frac_w);",
+                                              "return mix(rg0, rg1, frac_w).bgr;", &out);
+  EXPECT_TRUE(
+      contains(failing, "lut/user_lut/intensity/dev0_colorgradingintensity1_lutue16_contrast"))
+      << out;
+  EXPECT_TRUE(contains(failing, "lut/user_lut/intensity/dev9_colorgradingintensity0.5_lutue16_hue"))
+      << out;
+  EXPECT_TRUE(contains(failing, "lut/user_lut/blend5/dev2")) << out;
+  for (const auto& id : failing) {
+    EXPECT_EQ(id.find("/dev3_"), std::string::npos) << id;
+    EXPECT_EQ(id.find("/dev4"), std::string::npos) << id;
+    EXPECT_EQ(id.find("intensity0_"), std::string::npos) << id;
+  }
+}
+
+// A half-texel offset in the 16-point sampling: UVW without UE's + 0.5/16.
+TEST(Pipelines, PlantedUeLutHalfTexelOffsetFailsTheBlendCases) {
+  std::string out;
+  const auto failing = failing_user_lut_cases("gamma_color * (15.0 / 16.0) + 0.5 / 16.0",
+                                              "gamma_color * (15.0 / 16.0)", &out);
+  EXPECT_TRUE(
+      contains(failing, "lut/user_lut/intensity/dev1_colorgradingintensity0.5_lutue16_contrast"))
+      << out;
+  EXPECT_TRUE(contains(failing, "lut/user_lut/blend4/dev0")) << out;
+  for (const auto& id : failing) EXPECT_EQ(id.find("intensity0_"), std::string::npos) << id;
+}
+
+// The neutral weight LUTWeights[0] dropped: the cases where it is not 0 fail (intensity 0.5,
+// BLENDCOUNT 3-5); intensity 1 (weights 0, 1) and the tie (0, 0.5, 0.5) do not.
+TEST(Pipelines, PlantedUeLutNeutralWeightDroppedFailsWhereItIsNotZero) {
+  std::string out;
+  const auto failing = failing_user_lut_cases("vec3 blended = P.lut_weights.x * g;",
+                                              "vec3 blended = vec3(0.0);", &out);
+  EXPECT_TRUE(contains(failing, "lut/user_lut/intensity/dev0_colorgradingintensity0.5_lutue16_hue"))
+      << out;
+  EXPECT_TRUE(contains(failing, "lut/user_lut/blend3/dev9")) << out;
+  for (const auto& id : failing) {
+    EXPECT_EQ(id.find("intensity1_"), std::string::npos) << id;
+    EXPECT_EQ(id.find("/tie/"), std::string::npos) << id;
+  }
+}
+
 }  // namespace

@@ -40,4 +40,19 @@ vec3 ue_lut_blend_one(vec3 film_color, float w0, float w1, sampler2D lut) {
   return srgb_to_linear(w0 * g + w1 * ue_unwrapped_texture3d_sample(lut, ue_lut_blend_uvw(g)));
 }
 
+// The block for BLENDCOUNT = P.lut_blend_count ≥ 2, with LUTWeights (P.lut_weights,
+// P.lut_weight_4) from the host's GenerateFinalTable and Textures_1..4 = user_lut[0..3]; summed
+// in UE's order (neutral first, then Textures_1..). Needs the generated interface.
+vec3 ue_lut_blend(vec3 film_color) {
+  int count = P.lut_blend_count;
+  vec3 g = ue_lut_blend_gamma(film_color);
+  vec3 uvw = ue_lut_blend_uvw(g);
+  vec3 blended = P.lut_weights.x * g;
+  if (count > 1) blended += P.lut_weights.y * ue_unwrapped_texture3d_sample(user_lut[0], uvw);
+  if (count > 2) blended += P.lut_weights.z * ue_unwrapped_texture3d_sample(user_lut[1], uvw);
+  if (count > 3) blended += P.lut_weights.w * ue_unwrapped_texture3d_sample(user_lut[2], uvw);
+  if (count > 4) blended += P.lut_weight_4 * ue_unwrapped_texture3d_sample(user_lut[3], uvw);
+  return srgb_to_linear(blended);
+}
+
 #endif
