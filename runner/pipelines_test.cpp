@@ -442,6 +442,29 @@ TEST(Pipelines, PqGradingCasesRenderFromTheirExportAlone) {
 
 // ---- UE's user colour-grading LUT blend (docs/ue55-lut-blend-spec.md, issue 16) ----------------
 
+// A port renders UE's BLENDCOUNT 5 case from its export alone: params.json carries the table
+// (lut_blend_count, LUTWeights) and one strip per slot (user_lut.exr, user_lut_1..3.exr, the
+// 8-bit values the host rounded); the example candidate passes.
+TEST(Pipelines, UeUserLutBlendCasesRenderFromTheirExportAlone) {
+  const fs::path out = temp_dir("ue_lut_export");
+  const Ran v = run("verify --filter 'lut/user_lut/blend5/dev[09]' -j 2 --candidate-cmd '" +
+                    std::string(HDRC_EXAMPLE_CANDIDATE) +
+                    " --params {params} --output {output}' --out " + out.string());
+  EXPECT_EQ(v.code, 0) << v.out;
+  EXPECT_NE(v.out.find("2 passed"), std::string::npos) << v.out;
+  const fs::path dir = out / "cases/lut/user_lut/blend5/dev0";
+  const auto params = nlohmann::json::parse(read(dir / "params.json"));
+  EXPECT_EQ(params["params"]["lut_blend_count"], 5);
+  EXPECT_EQ(params["user_lut"]["textures"].size(), 4u);
+  for (const char* f : {"user_lut.exr", "user_lut_1.exr", "user_lut_2.exr", "user_lut_3.exr"}) {
+    auto img = hdrc::read_image((dir / f).string());
+    ASSERT_TRUE(img.ok()) << f;
+    EXPECT_EQ(img->width, 256) << f;
+    EXPECT_EQ(img->height, 16) << f;
+  }
+  fs::remove_all(out);
+}
+
 std::vector<std::string> failing_user_lut_cases(const std::string& from, const std::string& to,
                                                 std::string* out) {
   return hdrc::test::planted_shader_failures("lib/ue_lut_blend.glsl", from, to,
