@@ -3,14 +3,15 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/case.h"
 #include "reference/color/gamma_correction.h"
 
 namespace hdrc::ref {
 
+// The loader's rounding (core/case.h: unorm8_value), so that the reference's textures are the
+// texels both engines bind.
 uint8_t unorm8_from_value(double v) {
-  if (std::isnan(v)) return 0;
-  const double c = std::clamp(v, 0.0, 1.0);
-  return static_cast<uint8_t>(std::nearbyint(c * 255.0));
+  return static_cast<uint8_t>(std::nearbyint(unorm8_value(v) * 255.0));
 }
 
 UeLutTexture ue_lut_texture(const std::vector<std::array<float, 3>>& table, bool quantize_8bit) {
@@ -23,8 +24,7 @@ UeLutTexture ue_lut_texture(const std::vector<std::array<float, 3>>& table, bool
       for (int r = 0; r < n; ++r) {
         const auto& row = table[(static_cast<size_t>(b) * n + g) * n + r];
         Vec3& out = t.texels[static_cast<size_t>(g) * kUeUserLutWidth + r + n * b];
-        for (int c = 0; c < 3; ++c)
-          out[c] = quantize_8bit ? unorm8_from_value(row[c]) / 255.0 : double(row[c]);
+        for (int c = 0; c < 3; ++c) out[c] = quantize_8bit ? unorm8_value(row[c]) : double(row[c]);
       }
   return t;
 }
