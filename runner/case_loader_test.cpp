@@ -169,6 +169,10 @@ const BadCase kBadCases[] = {
      R"({"stage": "shaper", "input": {"stimulus": "log_ramp"}, "lut": "lut/cube/pq_identity_33.cube"})",
      "t.json: /lut: stage shaper takes no user LUT; valid choices: stages that take one: "
      "combine_luts (ue55), pq_grade (pq_grading)"},
+    {"color_grading_intensity_out_of_range",
+     R"({"stage": "combine_luts", "lut": "lut/cube/ue16_hue.cube", "settings": {"ColorGradingIntensity": 1.5}})",
+     "t.json: /settings/ColorGradingIntensity: setting ColorGradingIntensity = 1.5 is out of "
+     "range; valid choices: 0 to 1"},
     {"lut_blend_on_stage_without_one",
      R"({"pipeline": "pq_grading", "stage": "pq_grade", "input": {"stimulus": "log_ramp"}, "lut": "lut/cube/pq_identity_33.cube", "lut_blend": [{"lut": "lut/cube/pq_look_33.cube", "weight": 0.5}]})",
      "t.json: /lut_blend: stage pq_grade blends no LUTs; valid choices: stages that do: "
