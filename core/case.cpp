@@ -1,5 +1,8 @@
 #include "core/case.h"
 
+#include <algorithm>
+#include <cmath>
+
 namespace hdrc {
 
 Image user_lut_strip(const UserLut& lut) {
@@ -17,6 +20,11 @@ Image user_lut_strip(const UserLut& lut) {
         px[3] = 1.0;
       }
   return strip;
+}
+
+double unorm8_value(double v) {
+  if (std::isnan(v)) return 0.0;
+  return std::nearbyint(std::clamp(v, 0.0, 1.0) * 255.0) / 255.0;
 }
 
 }  // namespace hdrc

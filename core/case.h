@@ -110,6 +110,17 @@ struct UserLut {
 // strip` (docs/cube-workflow.md), table row (r, g, b) at texel (r + N b, g), alpha 1.
 Image user_lut_strip(const UserLut& lut);
 
+// A value as an 8-bit UNORM texel holds it (UE's BGRA8 ColorLookupTable textures): NaN → 0,
+// clamped to [0, 1], rounded to the nearest k/255 (ties to even), returned as k/255.
+double unorm8_value(double v);
+
+// One further post-process source's LUT for UE's blend (`"lut_blend"`, docs/cases.md): a LerpTo
+// of `lut` at weight `weight` (in [0, 1]), after the case's own "lut" at ColorGradingIntensity.
+struct LutBlendStep {
+  std::shared_ptr<const UserLut> lut;
+  double weight = 0.0;
+};
+
 struct Case {
   std::string id;    // stable, readable: "linear_device/dev7_gamut2_log_ramp"
   std::string file;  // the case file it came from
@@ -121,6 +132,8 @@ struct Case {
   InputSpec bloom_dirt;  // tonemap: the bloom dirt mask texture (empty: none)
   // The user LUT (null: none); only for a stage whose StageInfo::user_lut allows one.
   std::shared_ptr<const UserLut> lut;
+  // Further LUTs blended in order (only for a stage with StageInfo::user_lut_slots > 1).
+  std::vector<LutBlendStep> lut_blend;
   Tolerance tolerance;
   // Non-empty (the reason) when the case pins UE's non-finite behaviour itself: it may compare no
   // finite value and is judged by the non-finite census (docs/diff-metrics.md). Any other case
@@ -138,9 +151,11 @@ struct ResolvedCase {
   Image input;
   Image ui;  // ui_composite: the UI layer (premultiplied, sRGB-encoded), same size as `input`
   Image bloom, bloom_dirt;  // tonemap: bloom and dirt mask textures (empty when not given)
-  // The user LUT's strip texture (user_lut_strip of spec.lut; empty when none), bound at
-  // kBindingUserLut; its size and domain are P.user_lut_size / user_lut_domain_min / _max.
-  Image user_lut;
+  // The user LUTs' strip textures bound at kBindingUserLut, slot by slot (user_lut_strip of the
+  // LUTs the host derivation put there: Resolution::user_luts; empty where none); their size and
+  // the first one's domain are P.user_lut_size / user_lut_domain_min / _max.
+  std::array<Image, kUserLutSlots> user_luts;
+  bool has_user_lut() const { return !user_luts[0].data.empty(); }
   // Non-empty when UE computes degenerate parameters for this combination (e.g. an ACES device
   // while MaxLuminance resolves to 0): the case is reported as DEGENERATE, never evaluated as a
   // pass.

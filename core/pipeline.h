@@ -28,6 +28,9 @@ namespace hdrc {
 struct Resolution {
   ParamBlock params;
   std::string degenerate;
+  // The LUTs bound at kBindingUserLut, slot by slot (null: a dummy). All null: the case's own
+  // "lut" (if any) in slot 0, the default for a pipeline that binds one LUT.
+  std::array<std::shared_ptr<const UserLut>, kUserLutSlots> user_luts{};
 };
 
 struct Pipeline {

@@ -36,6 +36,11 @@ const std::vector<SettingInfo>& setting_table() {
         {"FilmShoulder", 1, s(0.26), 0, 1, "FilmToneMap shoulder"},
         {"FilmBlackClip", 1, s(0.0), 0, 1, "FilmToneMap black clip"},
         {"FilmWhiteClip", 1, s(0.04), 0, 1, "FilmToneMap white clip"},
+        // Scene.h / Scene.cpp (FPostProcessSettings): "Color Grading LUT Intensity", ClampMin 0,
+        // ClampMax 1, default 1.0; it weighs the case's "lut" (ColorGradingLUT) in LerpTo
+        // (docs/ue55-lut-blend-spec.md §2.1-§2.4).
+        {"ColorGradingIntensity", 1, s(1.0), 0, 1,
+         "weight of the case's user LUT (ColorGradingLUT) in CombineLUTs' blend"},
         {"ViewColorScale", 4, k1, 0, 16, "View.ColorScale (camera fade), rgb"},
         {"ViewOverlayColor", 4, k0, 0, 16, "View.OverlayColor (camera fade), rgb and blend in a"},
         {"DisplayGamma", 1, s(2.2), 1, 5, "GEngine->DisplayGamma (InverseGamma)"},

@@ -123,13 +123,15 @@ std::string glsl_param_block() {
   s << "#define HDRC_BINDING_AUX1 " << kBindingAux1 << "\n";
   s << "#define HDRC_BINDING_SCRATCH " << kBindingScratch << "\n";
   s << "#define HDRC_BINDING_USER_LUT " << kBindingUserLut << "\n";
+  s << "#define HDRC_USER_LUT_SLOTS " << kUserLutSlots << "\n";
   s << "layout(set = 0, binding = HDRC_BINDING_LUT_STORE_3D) writeonly uniform image3D "
        "lut_store_3d;\n";
   s << "layout(set = 0, binding = HDRC_BINDING_LUT_STORE_2D) writeonly uniform image2D "
        "lut_store_2d;\n";
   s << "layout(set = 0, binding = HDRC_BINDING_LUT_3D) uniform sampler3D lut_3d;\n";
   s << "layout(set = 0, binding = HDRC_BINDING_LUT_2D) uniform sampler2D lut_2d;\n";
-  s << "layout(set = 0, binding = HDRC_BINDING_USER_LUT) uniform sampler2D user_lut;\n";
+  s << "layout(set = 0, binding = HDRC_BINDING_USER_LUT) uniform sampler2D "
+       "user_lut[HDRC_USER_LUT_SLOTS];\n";
   s << "layout(std430, set = 0, binding = HDRC_BINDING_AUX0) readonly buffer HdrcAux0 "
        "{ vec4 aux0_px[]; };\n";
   s << "layout(std430, set = 0, binding = HDRC_BINDING_AUX1) readonly buffer HdrcAux1 "

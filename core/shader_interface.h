@@ -111,6 +111,9 @@ namespace hdrc {
   X(M3, wcs_from_xyz, "WorkingColorSpace.FromXYZ")                                                \
   X(M3, white_balance, "FromXYZ * CA(src, dst) * ToXYZ (identity when skipped)")                  \
   X(M3, ap1_to_output, "OuputGamutMappingMatrix(output_gamut), product of UE's literals")         \
+  X(I, lut_blend_count, "BLENDCOUNT: 1 + the user LUTs blended (GenerateFinalTable; 1: none)")    \
+  X(F, lut_weight_4, "LUTWeights[4]: the weight of user_lut[3] (Textures_4)")                     \
+  X(V4, lut_weights, "LUTWeights[0..3]: the neutral weight, then user_lut[0..2] (Textures_1..3)") \
   HDRC_USER_LUT_PARAMS(X)
 
 // The case's user LUT (a .cube file the case names, docs/cases.md), bound at kBindingUserLut: set
@@ -184,12 +187,16 @@ inline constexpr uint32_t kBindingAux1 = 8;      // readonly buffer vec4 aux1_px
                                                  // P.aux1_width/height
 inline constexpr uint32_t kBindingScratch = 9;   // read-write buffer vec4 scratch_px[]: data passed
                                                  // between the passes of one stage
-inline constexpr uint32_t kBindingUserLut = 10;  // sampler2D user_lut: the case's user LUT
-                                                 // (.cube) as a strip N^2 x N, texel (r + N b, g),
-                                                 // RGBA32F, linear filtering, clamp-to-edge;
-                                                 // P.user_lut_size (a 1-texel dummy when 0)
+inline constexpr uint32_t kBindingUserLut = 10;  // sampler2D user_lut[kUserLutSlots]: the
+                                                 // case's user LUTs (.cube) as strips N^2 x N,
+                                                 // texel (r + N b, g), RGBA32F or 8-bit UNORM
+                                                 // (StageInfo::user_lut_unorm8), linear filtering,
+                                                 // clamp-to-edge; P.user_lut_size (a 1-texel
+                                                 // dummy in every slot without one)
 inline constexpr uint32_t kBindingCount = 11;
-inline constexpr uint32_t kLocalSizeX = 64;  // compute workgroup size (1-D over pixels/texels)
+inline constexpr uint32_t kUserLutSlots = 4;  // elements of binding kBindingUserLut (UE's
+                                              // Textures_1..4)
+inline constexpr uint32_t kLocalSizeX = 64;   // compute workgroup size (1-D over pixels/texels)
 
 // The ParamBlock as the std430 bytes the shaders read.
 std::vector<uint8_t> pack_std430(const ParamBlock& p);

@@ -27,9 +27,17 @@ const std::vector<StageInfo>& stage_table() {
        {{"stages/combine_luts.comp", Dispatch::kLutTexels}},
        "CombineLUTs: every texel of the LUT as stored (OutDeviceColor / 1.05, quantised to the "
        "storage format), for any device, gamut, r.LUT.Size, format and layout (spec 4); output "
-       "N^2 x N with texel (r, g, b) at (r + N b, g)",
+       "N^2 x N with texel (r, g, b) at (r + N b, g); with user colour-grading LUTs (16-point, "
+       "8-bit, blended by ColorGradingIntensity and lut_blend) on devices 0-2 and 9",
        {0, 1, 2, 3, 4, 5, 6, 7, 8, 9},
-       false},
+       false,
+       "ue55",
+       // The user colour-grading LUT (docs/ue55-lut-blend-spec.md §2.9): 16 points (shader
+       // literals), optional, up to four blended (Textures_1..4), stored 8-bit (BGRA8).
+       16,
+       true,
+       4,
+       true},
       {StageId::kTonemap,
        "tonemap",
        {{"stages/combine_luts.comp", Dispatch::kLutTexels}, {"stages/tonemap.comp"}},

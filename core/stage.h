@@ -48,6 +48,16 @@ struct StageInfo {
   // The user LUT a case may name ("lut", docs/cases.md): 0 none allowed; -1 required, any
   // LUT_3D_SIZE; N > 0 required, LUT_3D_SIZE exactly N.
   int user_lut = 0;
+  // A case may name none even so (user_lut != 0): UE's CombineLUTs without a ColorGradingLUT.
+  bool user_lut_optional = false;
+  // How many LUTs the stage binds at once (binding kBindingUserLut is an array of kUserLutSlots,
+  // docs/gpu-interface.md): 1, or up to kUserLutSlots for a stage whose pipeline blends several
+  // (UE's CombineLUTs: Textures_1..4); more than one comes from a case's "lut_blend" list.
+  int user_lut_slots = 1;
+  // The texels the engines bind: false RGBA32F (the .cube's floats), true 8-bit UNORM (the host
+  // rounds each value once to the nearest k/255, as UE's ColorLookupTable texture group stores
+  // BGRA8; both engines see those values).
+  bool user_lut_unorm8 = false;
 };
 
 // UE 5.5's stages (pipeline "ue55").

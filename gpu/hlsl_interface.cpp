@@ -20,7 +20,7 @@ std::string generated_interface_hlsl() {
     s << "  " << shader_field_decl(kind, name, true) << "\n";
   });
   s << "};\n";
-  auto binding = [&](uint32_t b, const char* decl) {
+  auto binding = [&](uint32_t b, const std::string& decl) {
     s << "[[vk::binding(" << b << ", 0)]] " << decl << ";\n";
   };
   binding(kBindingParams, "StructuredBuffer<HdrcParams> hdrc_params");
@@ -38,7 +38,7 @@ std::string generated_interface_hlsl() {
   binding(kBindingLutStore2d, "RWTexture2D<float4> lut_store_2d");
   binding(kBindingLut3d, "Texture3D<float4> lut_3d");
   binding(kBindingLut2d, "Texture2D<float4> lut_2d");
-  binding(kBindingUserLut, "Texture2D<float4> user_lut");
+  binding(kBindingUserLut, "Texture2D<float4> user_lut[" + std::to_string(kUserLutSlots) + "]");
   s << "SamplerState lut_sampler;\n";
   s << "#endif\n";
   // The shared constants and matrices, the same float values the GLSL include holds.

@@ -150,7 +150,7 @@ TEST(PqGradingShader, StripSamplingIsTheReferenceWithinTheSamplersWeightPrecisio
       for (int c = 0; c < 3; ++c) in.px(k * k * k + e, 0)[c] = static_cast<float>(extra[e][c]);
     ResolvedCase rc = make_case("shaper", 3, in);
     rc.spec.lut = lut;
-    rc.user_lut = hdrc::user_lut_strip(*lut);
+    rc.user_luts[0] = hdrc::user_lut_strip(*lut);
     rc.params.user_lut_size = n;
     for (int c = 0; c < 3; ++c) {
       rc.params.user_lut_domain_min[c] = lut->domain_min[c];
@@ -158,7 +158,7 @@ TEST(PqGradingShader, StripSamplingIsTheReferenceWithinTheSamplersWeightPrecisio
     }
     auto got = run_body("  out_px[i] = vec4(pqg_lookup(px.rgb), 0.0);\n", rc);
     ASSERT_TRUE(got.ok()) << got.error().to_string();
-    const pqg::StripLut ref = pqg::strip_lut(rc.user_lut, rc.params);
+    const pqg::StripLut ref = pqg::strip_lut(rc.user_luts[0], rc.params);
     const double bound = 2.0 * std::ldexp(step, -8) + 1e-6;
     double worst = 0;
     int failures = 0;

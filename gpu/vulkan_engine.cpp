@@ -504,12 +504,14 @@ struct CaseWork {
   Buffer params, input, output, aux0, aux1, scratch, readback;
   Texture lut;
   int lut_format = -1, lut_layout = -1, lut_size = -1;  // what `lut` holds
-  // The case's user LUT (binding kBindingUserLut): an RGBA32F strip N^2 x N, uploaded from
-  // `user_lut_staging` at the start of every case that has one.
-  Texture user_lut;
-  Buffer user_lut_staging;
-  int user_lut_size = -1;            // the N `user_lut` was made for
-  uint32_t descriptor_capacity = 0;  // sets the pool holds
+  // The case's user LUTs (binding kBindingUserLut, one per slot): strips N^2 x N, RGBA32F or
+  // 8-bit UNORM (StageInfo::user_lut_unorm8), uploaded from `user_lut_staging` at the start of
+  // every case that has them.
+  std::array<Texture, kUserLutSlots> user_lut;
+  std::array<Buffer, kUserLutSlots> user_lut_staging;
+  std::array<int, kUserLutSlots> user_lut_size{-1, -1, -1, -1};  // the N each was made for
+  std::array<VkFormat, kUserLutSlots> user_lut_format{};         // and its format
+  uint32_t descriptor_capacity = 0;                              // sets the pool holds
   Owned<VkDescriptorPool, vkDestroyDescriptorPool> descriptor_pool;
   Owned<VkFence, vkDestroyFence> fence;
   struct Commands {
@@ -755,7 +757,7 @@ Status VulkanEngine::State::create_gpu() {
   VkDescriptorSetLayoutBinding bindings[kBindingCount] = {};
   for (uint32_t i = 0; i < kBindingCount; ++i) {
     bindings[i].binding = i;
-    bindings[i].descriptorCount = 1;
+    bindings[i].descriptorCount = i == kBindingUserLut ? kUserLutSlots : 1;
     bindings[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
     bindings[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
   }
@@ -1161,37 +1163,51 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
     }
   }
 
-  // The user LUT: the strip texture the loader made from the case's .cube (ResolvedCase::user_lut),
-  // RGBA32F so that every float32 value of the .cube reaches the sampler unchanged.
-  const bool has_user_lut = !c.user_lut.data.empty();
-  if (has_user_lut) {
+  // The user LUTs: the strip textures the loader made from the case's .cube files
+  // (ResolvedCase::user_luts), RGBA32F so that every float32 value of a .cube reaches the sampler
+  // unchanged. A stage that stores its LUTs 8-bit (StageInfo::user_lut_unorm8, UE's BGRA8) gets
+  // values the loader rounded to k/255 already: the texels a UNORM texture holds. They are bound
+  // as RGBA32F all the same because lavapipe filters UNORM8 textures in 8-bit fixed point and
+  // rounds the filtered result to 8 bits (up to 1/255 off; docs/precision.md), which UE's sampler
+  // on desktop hardware does not.
+  const LutFormat& user_lut_fmt = kLutFormats[2];
+  std::array<bool, kUserLutSlots> has_user_lut{};
+  for (size_t slot = 0; slot < kUserLutSlots; ++slot) {
+    const Image& strip = c.user_luts[slot];
+    has_user_lut[slot] = !strip.data.empty();
+    if (!has_user_lut[slot]) continue;
     const int un = params.user_lut_size;
-    if (un < 2 || un > 256 || c.user_lut.width != un * un || c.user_lut.height != un)
+    if (un < 2 || un > 256 || strip.width != un * un || strip.height != un)
       return Error{"", "",
-                   "the user LUT texture is " + std::to_string(c.user_lut.width) + "x" +
-                       std::to_string(c.user_lut.height) + " for user_lut_size " +
-                       std::to_string(un),
+                   "the user LUT texture in slot " + std::to_string(slot) + " is " +
+                       std::to_string(strip.width) + "x" + std::to_string(strip.height) +
+                       " for user_lut_size " + std::to_string(un),
                    "a strip N^2 x N, N 2-256"};
-    const LutFormat& f32 = kLutFormats[2];
     const VkExtent3D extent{uint32_t(un * un), uint32_t(un), 1};
-    if (Status st = check_lut_format(g.physical, s.info.device, f32, VK_IMAGE_TYPE_2D, extent); !st)
-      return st.error();
-    if (w.user_lut.image && w.user_lut_size != un) release(&w.user_lut);
-    if (!w.user_lut.image) {
-      w.user_lut_size = -1;
-      if (Status st = make_texture(d, g.memory, VK_IMAGE_TYPE_2D, f32.format, extent, &w.user_lut);
-          !st)
-        return st.error();
-      w.user_lut_size = un;
-    }
-    const VkDeviceSize bytes = c.user_lut.pixel_count() * 16;
-    if (Status st = ensure_buffer(d, g.memory, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
-                                  &w.user_lut_staging);
+    if (Status st =
+            check_lut_format(g.physical, s.info.device, user_lut_fmt, VK_IMAGE_TYPE_2D, extent);
         !st)
       return st.error();
-    float* dst = static_cast<float*>(w.user_lut_staging.mapped);
-    for (size_t i = 0; i < c.user_lut.data.size(); ++i)
-      dst[i] = static_cast<float>(c.user_lut.data[i]);
+    Texture& tex = w.user_lut[slot];
+    if (tex.image &&
+        (w.user_lut_size[slot] != un || w.user_lut_format[slot] != user_lut_fmt.format))
+      release(&tex);
+    if (!tex.image) {
+      w.user_lut_size[slot] = -1;
+      if (Status st =
+              make_texture(d, g.memory, VK_IMAGE_TYPE_2D, user_lut_fmt.format, extent, &tex);
+          !st)
+        return st.error();
+      w.user_lut_size[slot] = un;
+      w.user_lut_format[slot] = user_lut_fmt.format;
+    }
+    const VkDeviceSize bytes = strip.pixel_count() * user_lut_fmt.texel_bytes;
+    if (Status st = ensure_buffer(d, g.memory, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+                                  &w.user_lut_staging[slot]);
+        !st)
+      return st.error();
+    float* dst = static_cast<float*>(w.user_lut_staging[slot].mapped);
+    for (size_t i = 0; i < strip.data.size(); ++i) dst[i] = static_cast<float>(strip.data[i]);
   }
 
   // Buffers. Sizes are at least 16 bytes (a zero-sized buffer is invalid).
@@ -1246,7 +1262,7 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
     const VkDescriptorPoolSize pool_sizes[] = {
         {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 6 * capacity},
         {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 2 * capacity},
-        {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 3 * capacity}};
+        {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, (2 + kUserLutSlots) * capacity}};
     VkDescriptorPoolCreateInfo dpci{};
     dpci.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
     dpci.maxSets = capacity;
@@ -1301,8 +1317,14 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
         {},
         {},
         {},
-        {g.sampler.handle, has_user_lut ? w.user_lut.view : g.dummy_2d.view,
+        {g.sampler.handle, has_user_lut[0] ? w.user_lut[0].view : g.dummy_2d.view,
          VK_IMAGE_LAYOUT_GENERAL}};
+    // The user-LUT slots (binding kBindingUserLut is an array): a 1-texel dummy where empty.
+    VkDescriptorImageInfo user_luts[kUserLutSlots];
+    for (size_t slot = 0; slot < kUserLutSlots; ++slot)
+      user_luts[slot] = {g.sampler.handle,
+                         has_user_lut[slot] ? w.user_lut[slot].view : g.dummy_2d.view,
+                         VK_IMAGE_LAYOUT_GENERAL};
     VkWriteDescriptorSet writes[kBindingCount] = {};
     for (uint32_t b = 0; b < kBindingCount; ++b) {
       writes[b].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
@@ -1312,7 +1334,11 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
       if (b == kBindingLutStore3d || b == kBindingLutStore2d) {
         writes[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
         writes[b].pImageInfo = &images[b];
-      } else if (b == kBindingLut3d || b == kBindingLut2d || b == kBindingUserLut) {
+      } else if (b == kBindingUserLut) {
+        writes[b].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+        writes[b].descriptorCount = kUserLutSlots;
+        writes[b].pImageInfo = user_luts;
+      } else if (b == kBindingLut3d || b == kBindingLut2d) {
         writes[b].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
         writes[b].pImageInfo = &images[b];
       } else {
@@ -1342,9 +1368,11 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
   bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   HDRC_VK_CASE(vkBeginCommandBuffer(cmd, &bi));
   if (bakes_lut) record_clear_to_general(cmd, w.lut.image);
-  if (has_user_lut)
-    record_upload_to_general(cmd, w.user_lut_staging.buffer, w.user_lut.image,
-                             {uint32_t(c.user_lut.width), uint32_t(c.user_lut.height), 1});
+  for (size_t slot = 0; slot < kUserLutSlots; ++slot)
+    if (has_user_lut[slot])
+      record_upload_to_general(
+          cmd, w.user_lut_staging[slot].buffer, w.user_lut[slot].image,
+          {uint32_t(c.user_luts[slot].width), uint32_t(c.user_luts[slot].height), 1});
 
   const uint32_t max_groups = std::max<uint32_t>(g.limits.maxComputeWorkGroupCount[0], 1);
   for (size_t i = 0; i < stage.passes.size(); ++i) {

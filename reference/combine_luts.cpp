@@ -88,7 +88,8 @@ aces::AcesShaderParams aces_params(const ParamBlock& p) {
   return aces::compute_aces_tonemap_params(packed);
 }
 
-Vec3 combine_luts_texel(const ParamBlock& p, const Vec3& lattice, CombineLutsTrace* trace) {
+Vec3 combine_luts_texel(const ParamBlock& p, const Vec3& lattice, CombineLutsTrace* trace,
+                        const UeLutSet* luts) {
   CombineLutsTrace t;
   t.lattice = lattice;
   const int device = p.output_device;
@@ -119,8 +120,12 @@ Vec3 combine_luts_texel(const ParamBlock& p, const Vec3& lattice, CombineLutsTra
   film.blue_correction = p.blue_correction;
   film.tone_curve_amount = p.tone_curve_amount;
   film.film = {p.film_slope, p.film_toe, p.film_shoulder, p.film_black_clip, p.film_white_clip};
+  // §4.9 the user LUT blend (only for BLENDCOUNT > 1), between FilmColor = max(0, FromAP1 ·
+  // ColorAP1) and ColorCorrection (docs/ue55-lut-blend-spec.md §3.1 steps 8-10).
+  Vec3 film_tone_mapped = grading::film_color(t.color_corrected, film, wcs);
+  if (luts && p.lut_blend_count > 1) film_tone_mapped = blend_user_luts(film_tone_mapped, p, *luts);
   const Vec3 film_color = grading::apply_mapping_polynomial(
-      grading::film_color(t.color_corrected, film, wcs),
+      film_tone_mapped,
       {p.mapping_polynomial[0], p.mapping_polynomial[1], p.mapping_polynomial[2]});
   t.film = grading::apply_fade(film_color, fade);  // FilmColorNoGamma
   const Vec3 film_gamma = grading::apply_film_gamma(
@@ -238,7 +243,7 @@ TexelRange stored_range(const ParamBlock& p, const grading::InverseGamma& invers
   return t;
 }
 
-TexelEvaluator::TexelEvaluator(const ParamBlock& p)
+TexelEvaluator::TexelEvaluator(const ParamBlock& p, const UeLutSet* luts)
     : p_(p),
       cc_(color_correct_params(p)),
       wcs_(working_color_space(p)),
@@ -246,7 +251,8 @@ TexelEvaluator::TexelEvaluator(const ParamBlock& p)
             {p.overlay_color[0], p.overlay_color[1], p.overlay_color[2], p.overlay_color[3]}},
       polynomial_{p.mapping_polynomial[0], p.mapping_polynomial[1], p.mapping_polynomial[2]},
       inverse_gamma_{p.inverse_gamma[0], p.inverse_gamma[1], p.inverse_gamma[2]},
-      aces_(aces_params(p)) {
+      aces_(aces_params(p)),
+      luts_(luts) {
   film_.blue_correction = p.blue_correction;
   film_.tone_curve_amount = p.tone_curve_amount;
   film_.film = {p.film_slope, p.film_toe, p.film_shoulder, p.film_black_clip, p.film_white_clip};
@@ -257,7 +263,7 @@ Vec3 TexelEvaluator::operator()(const Vec3& lattice, TexelRange* range) const {
   const ParamBlock& p = p_;
   if (!fast_paths()) {
     CombineLutsTrace t;
-    const Vec3 stored = combine_luts_texel(p, lattice, range ? &t : nullptr);
+    const Vec3 stored = combine_luts_texel(p, lattice, range ? &t : nullptr, luts_);
     if (range) {
       const Mat3& to_output = p.ap1_to_output;
       const int d = p.output_device;
@@ -299,8 +305,10 @@ Vec3 TexelEvaluator::operator()(const Vec3& lattice, TexelRange* range) const {
       if (range) *range = {};
     }
   } else {
-    const Vec3 film_color =
-        grading::apply_mapping_polynomial(grading::film_color(corrected, film_, wcs_), polynomial_);
+    Vec3 film_tone_mapped = grading::film_color(corrected, film_, wcs_);
+    if (luts_ && p.lut_blend_count > 1)
+      film_tone_mapped = blend_user_luts(film_tone_mapped, p, *luts_);
+    const Vec3 film_color = grading::apply_mapping_polynomial(film_tone_mapped, polynomial_);
     const Vec3 film = grading::apply_fade(film_color, fade_);
     if (range) *range = stored_range(p, inverse_gamma_, film, {});
     if (device == 9) {
@@ -350,13 +358,13 @@ Vec3 lattice_coordinate(int layout, int size, int r, int g, int b) {
   return {fr * n / n1, uy * n / n1, fb * n / n1};
 }
 
-BakedLut bake_lut(const ParamBlock& p) {
+BakedLut bake_lut(const ParamBlock& p, const UeLutSet* luts) {
   BakedLut lut;
   lut.size = p.lut_size;
   lut.layout = p.lut_layout;
   const int n = p.lut_size;
   lut.texels.resize(static_cast<size_t>(n) * n * n);
-  const TexelEvaluator texel(p);
+  const TexelEvaluator texel(p, luts);
   for (int b = 0; b < n; ++b)
     for (int g = 0; g < n; ++g)
       for (int r = 0; r < n; ++r) {

@@ -14,6 +14,7 @@
 #include "reference/grading/color_correct.h"
 #include "reference/grading/color_polynomial.h"
 #include "reference/grading/film_tonemap.h"
+#include "reference/ue_lut_blend.h"
 
 namespace hdrc::ref {
 
@@ -37,8 +38,11 @@ struct CombineLutsTrace {
 aces::AcesShaderParams aces_params(const ParamBlock& p);
 
 // The colour function at a lattice coordinate (each channel in [0, 1]).
-Vec3 combine_luts_texel(const ParamBlock& p, const Vec3& lattice,
-                        CombineLutsTrace* trace = nullptr);
+// `luts`: the user colour-grading LUTs of the blend (P.lut_blend_count > 1; docs/ue55-lut-blend-
+// spec.md §3), blended into FilmColor after the film tone curve and before r.Color's polynomial;
+// nullptr: no blend.
+Vec3 combine_luts_texel(const ParamBlock& p, const Vec3& lattice, CombineLutsTrace* trace = nullptr,
+                        const UeLutSet* luts = nullptr);
 
 // What a texel's stored value (OutDeviceColor / 1.05) may be in a correct float32 evaluation where
 // float32 cannot decide it (reference/color/noise_range.h): a channel within float32 noise of zero
@@ -62,7 +66,7 @@ TexelRange stored_range(const ParamBlock& p, const grading::InverseGamma& invers
 // Used by the bake and the analytic tonemapper, once per parameter set.
 class TexelEvaluator {
  public:
-  explicit TexelEvaluator(const ParamBlock& p);
+  explicit TexelEvaluator(const ParamBlock& p, const UeLutSet* luts = nullptr);
   // range: also the stored value's admissible range (TexelRange).
   Vec3 operator()(const Vec3& lattice, TexelRange* range = nullptr) const;
 
@@ -75,6 +79,7 @@ class TexelEvaluator {
   grading::MappingPolynomial polynomial_;
   grading::InverseGamma inverse_gamma_;
   aces::AcesShaderParams aces_;
+  const UeLutSet* luts_;  // the user LUTs of the blend (nullptr: none); outlives the evaluator
 };
 
 // Rounds a stored value to what the LUT's storage format holds (p.lut_format): 10-bit UNORM
@@ -100,7 +105,8 @@ struct BakedLut {
 
 // Bakes the LUT as the GPU does: volume texels at (i, j, k)/(N−1); 2-D texels with UE's
 // +1e-5/(N−1) bias on r and g from the 0.49999 half-texel trick (spec §4.2).
-BakedLut bake_lut(const ParamBlock& p);
+// `luts`: the user LUTs of the blend (combine_luts_texel).
+BakedLut bake_lut(const ParamBlock& p, const UeLutSet* luts = nullptr);
 
 // The lattice coordinate of texel (r, g, b) for the layout (spec §4.2).
 Vec3 lattice_coordinate(int layout, int size, int r, int g, int b);

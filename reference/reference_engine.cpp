@@ -161,8 +161,15 @@ Result<Image> ReferenceEngine::run(const ResolvedCase& c) {
 
 Result<Image> run_ue55(const ResolvedCase& c, bool analytic_lut) {
   switch (c.spec.stage->id) {
-    case StageId::kCombineLuts:
+    case StageId::kCombineLuts: {
+      // With user LUTs blended the bake depends on their texels, which the cache's key (the
+      // parameter block) does not hold: baked directly.
+      if (c.params.lut_blend_count > 1) {
+        const UeLutSet luts = ue_lut_set(c.user_luts);
+        return lut_image(bake_lut(c.params, &luts));
+      }
       return lut_image(*cached_bake_lut(c.params));
+    }
     case StageId::kTonemap: {
       const auto lut =
           analytic_lut ? decltype(cached_bake_lut(c.params)){} : cached_bake_lut(c.params);

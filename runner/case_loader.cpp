@@ -549,6 +549,7 @@ struct Dim {
 };
 
 constexpr size_t kMaxIdLength = 160;
+constexpr size_t kMaxLutBlendSteps = 8;  // "lut_blend" entries a case may list
 
 }  // namespace
 
@@ -625,18 +626,35 @@ Result<std::shared_ptr<const UserLut>> read_user_lut(const std::string& cases_di
 
 Status attach_user_lut(const std::shared_ptr<const UserLut>& lut, ResolvedCase* r) {
   r->spec.lut = lut;
-  r->user_lut = Image();
+  std::array<std::shared_ptr<const UserLut>, kUserLutSlots> slots{};
+  slots[0] = lut;
+  return attach_user_luts(slots, r);
+}
+
+Status attach_user_luts(const std::array<std::shared_ptr<const UserLut>, kUserLutSlots>& slots,
+                        ResolvedCase* r) {
+  for (Image& img : r->user_luts) img = Image();
   r->params.user_lut_size = 0;
   r->params.user_lut_domain_min = {0, 0, 0, 0};
   r->params.user_lut_domain_max = {0, 0, 0, 0};
-  if (!lut) return {};
-  r->user_lut = user_lut_strip(*lut);
-  if (r->user_lut.data.empty())
-    return Error{r->spec.file, "/lut", "LUT \"" + lut->name + "\" has an inconsistent table", ""};
-  r->params.user_lut_size = lut->size;
-  for (int i = 0; i < 3; ++i) {
-    r->params.user_lut_domain_min[i] = lut->domain_min[i];
-    r->params.user_lut_domain_max[i] = lut->domain_max[i];
+  const bool unorm8 = r->spec.stage && r->spec.stage->user_lut_unorm8;
+  for (size_t s = 0; s < slots.size(); ++s) {
+    const std::shared_ptr<const UserLut>& lut = slots[s];
+    if (!lut) continue;
+    Image strip = user_lut_strip(*lut);
+    if (strip.data.empty() ||
+        (r->params.user_lut_size != 0 && lut->size != r->params.user_lut_size))
+      return Error{r->spec.file, "/lut", "LUT \"" + lut->name + "\" has an inconsistent table", ""};
+    // 8-bit UNORM storage (StageInfo::user_lut_unorm8): rounded once here, for both engines.
+    if (unorm8)
+      for (double& v : strip.data) v = unorm8_value(v);
+    r->user_luts[s] = std::move(strip);
+    if (r->params.user_lut_size != 0) continue;
+    r->params.user_lut_size = lut->size;
+    for (int i = 0; i < 3; ++i) {
+      r->params.user_lut_domain_min[i] = lut->domain_min[i];
+      r->params.user_lut_domain_max[i] = lut->domain_max[i];
+    }
   }
   return {};
 }
@@ -746,7 +764,7 @@ std::vector<Case> parse_case_file(const std::string& file, const std::string& te
   p.check_keys(
       doc, "",
       {"$schema", "description", "pipeline", "stage", "preset", "cvars", "settings", "input",
-       "bloom", "bloom_dirt", "lut", "matrix", "tolerance", "pins_nonfinite", "tier"});
+       "bloom", "bloom_dirt", "lut", "lut_blend", "matrix", "tolerance", "pins_nonfinite", "tier"});
 
   Case base;
   base.file = file;
@@ -860,11 +878,44 @@ std::vector<Case> parse_case_file(const std::string& file, const std::string& te
              user_lut_stage_names());
     else
       base.lut = p.lut(doc["lut"], "/lut", base.stage);
-  } else if (base.stage && base.stage->user_lut != 0 &&
+  } else if (base.stage && base.stage->user_lut != 0 && !base.stage->user_lut_optional &&
              !(doc.contains("matrix") && doc["matrix"].is_object() &&
                doc["matrix"].contains("luts"))) {
     p.fail("/lut", "stage " + std::string(base.stage->name) + " needs a user LUT",
            "\"lut\": a .cube path under cases/, or \"matrix\": {\"luts\": [...]}");
+  }
+  if (doc.contains("lut_blend")) {
+    // Further post-process sources' LUTs, each a LerpTo(LUT, weight) after the case's "lut"
+    // (docs/cases.md): only for a stage that binds several LUTs.
+    const json& l = doc["lut_blend"];
+    if (base.stage && base.stage->user_lut_slots <= 1) {
+      std::string takers;
+      for (const Pipeline* pl : pipeline_table())
+        for (const StageInfo& st : pl->stages())
+          if (st.user_lut_slots > 1) takers += (takers.empty() ? "" : ", ") + std::string(st.name);
+      p.fail("/lut_blend", "stage " + std::string(base.stage->name) + " blends no LUTs",
+             "stages that do: " + takers);
+    } else if (!l.is_array() || l.empty() || l.size() > kMaxLutBlendSteps) {
+      p.fail("/lut_blend", "expected an array of 1-" + std::to_string(kMaxLutBlendSteps) +
+                               " {\"lut\": PATH, \"weight\": W} objects, got " + show(l));
+    } else {
+      for (size_t i = 0; i < l.size(); ++i) {
+        const std::string at = "/lut_blend/" + std::to_string(i);
+        const json& e = l[i];
+        if (!e.is_object() || !e.contains("lut") || !e.contains("weight") || e.size() != 2) {
+          p.fail(at, "expected {\"lut\": PATH, \"weight\": W}, got " + show(e), "keys lut, weight");
+          continue;
+        }
+        const json& w = e["weight"];
+        if (!w.is_number() || !(w.get<double>() >= 0.0 && w.get<double>() <= 1.0)) {
+          p.fail(at + "/weight", "expected a LerpTo weight in [0, 1], got " + show(w),
+                 "a number in [0, 1]");
+          continue;
+        }
+        auto lut = p.lut(e["lut"], at + "/lut", base.stage);
+        if (lut) base.lut_blend.push_back({lut, w.get<double>()});
+      }
+    }
   }
   if (doc.contains("tolerance"))
     p.tolerance(doc["tolerance"], "/tolerance", defaults, &base.tolerance);
@@ -1393,8 +1444,12 @@ Result<ResolvedCase> resolve_case(const Case& c) {
   if (!resolution) return resolution.error();
   r.params = resolution->params;
   r.degenerate = resolution->degenerate;
-  // The user LUT, for every pipeline alike: its strip texture and P.user_lut_*.
-  if (Status st = attach_user_lut(c.lut, &r); !st) return st.error();
+  // The user LUTs, for every pipeline alike: the strip textures of the LUTs the host derivation
+  // chose for the slots (by default the case's "lut" alone), and P.user_lut_*.
+  r.spec.lut = c.lut;
+  std::array<std::shared_ptr<const UserLut>, kUserLutSlots> slots = resolution->user_luts;
+  if (c.stage->user_lut_slots <= 1) slots = {c.lut, nullptr, nullptr, nullptr};
+  if (Status st = attach_user_luts(slots, &r); !st) return st.error();
   return r;
 }
 

@@ -111,5 +111,10 @@ std::string user_lut_choices(const std::string& cases_dir, const StageInfo* stag
 // Gives `r` the user LUT (null: none): spec.lut, the strip texture user_lut and
 // P.user_lut_size / user_lut_domain_min / _max (zeros without one).
 Status attach_user_lut(const std::shared_ptr<const UserLut>& lut, ResolvedCase* r);
+// Gives `r` the strip textures of `slots` (binding kBindingUserLut, slot by slot; null: none),
+// rounded to 8-bit UNORM for a stage with StageInfo::user_lut_unorm8, and P.user_lut_* (the
+// first LUT's size and domain; every LUT must have that size).
+Status attach_user_luts(const std::array<std::shared_ptr<const UserLut>, kUserLutSlots>& slots,
+                        ResolvedCase* r);
 
 }  // namespace hdrc

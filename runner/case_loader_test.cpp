@@ -47,6 +47,7 @@ const BadCase kBadCases[] = {
     {"unknown_key", R"({"stage": "shaper", "inptu": 1, "input": {"stimulus": "log_ramp"}})",
      "t.json: /inptu: unknown key 'inptu', did you mean 'input'?; valid choices: $schema, "
      "description, pipeline, stage, preset, cvars, settings, input, bloom, bloom_dirt, lut, "
+     "lut_blend, "
      "matrix, tolerance, pins_nonfinite, tier"},
     {"unknown_cvar",
      R"({"stage": "shaper", "cvars": {"r.HDR.Display.OutputDevise": 3}, "input": {"stimulus": "log_ramp"}})",
@@ -166,8 +167,32 @@ const BadCase kBadCases[] = {
      "cases/, or \"matrix\": {\"luts\": [...]}"},
     {"lut_on_stage_without_one",
      R"({"stage": "shaper", "input": {"stimulus": "log_ramp"}, "lut": "lut/cube/pq_identity_33.cube"})",
-     "t.json: /lut: stage shaper takes no user LUT; valid choices: stages that take one: pq_grade "
-     "(pq_grading)"},
+     "t.json: /lut: stage shaper takes no user LUT; valid choices: stages that take one: "
+     "combine_luts (ue55), pq_grade (pq_grading)"},
+    {"color_grading_intensity_out_of_range",
+     R"({"stage": "combine_luts", "lut": "lut/cube/ue16_hue.cube", "settings": {"ColorGradingIntensity": 1.5}})",
+     "t.json: /settings/ColorGradingIntensity: setting ColorGradingIntensity = 1.5 is out of "
+     "range; valid choices: 0 to 1"},
+    {"lut_blend_on_stage_without_one",
+     R"({"pipeline": "pq_grading", "stage": "pq_grade", "input": {"stimulus": "log_ramp"}, "lut": "lut/cube/pq_identity_33.cube", "lut_blend": [{"lut": "lut/cube/pq_look_33.cube", "weight": 0.5}]})",
+     "t.json: /lut_blend: stage pq_grade blends no LUTs; valid choices: stages that do: "
+     "combine_luts"},
+    {"lut_blend_weight_out_of_range",
+     R"({"stage": "combine_luts", "lut": "lut/cube/ue16_hue.cube", "lut_blend": [{"lut": "lut/cube/ue16_square.cube", "weight": 1.5}]})",
+     "t.json: /lut_blend/0/weight: expected a LerpTo weight in [0, 1], got 1.5; valid choices: a "
+     "number in [0, 1]"},
+    {"lut_blend_entry_without_weight",
+     R"({"stage": "combine_luts", "lut_blend": [{"lut": "lut/cube/ue16_square.cube"}]})",
+     "t.json: /lut_blend/0: expected {\"lut\": PATH, \"weight\": W}, got "
+     "{\"lut\":\"lut/cube/ue16_square.cube\"}; valid choices: keys lut, weight"},
+    {"lut_blend_empty", R"({"stage": "combine_luts", "lut_blend": []})",
+     "t.json: /lut_blend: expected an array of 1-8 {\"lut\": PATH, \"weight\": W} objects, got "
+     "[]"},
+    {"lut_blend_wrong_size",
+     R"({"stage": "combine_luts", "lut_blend": [{"lut": "lut/cube/identity_17.cube", "weight": 0.5}]})",
+     "t.json: /lut_blend/0/lut: LUT file \"lut/cube/identity_17.cube\" has LUT_3D_SIZE 17; stage "
+     "combine_luts takes a 16^3 LUT; valid choices: a .cube file under CASES with one 3-D table of "
+     "LUT_3D_SIZE 16"},
     {"lut_not_a_string",
      R"({"pipeline": "pq_grading", "stage": "pq_grade", "input": {"stimulus": "log_ramp"}, "lut": 3})",
      "t.json: /lut: expected a .cube path string, got 3; valid choices: a .cube file under CASES "
@@ -419,6 +444,12 @@ TEST(CaseLoader, TheDefaultSuiteLoads) {
                                                   {"lut/grading_film", 15},
                                                   {"lut/grading_white", 14},
                                                   {"lut/storage", 13},
+                                                  {"lut/user_lut/blend3", 5},
+                                                  {"lut/user_lut/blend4", 5},
+                                                  {"lut/user_lut/blend5", 5},
+                                                  {"lut/user_lut/intensity", 45},
+                                                  {"lut/user_lut/storage", 12},
+                                                  {"lut/user_lut/tie", 2},
                                                   {"lut/working_color_space", 71},
                                                   {"lut/working_color_space_custom", 50},
                                                   {"operators/exposure", 30},
@@ -461,7 +492,7 @@ TEST(CaseLoader, TheDefaultSuiteLoads) {
                                                   {"visualize/visualize_hdr", 30},
                                                   {"visualize/working_color_space", 21}};
   EXPECT_EQ(per_file, expected);
-  EXPECT_EQ(loaded.cases.size(), 1334u);
+  EXPECT_EQ(loaded.cases.size(), 1408u);
   for (const auto& c : loaded.cases) EXPECT_NE(c.tolerance.source, "default") << c.id;
 }
 

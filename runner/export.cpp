@@ -143,7 +143,11 @@ std::vector<AuxImage> images_of(const ResolvedCase& rc) {
   if (rc.ui.width > 0) out.push_back({"ui", &rc.ui});
   if (rc.bloom.width > 0) out.push_back({"bloom", &rc.bloom});
   if (rc.bloom_dirt.width > 0) out.push_back({"bloom_dirt", &rc.bloom_dirt});
-  if (rc.user_lut.width > 0) out.push_back({"user_lut", &rc.user_lut});
+  // The user-LUT slots: user_lut, user_lut_1, user_lut_2, user_lut_3 (kBindingUserLut's elements).
+  static const char* const kUserLutNames[kUserLutSlots] = {"user_lut", "user_lut_1", "user_lut_2",
+                                                           "user_lut_3"};
+  for (size_t s = 0; s < kUserLutSlots; ++s)
+    if (rc.user_luts[s].width > 0) out.push_back({kUserLutNames[s], &rc.user_luts[s]});
   return out;
 }
 
@@ -368,11 +372,21 @@ json storage_json(const ResolvedCase& rc) {
 // the engines bind (images/user_lut) and how it is sampled.
 json user_lut_json(const ResolvedCase& rc) {
   const UserLut* lut = rc.spec.lut.get();
-  if (!lut) return nullptr;
+  if (!lut && !rc.has_user_lut()) return nullptr;
   const ParamBlock& p = rc.params;
-  return {{"cube", "user_lut.cube"},
-          {"source", lut->name},
-          {"title", lut->title},
+  json textures = json::array();
+  for (size_t s = 0; s < kUserLutSlots; ++s)
+    if (rc.user_luts[s].width > 0)
+      textures.push_back(s == 0 ? std::string("user_lut.exr")
+                                : "user_lut_" + std::to_string(s) + ".exr");
+  const bool unorm8 = rc.spec.stage && rc.spec.stage->user_lut_unorm8;
+  return {{"cube", lut ? json("user_lut.cube") : json(nullptr)},
+          {"source", lut ? json(lut->name) : json(nullptr)},
+          {"title", lut ? json(lut->title) : json(nullptr)},
+          {"textures", textures},
+          {"slots", "binding " + std::to_string(kBindingUserLut) + " is sampler2D user_lut[" +
+                        std::to_string(kUserLutSlots) +
+                        "]: textures[i] in element i, a 1-texel dummy in the rest"},
           {"size", p.user_lut_size},
           {"domain_min",
            {p.user_lut_domain_min[0], p.user_lut_domain_min[1], p.user_lut_domain_min[2]}},
@@ -381,7 +395,9 @@ json user_lut_json(const ResolvedCase& rc) {
           {"texture", "user_lut.exr"},
           {"layout", "strip N^2 x N: .cube row (r, g, b) at texel (r + N b, g), alpha 1"},
           {"binding", kBindingUserLut},
-          {"format", "VK_FORMAT_R32G32B32A32_SFLOAT"},
+          {"format", unorm8 ? "VK_FORMAT_R32G32B32A32_SFLOAT holding 8-bit UNORM values k/255 "
+                              "(rounded once by the host; the texels of UE's BGRA8 texture)"
+                            : "VK_FORMAT_R32G32B32A32_SFLOAT"},
           {"sampler", "linear filtering, clamp-to-edge, normalised coordinates"}};
 }
 
@@ -473,11 +489,14 @@ Result<ResolvedCase> load_exported_case(const std::string& params_path) {
                     : name == "ui"         ? &rc.ui
                     : name == "bloom"      ? &rc.bloom
                     : name == "bloom_dirt" ? &rc.bloom_dirt
-                    : name == "user_lut"   ? &rc.user_lut
+                    : name == "user_lut"   ? &rc.user_luts[0]
+                    : name == "user_lut_1" ? &rc.user_luts[1]
+                    : name == "user_lut_2" ? &rc.user_luts[2]
+                    : name == "user_lut_3" ? &rc.user_luts[3]
                                            : nullptr;
     if (!target)
       return Error{params_path, "/images/" + name, "unknown image '" + name + "'",
-                   "input, ui, bloom, bloom_dirt, user_lut"};
+                   "input, ui, bloom, bloom_dirt, user_lut, user_lut_1, user_lut_2, user_lut_3"};
     if (!it.value().contains("file") || !it.value()["file"].is_string())
       return Error{params_path, "/images/" + name + "/file", "missing file name", ""};
     auto img = read_image((dir / it.value()["file"].get<std::string>()).string());

@@ -214,6 +214,12 @@ std::string case_hash(const Case& c) {
   j["bloom"] = input_json(c.bloom);
   j["bloom_dirt"] = input_json(c.bloom_dirt);
   if (c.lut) j["lut"] = c.lut->name;  // only when present: the hashes of LUT-free cases stay
+  if (!c.lut_blend.empty()) {         // likewise
+    json steps = json::array();
+    for (const LutBlendStep& step : c.lut_blend)
+      steps.push_back({{"lut", step.lut ? step.lut->name : ""}, {"weight", step.weight}});
+    j["lut_blend"] = steps;
+  }
   return sha256_hex(j.dump());
 }
 
@@ -221,7 +227,8 @@ std::string input_hash(const ResolvedCase& r) {
   std::string bytes = image_bytes(r.input);
   for (const Image* img : {&r.bloom, &r.bloom_dirt, &r.ui}) bytes += image_bytes(*img);
   // Only when present: the hashes of LUT-free cases stay as they were.
-  if (!r.user_lut.data.empty()) bytes += image_bytes(r.user_lut);
+  for (const Image& lut : r.user_luts)
+    if (!lut.data.empty()) bytes += image_bytes(lut);
   return sha256_hex(bytes);
 }
 

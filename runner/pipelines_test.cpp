@@ -440,4 +440,82 @@ TEST(Pipelines, PqGradingCasesRenderFromTheirExportAlone) {
   fs::remove_all(out);
 }
 
+// ---- UE's user colour-grading LUT blend (docs/ue55-lut-blend-spec.md, issue 16) ----------------
+
+// A port renders UE's BLENDCOUNT 5 case from its export alone: params.json carries the table
+// (lut_blend_count, LUTWeights) and one strip per slot (user_lut.exr, user_lut_1..3.exr, the
+// 8-bit values the host rounded); the example candidate passes.
+TEST(Pipelines, UeUserLutBlendCasesRenderFromTheirExportAlone) {
+  const fs::path out = temp_dir("ue_lut_export");
+  const Ran v = run("verify --filter 'lut/user_lut/blend5/dev[09]' -j 2 --candidate-cmd '" +
+                    std::string(HDRC_EXAMPLE_CANDIDATE) +
+                    " --params {params} --output {output}' --out " + out.string());
+  EXPECT_EQ(v.code, 0) << v.out;
+  EXPECT_NE(v.out.find("2 passed"), std::string::npos) << v.out;
+  const fs::path dir = out / "cases/lut/user_lut/blend5/dev0";
+  const auto params = nlohmann::json::parse(read(dir / "params.json"));
+  EXPECT_EQ(params["params"]["lut_blend_count"], 5);
+  EXPECT_EQ(params["user_lut"]["textures"].size(), 4u);
+  for (const char* f : {"user_lut.exr", "user_lut_1.exr", "user_lut_2.exr", "user_lut_3.exr"}) {
+    auto img = hdrc::read_image((dir / f).string());
+    ASSERT_TRUE(img.ok()) << f;
+    EXPECT_EQ(img->width, 256) << f;
+    EXPECT_EQ(img->height, 16) << f;
+  }
+  fs::remove_all(out);
+}
+
+std::vector<std::string> failing_user_lut_cases(const std::string& from, const std::string& to,
+                                                std::string* out) {
+  return hdrc::test::planted_shader_failures("lib/ue_lut_blend.glsl", from, to,
+                                             "--filter 'lut/user_lut/*'", out);
+}
+
+// Red and blue swapped in the lookup (a BGRA texture read as RGBA): every case where a LUT
+// changes the colour fails; the HDR device (3), where 5.5 ignores the LUT, and intensity 0
+// (BLENDCOUNT 1: the block is absent) do not.
+TEST(Pipelines, PlantedUeLutRedBlueSwapFailsTheBlendCases) {
+  std::string out;
+  const auto failing = failing_user_lut_cases("return mix(rg0, rg1, frac_w);",
+                                              "return mix(rg0, rg1, frac_w).bgr;", &out);
+  EXPECT_TRUE(
+      contains(failing, "lut/user_lut/intensity/dev0_colorgradingintensity1_lutue16_contrast"))
+      << out;
+  EXPECT_TRUE(contains(failing, "lut/user_lut/intensity/dev9_colorgradingintensity0.5_lutue16_hue"))
+      << out;
+  EXPECT_TRUE(contains(failing, "lut/user_lut/blend5/dev2")) << out;
+  for (const auto& id : failing) {
+    EXPECT_EQ(id.find("/dev3_"), std::string::npos) << id;
+    EXPECT_EQ(id.find("/dev4"), std::string::npos) << id;
+    EXPECT_EQ(id.find("intensity0_"), std::string::npos) << id;
+  }
+}
+
+// A half-texel offset in the 16-point sampling: UVW without UE's + 0.5/16.
+TEST(Pipelines, PlantedUeLutHalfTexelOffsetFailsTheBlendCases) {
+  std::string out;
+  const auto failing = failing_user_lut_cases("gamma_color * (15.0 / 16.0) + 0.5 / 16.0",
+                                              "gamma_color * (15.0 / 16.0)", &out);
+  EXPECT_TRUE(
+      contains(failing, "lut/user_lut/intensity/dev1_colorgradingintensity0.5_lutue16_contrast"))
+      << out;
+  EXPECT_TRUE(contains(failing, "lut/user_lut/blend4/dev0")) << out;
+  for (const auto& id : failing) EXPECT_EQ(id.find("intensity0_"), std::string::npos) << id;
+}
+
+// The neutral weight LUTWeights[0] dropped: the cases where it is not 0 fail (intensity 0.5,
+// BLENDCOUNT 3-5); intensity 1 (weights 0, 1) and the tie (0, 0.5, 0.5) do not.
+TEST(Pipelines, PlantedUeLutNeutralWeightDroppedFailsWhereItIsNotZero) {
+  std::string out;
+  const auto failing = failing_user_lut_cases("vec3 blended = P.lut_weights.x * g;",
+                                              "vec3 blended = vec3(0.0);", &out);
+  EXPECT_TRUE(contains(failing, "lut/user_lut/intensity/dev0_colorgradingintensity0.5_lutue16_hue"))
+      << out;
+  EXPECT_TRUE(contains(failing, "lut/user_lut/blend3/dev9")) << out;
+  for (const auto& id : failing) {
+    EXPECT_EQ(id.find("intensity1_"), std::string::npos) << id;
+    EXPECT_EQ(id.find("/tie/"), std::string::npos) << id;
+  }
+}
+
 }  // namespace

@@ -204,7 +204,7 @@ Status run_pipeline_probe(const Pipeline& pipeline, const ProbeOptions& o, std::
     auto lut = read_user_lut("", o.cube, c.stage);
     if (!lut) return Error{"--cube", o.cube, lut.error().message, lut.error().choices};
     c.lut = *lut;
-  } else if (c.stage->user_lut != 0) {
+  } else if (c.stage->user_lut != 0 && !c.stage->user_lut_optional) {
     return Error{"--cube", "", "stage " + std::string(c.stage->name) + " needs a user LUT",
                  user_lut_choices("", c.stage)};
   }
@@ -239,7 +239,12 @@ Status run_pipeline_probe(const Pipeline& pipeline, const ProbeOptions& o, std::
   auto resolution = pipeline.resolve(c, rc.input.width, 1);
   if (!resolution) return resolution.error();
   rc.params = resolution->params;
-  if (Status st = attach_user_lut(c.lut, &rc); !st) return st;
+  rc.spec.lut = c.lut;
+  if (c.stage->user_lut_slots > 1) {
+    if (Status st = attach_user_luts(resolution->user_luts, &rc); !st) return st;
+  } else if (Status st = attach_user_lut(c.lut, &rc); !st) {
+    return st;
+  }
   auto image = pipeline.reference(rc, /*analytic_lut=*/false);
   if (!image) return image.error();
   std::string pending;

@@ -122,6 +122,23 @@ def main():
           ['TITLE "PQ look over a partial domain"', "LUT_3D_SIZE 33", "DOMAIN_MIN 0.05 0 0.1",
            "DOMAIN_MAX 0.9 0.85 0.95"], rows_3d(33, lo_pq, hi_pq, pq_look))
 
+    # UE 5.5's user colour-grading LUTs (docs/ue55-lut-blend-spec.md §2.9): 16 points, input and
+    # output sRGB-encoded, [0, 1]. Converted with `hdrc lut convert --to strip --origin top`
+    # (256 x 16) they are what UE's ColorGradingLUT texture holds (stored 8-bit by UE's import).
+    write("ue16_identity.cube", "UE 16-point identity, out = in",
+          ['TITLE "UE identity 16"', "LUT_3D_SIZE 16"], rows_3d(16, z, o, ident))
+    write("ue16_square.cube", "UE 16-point per-channel square, out_c = in_c^2 (the spec's LUT A)",
+          ['TITLE "UE square 16"', "LUT_3D_SIZE 16"],
+          rows_3d(16, z, o, lambda r, g, b: (r * r, g * g, b * b)))
+    write("ue16_contrast.cube", "UE 16-point contrast, out_c = smoothstep(in_c) = x^2 (3 - 2x)",
+          ['TITLE "UE contrast 16"', "LUT_3D_SIZE 16"],
+          rows_3d(16, z, o, lambda r, g, b: (smoothstep(r), smoothstep(g), smoothstep(b))))
+    write("ue16_hue.cube", "UE 16-point hue rotation: 30 degrees about the grey axis, clamped",
+          ['TITLE "UE hue rotation 16"', "LUT_3D_SIZE 16"], rows_3d(16, z, o, hue_rotate))
+    write("ue16_swap_rb.cube", "UE 16-point channel swap, out = (b, g, r): red/blue order visible",
+          ['TITLE "UE swap red and blue 16"', "LUT_3D_SIZE 16"],
+          rows_3d(16, z, o, lambda r, g, b: (b, g, r)))
+
 
 if __name__ == "__main__":
     main()

@@ -58,13 +58,13 @@ OutputEncoding encoding(const StageInfo&, const ParamBlock& p) {
 }
 
 Result<Image> reference(const ResolvedCase& c, bool analytic_lut) {
-  if (c.user_lut.data.empty() || c.params.user_lut_size < 2 ||
-      c.user_lut.width != c.params.user_lut_size * c.params.user_lut_size ||
-      c.user_lut.height != c.params.user_lut_size)
+  if (c.user_luts[0].data.empty() || c.params.user_lut_size < 2 ||
+      c.user_luts[0].width != c.params.user_lut_size * c.params.user_lut_size ||
+      c.user_luts[0].height != c.params.user_lut_size)
     return Error{c.spec.file, "/lut",
                  "pq_grade needs the case's user LUT (a strip N^2 x N for user_lut_size N)",
                  "\"lut\": a 33^3 .cube under cases/"};
-  const StripLut lut = strip_lut(c.user_lut, c.params);
+  const StripLut lut = strip_lut(c.user_luts[0], c.params);
   const LutEval eval = analytic_lut ? LutEval::kTrilinear : LutEval::kStrip;
   Image out(c.input.width, c.input.height);
   for (size_t i = 0; i < c.input.pixel_count(); ++i) {

@@ -7,6 +7,7 @@
 #include "reference/aces/aces_params.h"
 #include "reference/grading/color_polynomial.h"
 #include "reference/grading/white_balance.h"
+#include "reference/ue_cpp/lut_blend_table.h"
 
 namespace hdrc::ref {
 
@@ -148,6 +149,34 @@ Result<Resolution> resolve(const Case& c, int width, int height) {
   p.film_shoulder = st.get("FilmShoulder");
   p.film_black_clip = st.get("FilmBlackClip");
   p.film_white_clip = st.get("FilmWhiteClip");
+
+  // The user colour-grading LUTs (docs/ue55-lut-blend-spec.md §2): the case's "lut" as one
+  // post-process source at ColorGradingIntensity (OverridePostProcessSettings, BlendWeight 1),
+  // then each "lut_blend" step as a LerpTo, then GenerateFinalTable once, as UE's C++ does. The
+  // table's textures go to the user-LUT slots (Textures_1..4), its weights to LUTWeights.
+  {
+    std::vector<std::shared_ptr<const UserLut>> luts;  // distinct LUTs: the index is the texture
+    auto id = [&](const std::shared_ptr<const UserLut>& l) {
+      for (size_t i = 0; i < luts.size(); ++i)
+        if (luts[i]->name == l->name) return static_cast<int>(i);
+      luts.push_back(l);
+      return static_cast<int>(luts.size() - 1);
+    };
+    ContributingLuts list;
+    if (c.lut)
+      list.override_from_source(id(c.lut), static_cast<float>(st.get("ColorGradingIntensity")),
+                                1.0f);
+    for (const LutBlendStep& step : c.lut_blend)
+      if (step.lut) list.lerp_to(id(step.lut), static_cast<float>(step.weight));
+    const LutBlendTable table = generate_final_table(list.entries());
+    p.lut_blend_count = table.count;
+    p.lut_weights = {table.weight[0], table.weight[1], table.weight[2], table.weight[3]};
+    p.lut_weight_4 = table.weight[4];
+    if (c.stage && c.stage->user_lut_slots > 1) {
+      for (int i = 1; i < table.count; ++i)
+        r.user_luts[static_cast<size_t>(i - 1)] = luts[static_cast<size_t>(table.lut[i])];
+    }
+  }
   p.cc_shadows_max = st.get("ColorCorrectionShadowsMax");
   p.cc_highlights_min = st.get("ColorCorrectionHighlightsMin");
   p.cc_highlights_max = st.get("ColorCorrectionHighlightsMax");

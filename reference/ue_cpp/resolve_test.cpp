@@ -3,6 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
+#include <memory>
+#include <vector>
+
 namespace {
 
 hdrc::Case make(std::initializer_list<std::pair<const char*, double>> cvars,
@@ -170,6 +174,55 @@ TEST(Resolve, WorkingColorSpaceErrors) {
   ASSERT_FALSE(r);
   EXPECT_NE(r.error().message.find("W (0.3, 0): the white's y must be above 0"), std::string::npos)
       << r.error().message;
+}
+
+// The user colour-grading LUTs (docs/ue55-lut-blend-spec.md §2.7, §2.8): the case's "lut" at
+// ColorGradingIntensity, then its "lut_blend" steps, reduced by GenerateFinalTable into BLENDCOUNT,
+// LUTWeights and the texture slots (Textures_1..4), as the spec's tables give them.
+std::shared_ptr<const hdrc::UserLut> lut_named(const char* name) {
+  auto l = std::make_shared<hdrc::UserLut>();
+  l->name = name;
+  l->size = 16;
+  return l;
+}
+
+TEST(Resolve, UserLutIntensityAndBlendFillTheTable) {
+  const auto a = lut_named("a.cube"), b = lut_named("b.cube");
+  struct Row {
+    double intensity;
+    std::vector<hdrc::LutBlendStep> steps;
+    int count;
+    std::array<double, 5> w;
+    std::vector<std::shared_ptr<const hdrc::UserLut>> slots;
+  };
+  const Row rows[] = {
+      {0.0, {}, 1, {1, 0, 0, 0, 0}, {}},                      // S2
+      {0.5, {}, 2, {0.5, 0.5, 0, 0, 0}, {a}},                 // S3
+      {1.0, {}, 2, {0, 1, 0, 0, 0}, {a}},                     // S4
+      {0.5, {{b, 0.5}}, 3, {0.25, 0.5, 0.25, 0, 0}, {b, a}},  // S5
+      {1.0, {{b, 0.5}}, 3, {0, 0.5, 0.5, 0, 0}, {b, a}},      // S9: the tie
+      {0.5, {{a, 0.5}}, 2, {0.25, 0.75, 0, 0, 0}, {a}},       // S10
+  };
+  for (const Row& r : rows) {
+    hdrc::Case c = make({}, "combine_luts");
+    c.lut = a;
+    c.lut_blend = r.steps;
+    ASSERT_TRUE(c.settings.set("ColorGradingIntensity", {r.intensity, 0, 0, 0}, 1).ok());
+    const auto res = *hdrc::ref::resolve(c, 16, 16);
+    SCOPED_TRACE(testing::Message()
+                 << "intensity " << r.intensity << ", " << r.steps.size() << " steps");
+    EXPECT_EQ(res.params.lut_blend_count, r.count);
+    const std::array<double, 5> w = {res.params.lut_weights[0], res.params.lut_weights[1],
+                                     res.params.lut_weights[2], res.params.lut_weights[3],
+                                     res.params.lut_weight_4};
+    EXPECT_EQ(w, r.w);
+    for (size_t i = 0; i < res.user_luts.size(); ++i)
+      EXPECT_EQ(res.user_luts[i], i < r.slots.size() ? r.slots[i] : nullptr) << "slot " << i;
+  }
+  // Without a LUT: BLENDCOUNT 1, neutral weight 1, on every stage.
+  const auto plain = *hdrc::ref::resolve(make({}, "tonemap"), 1, 1);
+  EXPECT_EQ(plain.params.lut_blend_count, 1);
+  EXPECT_EQ(plain.params.lut_weights[0], 1.0);
 }
 
 }  // namespace

@@ -13,6 +13,7 @@
 #include "lut_shaper.glsl"
 #include "matrix.glsl"
 #include "output_device.glsl"
+#include "ue_lut_blend.glsl"
 #include "white_balance.glsl"
 
 // UE stores OutDeviceColor / 1.05 and the tonemapper multiplies by 1.05 again (spec §4.12).
@@ -35,8 +36,12 @@ vec3 combine_luts_device_color(vec3 lattice) {
     return encode_aces_pq(device, aces_output_transforms_1000(graded));
   }
 
-  // The SDR film path (devices 0-2 and 9, §4.8, §4.10, §4.11): FilmColorNoGamma.
-  vec3 film = apply_fade(apply_mapping_polynomial(film_color(color_corrected)));
+  // The SDR film path (devices 0-2 and 9, §4.8, §4.10, §4.11): FilmColorNoGamma, with the user
+  // LUT blend (BLENDCOUNT > 1, docs/ue55-lut-blend-spec.md §3) between the film tone curve and
+  // r.Color's polynomial. The branch is uniform over the dispatch.
+  vec3 film_tone_mapped = film_color(color_corrected);
+  if (P.lut_blend_count > 1) film_tone_mapped = ue_lut_blend(film_tone_mapped);
+  vec3 film = apply_fade(apply_mapping_polynomial(film_tone_mapped));
   if (device == 9) return encode_linear_with_tone_curve(film);
   vec3 film_gamma = apply_film_gamma(film);
   if (device == 0) return encode_sdr_srgb(film_gamma);

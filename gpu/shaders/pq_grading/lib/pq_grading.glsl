@@ -53,8 +53,8 @@ vec3 pqg_sample_strip(vec3 t) {
   float int_w = floor(w);
   float frac_w = w - int_w;
   float u = (uvw.r + int_w) / n;
-  vec3 s0 = textureLod(user_lut, vec2(u, uvw.g), 0.0).rgb;
-  vec3 s1 = textureLod(user_lut, vec2(u + 1.0 / n, uvw.g), 0.0).rgb;
+  vec3 s0 = textureLod(user_lut[0], vec2(u, uvw.g), 0.0).rgb;
+  vec3 s1 = textureLod(user_lut[0], vec2(u + 1.0 / n, uvw.g), 0.0).rgb;
   return lerp_d3d(s0, s1, frac_w);
 }
 
