@@ -41,7 +41,7 @@ void main() {
   int i = int(gl_GlobalInvocationID.x);
   if (i >= n * n * n) return;
   ivec3 rgb = ivec3(i % n, (i / n) % n, i / (n * n));
-  imageStore(lut_store_3d, rgb, texelFetch(user_lut, ivec2(rgb.r + n * rgb.b, rgb.g), 0));
+  imageStore(lut_store_3d, rgb, texelFetch(user_lut[0], ivec2(rgb.r + n * rgb.b, rgb.g), 0));
 }
 )";
 
@@ -221,7 +221,7 @@ TEST(CubeSamplingShader, VolumeAndStripAreTrilinearWithinTheSamplersPrecision) {
     lut->size = n;
     lut->table = cube->table_3d;
     rc.spec.lut = lut;
-    rc.user_lut = hdrc::user_lut_strip(*lut);
+    rc.user_luts[0] = hdrc::user_lut_strip(*lut);
     rc.params.user_lut_size = n;
     for (int c = 0; c < 3; ++c) {
       rc.params.user_lut_domain_min[c] = 0.0;
