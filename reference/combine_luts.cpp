@@ -9,6 +9,7 @@
 #include "reference/color/d3d_math.h"
 #include "reference/color/fast_paths.h"
 #include "reference/color/gamma_correction.h"
+#include "reference/color/linear_tap.h"
 #include "reference/color/noise_range.h"
 #include "reference/color/st2084.h"
 #include "reference/color/ue_matrices.h"
@@ -420,18 +421,7 @@ BakedLut bake_lut(const ParamBlock& p, const UeLutSet* luts) {
 
 namespace {
 
-// Linear interpolation between texels along one axis with clamp-to-edge addressing, in texel
-// space: coordinate t = uvw·N − 0.5.
-struct Tap {
-  int i0, i1;
-  double f;
-};
-Tap tap(double t, int n) {
-  const double fl = std::floor(t);
-  const double f = t - fl;
-  const int i = static_cast<int>(fl);
-  return {std::clamp(i, 0, n - 1), std::clamp(i + 1, 0, n - 1), f};
-}
+using Tap = LinearTap;  // reference/color/linear_tap.h
 
 Vec3 mix(const Vec3& a, const Vec3& b, double f) {
   return {a[0] + (b[0] - a[0]) * f, a[1] + (b[1] - a[1]) * f, a[2] + (b[2] - a[2]) * f};
@@ -443,8 +433,8 @@ template <class At, class Lerp>
 auto sample_texels(const BakedLut& lut, const Vec3& uvw, At at, Lerp lerp) {
   const int n = lut.size;
   if (lut.layout == 0) {
-    const Tap tr = tap(uvw[0] * n - 0.5, n), tg = tap(uvw[1] * n - 0.5, n),
-              tb = tap(uvw[2] * n - 0.5, n);
+    const Tap tr = linear_tap(uvw[0] * n - 0.5, n), tg = linear_tap(uvw[1] * n - 0.5, n),
+              tb = linear_tap(uvw[2] * n - 0.5, n);
     auto plane = [&](int b) {
       return lerp(lerp(at(tr.i0, tg.i0, b), at(tr.i1, tg.i0, b), tr.f),
                   lerp(at(tr.i0, tg.i1, b), at(tr.i1, tg.i1, b), tr.f), tg.f);
@@ -458,8 +448,8 @@ auto sample_texels(const BakedLut& lut, const Vec3& uvw, At at, Lerp lerp) {
   const double frac_w = w - int_w;
   const double u0 = (uvw[0] + int_w) / n;
   auto sample_2d = [&](double u, double v) {
-    const Tap tx = tap(u * n * n - 0.5, n * n);
-    const Tap ty = tap(v * n - 0.5, n);
+    const Tap tx = linear_tap(u * n * n - 0.5, n * n);
+    const Tap ty = linear_tap(v * n - 0.5, n);
     auto texel = [&](int x, int y) { return at(x % n, y, x / n); };
     return lerp(lerp(texel(tx.i0, ty.i0), texel(tx.i1, ty.i0), tx.f),
                 lerp(texel(tx.i0, ty.i1), texel(tx.i1, ty.i1), tx.f), ty.f);

@@ -5,6 +5,7 @@
 
 #include "core/case.h"
 #include "reference/color/gamma_correction.h"
+#include "reference/color/linear_tap.h"
 
 namespace hdrc::ref {
 
@@ -31,24 +32,15 @@ UeLutTexture ue_lut_texture(const std::vector<std::array<float, 3>>& table, bool
 
 namespace {
 
-// One axis of a bilinear fetch, clamp-to-edge: texel-space coordinate t = uv·size − 0.5.
-struct Tap {
-  int i0, i1;
-  double f;
-};
-Tap tap(double t, int size) {
-  const double fl = std::floor(t);
-  const int i = static_cast<int>(fl);
-  return {std::clamp(i, 0, size - 1), std::clamp(i + 1, 0, size - 1), t - fl};
-}
+using Tap = LinearTap;  // reference/color/linear_tap.h
 
 Vec3 lerp(const Vec3& a, const Vec3& b, double f) {
   return {a[0] + (b[0] - a[0]) * f, a[1] + (b[1] - a[1]) * f, a[2] + (b[2] - a[2]) * f};
 }
 
 Vec3 bilinear(const UeLutTexture& lut, double u, double v) {
-  const Tap x = tap(u * kUeUserLutWidth - 0.5, kUeUserLutWidth);
-  const Tap y = tap(v * kUeUserLutHeight - 0.5, kUeUserLutHeight);
+  const Tap x = linear_tap(u * kUeUserLutWidth - 0.5, kUeUserLutWidth);
+  const Tap y = linear_tap(v * kUeUserLutHeight - 0.5, kUeUserLutHeight);
   return lerp(lerp(lut.at(x.i0, y.i0), lut.at(x.i1, y.i0), x.f),
               lerp(lut.at(x.i0, y.i1), lut.at(x.i1, y.i1), x.f), y.f);
 }

@@ -16,6 +16,7 @@
 #include <string>
 
 #include "core/cube/cube.h"
+#include "core/cube/ocio_oracle.h"
 #include "reference/color/gamma_correction.h"
 
 namespace {
@@ -175,17 +176,9 @@ TEST(UeLutBlend, StripOrientationFromTheChannelSwapLut) {
   }
 }
 
+// OpenColorIO's trilinear FileTransform (core/cube/ocio_oracle.h).
 OCIO::ConstCPUProcessorRcPtr ocio_linear(const std::string& path) {
-  static const OCIO::ConfigRcPtr cfg = [] {
-    OCIO::ConfigRcPtr c = OCIO::Config::CreateRaw()->createEditableCopy();
-    c->setProcessorCacheFlags(OCIO::PROCESSOR_CACHE_OFF);
-    return c;
-  }();
-  auto t = OCIO::FileTransform::Create();
-  t->setSrc(path.c_str());
-  t->setInterpolation(OCIO::INTERP_LINEAR);
-  t->setDirection(OCIO::TRANSFORM_DIR_FORWARD);
-  return cfg->getProcessor(t)->getOptimizedCPUProcessor(OCIO::OPTIMIZATION_NONE);
+  return hdrc::cube::testing::ocio_processor(path, OCIO::INTERP_LINEAR);
 }
 
 // The lookup at UVW = g·15/16 + 0.5/16 against OCIO's trilinear evaluation of the .cube at g, on

@@ -7,6 +7,7 @@
 
 #include "core/cube/cube.h"
 #include "reference/color/d3d_math.h"
+#include "reference/color/linear_tap.h"
 #include "reference/color/st2084.h"
 #include "reference/grading/film_tonemap.h"
 #include "reference/operators/operators.h"
@@ -74,18 +75,7 @@ Vec3 domain_normalise(const StripLut& lut, const Vec3& v) {
 
 namespace {
 
-// Vulkan's linear filter along one axis with clamp-to-edge: texel coordinate x·size − 0.5, the
-// two neighbours (clamped into [0, size − 1]) weighted by its fraction.
-struct Tap {
-  int i0, i1;
-  double f;
-};
-Tap tap(double x, int size) {
-  const double t = x * size - 0.5;
-  const double fl = std::floor(t);
-  const int i = static_cast<int>(fl);
-  return {std::clamp(i, 0, size - 1), std::clamp(i + 1, 0, size - 1), t - fl};
-}
+using Tap = LinearTap;  // reference/color/linear_tap.h
 
 Vec3 texel(const Image& img, int x, int y) {
   const double* px = img.px(x, y);
@@ -97,7 +87,8 @@ Vec3 mix(const Vec3& a, const Vec3& b, double f) {
 }
 
 Vec3 bilinear(const Image& img, double u, double v) {
-  const Tap tx = tap(u, img.width), ty = tap(v, img.height);
+  const Tap tx = linear_tap(u * img.width - 0.5, img.width),
+            ty = linear_tap(v * img.height - 0.5, img.height);
   return mix(mix(texel(img, tx.i0, ty.i0), texel(img, tx.i1, ty.i0), tx.f),
              mix(texel(img, tx.i0, ty.i1), texel(img, tx.i1, ty.i1), tx.f), ty.f);
 }
