@@ -163,7 +163,8 @@ Status SettingValues::set(std::string_view name, const Vec4d& value, int compone
       for (char& ch : t) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
       return t;
     };
-    const std::string tail = "." + lower(std::string(name));
+    std::string tail = ".";  // appended, not "." + ...: GCC 12 -O3 -Wrestrict (bug 105329)
+    tail += lower(std::string(name));
     for (const auto& n : names)
       if (lower(n).size() > tail.size() && lower(n).ends_with(tail))
         near += (near.empty() ? "" : ", ") + n;

@@ -159,8 +159,14 @@ std::string describe_pixel(const PixelRef& p) {
                     format_number(p.input) + " reference " + format_number(p.reference) +
                     " candidate " + format_number(p.candidate);
   auto rgb = [](const std::array<double, 3>& v) {
-    return std::string("(") + format_number(v[0]) + ", " + format_number(v[1]) + ", " +
-           format_number(v[2]) + ")";
+    std::string s = "(";  // appended: GCC 12 -O3 -Wrestrict false positive (bug 105329)
+    s += format_number(v[0]);
+    s += ", ";
+    s += format_number(v[1]);
+    s += ", ";
+    s += format_number(v[2]);
+    s += ")";
+    return s;
   };
   out += "; pixel RGB input " + rgb(p.input_rgb) + " reference " + rgb(p.reference_rgb) +
          " candidate " + rgb(p.candidate_rgb);

@@ -75,7 +75,10 @@ std::string shell_quote(const std::string& word) {
 
 std::string command_line(int argc, char** argv) {
   std::string s;
-  for (int i = 0; i < argc && i < 4096; ++i) s += (i ? " " : "") + shell_quote(argv[i]);
+  for (int i = 0; i < argc && i < 4096; ++i) {
+    if (i) s += ' ';  // appended: GCC 12 -O3 -Wrestrict false positive (bug 105329)
+    s += shell_quote(argv[i]);
+  }
   return s;
 }
 

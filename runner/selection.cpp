@@ -70,8 +70,14 @@ std::string CaseSelection::describe() const {
   }
   if (!pipelines.empty()) {
     std::string joined;
-    for (const auto& p : pipelines) joined += (joined.empty() ? "" : ",") + p;
-    s += (s.empty() ? "" : " ") + std::string("--pipeline ") + joined;
+    // Appended piece by piece: GCC 12 -O3 -Wrestrict false positive (bug 105329).
+    for (const auto& p : pipelines) {
+      if (!joined.empty()) joined += ',';
+      joined += p;
+    }
+    if (!s.empty()) s += ' ';
+    s += "--pipeline ";
+    s += joined;
   }
   if (!rerun_dir.empty()) s += (s.empty() ? "" : " ") + std::string("--rerun-failed ") + rerun_dir;
   return s.empty() ? "(every case)" : s;
