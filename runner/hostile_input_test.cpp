@@ -334,7 +334,10 @@ std::vector<Row> rows() {
                                 "ExpandGamut",   "ToneCurveAmount"};
          for (int i = 0; i < 8; ++i) {  // 13^8 = 8.2e8 cases
            m += std::string(i ? "," : "") + "\"" + names[i] + "\": [";
-           for (int v = 0; v < 13; ++v) m += (v ? "," : "") + std::to_string(0.01 * (v + 1));
+           for (int v = 0; v < 13; ++v) {  // appended: GCC 12 -O3 -Wrestrict (bug 105329)
+             if (v) m += ',';
+             m += std::to_string(0.01 * (v + 1));
+           }
            m += "]";
          }
          case_file(t, "huge.json", m + "}}}");
