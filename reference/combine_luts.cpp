@@ -359,6 +359,61 @@ Vec3 lattice_coordinate(int layout, int size, int r, int g, int b) {
   return {fr * n / n1, uy * n / n1, fb * n / n1};
 }
 
+namespace {
+
+// Stores texel i of `lut` from its evaluated value `v` and range: the value quantised to the
+// storage format and, where float32 cannot decide it, its admissible bounds (BakedLut::lo/hi/flags,
+// made at the first ambiguous texel). Returns whether the texel is ambiguous. The point values of
+// the texels that are not ambiguous are the caller's to fill once the arrays exist.
+bool store_texel(BakedLut& lut, const ParamBlock& p, size_t i, const Vec3& v, TexelRange range) {
+  Vec3& out = lut.texels[i];
+  for (int c = 0; c < 3; ++c) out[c] = quantize_lut_value(p.lut_format, v[c]);
+  // 10-bit UNORM: a value within float32 noise of a rounding boundary (k + 1/2)/1023 may be
+  // stored as either neighbour (the noise of PQ's exponent on devices 3-7).
+  if (p.lut_format == 0) {
+    if (!range.ambiguous) range.range = Range3::point(v);
+    const bool pq_path = p.output_device >= 3 && p.output_device <= 7;
+    const double noise = pq_path ? kShaderNoise : kFloat32Noise;
+    range.ambiguous =
+        widen_near_rounding_boundary(v, 1023.0, noise, &range.range) || range.ambiguous;
+  }
+  if (!range.ambiguous) return false;
+  if (!lut.has_ranges()) {  // the first ambiguous texel: the arrays are made (filled by the caller)
+    lut.lo.resize(lut.texels.size());
+    lut.hi.resize(lut.texels.size());
+    lut.flags.assign(lut.texels.size(), 0);
+  }
+  // Quantisation is nondecreasing; a stored NaN is what the format makes of it (UNORM: 0).
+  uint8_t flags = BakedLut::kAmbiguous;
+  for (int c = 0; c < 3; ++c) {
+    double lo = quantize_lut_value(p.lut_format, range.range.lo[c]);
+    double hi = quantize_lut_value(p.lut_format, range.range.hi[c]);
+    if (range.range.nan[c]) {
+      const double stored_nan = quantize_lut_value(p.lut_format, d3d::kNaN);
+      if (std::isnan(stored_nan)) {
+        flags |= uint8_t(1u << c);
+      } else {
+        lo = std::isnan(lo) ? stored_nan : std::fmin(lo, stored_nan);
+        hi = std::isnan(hi) ? stored_nan : std::fmax(hi, stored_nan);
+      }
+    }
+    lut.lo[i][c] = lo;
+    lut.hi[i][c] = hi;
+  }
+  lut.flags[i] = flags;
+  return true;
+}
+
+// A texel that is not ambiguous, in a LUT that has ranges: its point value.
+void store_point_range(BakedLut& lut, size_t k) {
+  lut.lo[k] = lut.hi[k] = lut.texels[k];
+  lut.flags[k] = 0;
+  for (int c = 0; c < 3; ++c)
+    if (std::isnan(lut.texels[k][c])) lut.flags[k] |= uint8_t(1u << c);
+}
+
+}  // namespace
+
 BakedLut bake_lut(const ParamBlock& p, const UeLutSet* luts) {
   BakedLut lut;
   lut.size = p.lut_size;
@@ -371,52 +426,39 @@ BakedLut bake_lut(const ParamBlock& p, const UeLutSet* luts) {
       for (int r = 0; r < n; ++r) {
         TexelRange range;
         const Vec3 v = texel(lattice_coordinate(p.lut_layout, n, r, g, b), &range);
-        const size_t i = lut.index(r, g, b);
-        Vec3& out = lut.texels[i];
-        for (int c = 0; c < 3; ++c) out[c] = quantize_lut_value(p.lut_format, v[c]);
-        // 10-bit UNORM: a value within float32 noise of a rounding boundary (k + 1/2)/1023 may
-        // be stored as either neighbour (the noise of PQ's exponent on devices 3-7).
-        if (p.lut_format == 0) {
-          if (!range.ambiguous) range.range = Range3::point(v);
-          const bool pq_path = p.output_device >= 3 && p.output_device <= 7;
-          const double noise = pq_path ? kShaderNoise : kFloat32Noise;
-          range.ambiguous =
-              widen_near_rounding_boundary(v, 1023.0, noise, &range.range) || range.ambiguous;
-        }
-        if (!range.ambiguous) continue;
-        if (!lut.has_ranges()) {  // the first ambiguous texel: the arrays are made (filled below)
-          lut.lo.resize(lut.texels.size());
-          lut.hi.resize(lut.texels.size());
-          lut.flags.assign(lut.texels.size(), 0);
-        }
-        // Quantisation is nondecreasing; a stored NaN is what the format makes of it (UNORM: 0).
-        uint8_t flags = BakedLut::kAmbiguous;
-        for (int c = 0; c < 3; ++c) {
-          double lo = quantize_lut_value(p.lut_format, range.range.lo[c]);
-          double hi = quantize_lut_value(p.lut_format, range.range.hi[c]);
-          if (range.range.nan[c]) {
-            const double stored_nan = quantize_lut_value(p.lut_format, d3d::kNaN);
-            if (std::isnan(stored_nan)) {
-              flags |= uint8_t(1u << c);
-            } else {
-              lo = std::isnan(lo) ? stored_nan : std::fmin(lo, stored_nan);
-              hi = std::isnan(hi) ? stored_nan : std::fmax(hi, stored_nan);
-            }
-          }
-          lut.lo[i][c] = lo;
-          lut.hi[i][c] = hi;
-        }
-        lut.flags[i] = flags;
+        store_texel(lut, p, lut.index(r, g, b), v, range);
       }
   if (lut.has_ranges()) {  // every texel that is not ambiguous: its point value
-    for (size_t k = 0; k < lut.texels.size(); ++k) {
-      if (lut.flags[k] & BakedLut::kAmbiguous) continue;
-      lut.lo[k] = lut.hi[k] = lut.texels[k];
-      for (int c = 0; c < 3; ++c)
-        if (std::isnan(lut.texels[k][c])) lut.flags[k] |= uint8_t(1u << c);
-    }
+    for (size_t k = 0; k < lut.texels.size(); ++k)
+      if (!(lut.flags[k] & BakedLut::kAmbiguous)) store_point_range(lut, k);
   }
   return lut;
+}
+
+LazyBakedLut::LazyBakedLut(const ParamBlock& p) : p_(p), texel_(p_) {
+  const size_t n = static_cast<size_t>(p.lut_size);
+  lut_.size = p.lut_size;
+  lut_.layout = p.lut_layout;
+  lut_.texels.resize(n * n * n);
+  done_.assign(lut_.texels.size(), 0);
+}
+
+void LazyBakedLut::bake(int r, int g, int b) {
+  const size_t i = lut_.index(r, g, b);
+  if (done_[i]) return;
+  done_[i] = 1;
+  ++baked_;
+  TexelRange range;
+  const Vec3 v = texel_(lattice_coordinate(p_.lut_layout, p_.lut_size, r, g, b), &range);
+  const bool had_ranges = lut_.has_ranges();
+  const bool ambiguous = store_texel(lut_, p_, i, v, range);
+  if (!lut_.has_ranges()) return;
+  if (!had_ranges) {  // the arrays were just made: the point values of every texel baked so far
+    for (size_t k = 0; k < done_.size(); ++k)
+      if (done_[k] && k != i) store_point_range(lut_, k);
+  } else if (!ambiguous) {
+    store_point_range(lut_, i);
+  }
 }
 
 namespace {
@@ -497,6 +539,19 @@ bool sample_lut_range(const BakedLut& lut, const Vec3& encoded, Range3* out) {
   }
   *out = r;
   return true;
+}
+
+const BakedLut& LazyBakedLut::prepare(const Vec3& encoded) {
+  Vec3 uvw;
+  if (lookup_uvw(lut_, encoded, &uvw))  // a NaN coordinate reads no texel
+    sample_texels(
+        lut_, uvw,
+        [&](int r, int g, int b) {
+          bake(r, g, b);
+          return 0;
+        },
+        [](int, int, double) { return 0; });
+  return lut_;
 }
 
 }  // namespace hdrc::ref

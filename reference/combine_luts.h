@@ -108,6 +108,27 @@ struct BakedLut {
 // `luts`: the user LUTs of the blend (combine_luts_texel).
 BakedLut bake_lut(const ParamBlock& p, const UeLutSet* luts = nullptr);
 
+// The bake of only the texels that lookups read, each once, for a pass over fewer pixels than the
+// LUT has texels (a Tonemap case of a few hundred pixels reads a few thousand of a 32³ LUT's
+// 32 768 texels). Every texel a lookup reads, and its admissible range, is bit for bit what
+// bake_lut stores there (the same store_texel); the others are never read. One per pass: not
+// shared between threads.
+class LazyBakedLut {
+ public:
+  explicit LazyBakedLut(const ParamBlock& p);
+  // Bakes the texels sample_lut (and sample_lut_range) reads for `encoded`; returns the LUT.
+  const BakedLut& prepare(const Vec3& encoded);
+  size_t baked_texels() const { return baked_; }
+
+ private:
+  void bake(int r, int g, int b);
+  ParamBlock p_;
+  TexelEvaluator texel_;
+  BakedLut lut_;
+  std::vector<uint8_t> done_;
+  size_t baked_ = 0;
+};
+
 // The lattice coordinate of texel (r, g, b) for the layout (spec §4.2).
 Vec3 lattice_coordinate(int layout, int size, int r, int g, int b);
 

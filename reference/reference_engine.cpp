@@ -116,11 +116,27 @@ Result<Image> ui_composite_stage(const ParamBlock& p, const Image& back_buffer,
   return ui::composite_ui(back_buffer, ui_layer, u);
 }
 
+namespace {
+
+// The Tonemap pass with UE's baked LUT (or, analytic_lut, CombineLUTs per pixel). A small image
+// bakes only the texels it reads (LazyBakedLut, bit-identical); a large one bakes the whole LUT
+// through the process-wide cache, shared with the cases of the same parameters.
+Image baked_tonemap_image(const ParamBlock& p, const Image& scene, const Image* bloom,
+                          const Image* dirt, bool analytic_lut) {
+  if (analytic_lut) return tonemap_image(p, scene, bloom, dirt, nullptr);
+  if (lazy_bake_pays(p, scene.pixel_count())) {
+    LazyBakedLut lazy(p);
+    return tonemap_image(p, scene, bloom, dirt, nullptr, &lazy);
+  }
+  return tonemap_image(p, scene, bloom, dirt, cached_bake_lut(p).get());
+}
+
+}  // namespace
+
 Result<Image> visualize_hdr_stage(const ParamBlock& p, const Image& hdr_scene, bool analytic_lut) {
   visualize::VisualizeHdrInputs in;
   in.params = eye_adaptation_parameters(p);
-  const auto lut = analytic_lut ? decltype(cached_bake_lut(p)){} : cached_bake_lut(p);
-  const Image tonemapped = tonemap_image(p, hdr_scene, nullptr, nullptr, lut.get());
+  const Image tonemapped = baked_tonemap_image(p, hdr_scene, nullptr, nullptr, analytic_lut);
   in.scene_color = &tonemapped;
   in.hdr_scene_color = &hdr_scene;
   in.one_over_pre_exposure = 1.0 / p.pre_exposure;
@@ -170,12 +186,9 @@ Result<Image> run_ue55(const ResolvedCase& c, bool analytic_lut) {
       }
       return lut_image(*cached_bake_lut(c.params));
     }
-    case StageId::kTonemap: {
-      const auto lut =
-          analytic_lut ? decltype(cached_bake_lut(c.params)){} : cached_bake_lut(c.params);
-      return tonemap_image(c.params, c.input, c.bloom.data.empty() ? nullptr : &c.bloom,
-                           c.bloom_dirt.data.empty() ? nullptr : &c.bloom_dirt, lut.get());
-    }
+    case StageId::kTonemap:
+      return baked_tonemap_image(c.params, c.input, c.bloom.data.empty() ? nullptr : &c.bloom,
+                                 c.bloom_dirt.data.empty() ? nullptr : &c.bloom_dirt, analytic_lut);
     case StageId::kDither:
       return dither_image(c.params, c.input);
     case StageId::kUiComposite:

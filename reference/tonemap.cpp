@@ -17,11 +17,14 @@ constexpr double kAcesHdrYMin = 0.0001;  // UE_ACES_HDR_Y_MIN (TonemapCommon.ush
 
 // range: where the LUT value float32 cannot decide (a texel's TexelRange), its admissible range
 // is written there and *ambiguous set; left alone otherwise.
+// lazy: the LUT's texels baked as this lookup reads them (lut is then ignored).
 Vec3 lookup(const ParamBlock& p, const Vec3& final_linear, const BakedLut* lut, Vec3* encoded,
-            const TexelEvaluator* texel, Range3* range = nullptr, bool* ambiguous = nullptr) {
+            const TexelEvaluator* texel, Range3* range = nullptr, bool* ambiguous = nullptr,
+            LazyBakedLut* lazy = nullptr) {
   Vec3 e;
   for (int c = 0; c < 3; ++c) e[c] = lut_encode(p.output_device, final_linear[c]);
   if (encoded) *encoded = e;
+  if (lazy) lut = &lazy->prepare(e);
   if (lut) {
     if (range && sample_lut_range(*lut, e, range)) *ambiguous = true;
     return sample_lut(*lut, e);
@@ -136,9 +139,14 @@ Vec3 tonemap_centre_pixel(const ParamBlock& p, const Vec3& scene, const BakedLut
 
 Image tonemap_image(const ParamBlock& p, const Image& scene, const Image* bloom, const Image* dirt,
                     const BakedLut* lut) {
+  return tonemap_image(p, scene, bloom, dirt, lut, nullptr);
+}
+
+Image tonemap_image(const ParamBlock& p, const Image& scene, const Image* bloom, const Image* dirt,
+                    const BakedLut* lut, LazyBakedLut* lazy) {
   Image out(scene.width, scene.height);
   std::optional<TexelEvaluator> texel;  // the analytic lookup's parameters, unpacked once
-  if (!lut) texel.emplace(p);
+  if (!lut && !lazy) texel.emplace(p);
   const double w = scene.width, h = scene.height;
   const double aspect = h / w;  // ViewportHeight / ViewportWidth
   for (int y = 0; y < scene.height; ++y) {
@@ -200,8 +208,8 @@ Image tonemap_image(const ParamBlock& p, const Image& scene, const Image* bloom,
       // 7–9. LUT, luminance, per-device post conversion.
       Range3 range;
       bool ambiguous = false;
-      const Vec3 lut_out =
-          lookup(p, final_linear, lut, nullptr, texel ? &*texel : nullptr, &range, &ambiguous);
+      const Vec3 lut_out = lookup(p, final_linear, lut, nullptr, texel ? &*texel : nullptr, &range,
+                                  &ambiguous, lazy);
       const Vec3 o = post_convert(p, lut_out);
       double* dst = out.px(x, y);
       dst[0] = o[0];
@@ -228,6 +236,11 @@ Image tonemap_image(const ParamBlock& p, const Image& scene, const Image* bloom,
     }
   }
   return out;
+}
+
+bool lazy_bake_pays(const ParamBlock& p, size_t pixels) {
+  const size_t n = static_cast<size_t>(std::max(p.lut_size, 0));
+  return pixels < n * n * n / 8;
 }
 
 double dither_grain(double u, double v) {

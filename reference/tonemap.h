@@ -35,6 +35,15 @@ Vec3 tonemap_centre_pixel(const ParamBlock& p, const Vec3& scene, const BakedLut
 // is the device-encoded colour before dither, alpha is OutLuminance.
 Image tonemap_image(const ParamBlock& p, const Image& scene, const Image* bloom, const Image* dirt,
                     const BakedLut* lut);
+// The same with the LUT baked lazily, only the texels the pass reads (`lazy` built from `p`; `lut`
+// ignored when it is set): bit for bit the output of the whole LUT's bake.
+Image tonemap_image(const ParamBlock& p, const Image& scene, const Image* bloom, const Image* dirt,
+                    const BakedLut* lut, LazyBakedLut* lazy);
+
+// The baked pass's LUT for `p` over an image of `pixels` pixels: true when baking only the texels
+// read (at most 8 per pixel) costs less than the whole LUT's bake (which the process-wide cache
+// can share between cases).
+bool lazy_bake_pays(const ParamBlock& p, size_t pixels);
 
 // Step 10: the triangular quantisation dither added to `in` (p.dither_amount, p.grain_random).
 // The grain hash is evaluated in float32 as the shader does; see docs/precision.md.

@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
+#include <string>
 
 #include "reference/ue_cpp/resolve.h"
 
@@ -110,3 +112,64 @@ TEST(Tonemap, BloomWithDirtMask) {
 }
 
 }  // namespace
+
+// LazyBakedLut bakes only the texels the pass reads: the output, alpha and every admissible range
+// must be bit for bit those of the whole LUT's bake, on every device, storage format and layout,
+// over colours that reach the LUT's edges, the 10-bit rounding boundaries and the ambiguous texels
+// (near-zero channels on the PQ devices), plus NaN and infinities.
+TEST(Tonemap, LazyBakeIsBitIdenticalToTheWholeBake) {
+  hdrc::Image scene(23, 11);
+  uint64_t state = 0x9e3779b97f4a7c15ull;
+  auto next = [&] {  // splitmix64 → [0, 1)
+    state += 0x9e3779b97f4a7c15ull;
+    uint64_t z = state;
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return static_cast<double>((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
+  };
+  for (size_t i = 0; i < scene.pixel_count(); ++i) {
+    for (int c = 0; c < 3; ++c) {
+      const double u = next();
+      scene.data[i * 4 + c] = u < 0.1   ? -u                              // negative
+                              : u < 0.2 ? 1e-7 * u                        // near zero
+                                        : std::pow(10.0, 8.0 * u - 5.0);  // 1e-5 … 1e3
+    }
+    scene.data[i * 4 + 3] = 1.0;
+  }
+  scene.data[0] = std::nan("");
+  scene.data[5] = HUGE_VAL;
+  size_t compared = 0, ranges = 0;
+  for (int device = 0; device <= 9; ++device)
+    for (int format = 0; format <= 2; ++format)
+      for (int layout = 0; layout <= 1; ++layout) {
+        hdrc::ParamBlock p = params(device, device % 5);
+        p.lut_size = layout ? 16 : 17;
+        p.lut_format = format;
+        p.lut_layout = layout;
+        p.width = scene.width;
+        p.height = scene.height;
+        const hdrc::ref::BakedLut whole = hdrc::ref::bake_lut(p);
+        const hdrc::Image want = hdrc::ref::tonemap_image(p, scene, nullptr, nullptr, &whole);
+        hdrc::ref::LazyBakedLut lazy(p);
+        const hdrc::Image got =
+            hdrc::ref::tonemap_image(p, scene, nullptr, nullptr, nullptr, &lazy);
+        SCOPED_TRACE("device " + std::to_string(device) + " format " + std::to_string(format) +
+                     " layout " + std::to_string(layout));
+        EXPECT_LT(lazy.baked_texels(), whole.texels.size());
+        ASSERT_EQ(got.data.size(), want.data.size());
+        EXPECT_EQ(0, std::memcmp(got.data.data(), want.data.data(),
+                                 want.data.size() * sizeof(want.data[0])));
+        ASSERT_EQ(got.admissible.size(), want.admissible.size());
+        for (size_t k = 0; k < want.admissible.size(); ++k) {
+          const auto &a = got.admissible[k], &b = want.admissible[k];
+          EXPECT_EQ(a.pixel, b.pixel);
+          EXPECT_EQ(a.nan_ok, b.nan_ok);
+          EXPECT_EQ(0, std::memcmp(a.lo.data(), b.lo.data(), sizeof(a.lo)));
+          EXPECT_EQ(0, std::memcmp(a.hi.data(), b.hi.data(), sizeof(a.hi)));
+        }
+        ++compared;
+        ranges += want.admissible.size();
+      }
+  EXPECT_EQ(compared, 60u);
+  EXPECT_GT(ranges, 0u);  // the ambiguous texels' path was exercised
+}
