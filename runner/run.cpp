@@ -169,7 +169,7 @@ namespace {
 // cases share. In another split they fall on another case in every shard, so an uncapped
 // timing piles one-time costs on one case (measured on the default suite, 3 shards run one after
 // another on 2 cores: the slowest shard 21 % over the fastest uncapped, 15 % capped, 10 % with
-// the static model alone; docs/performance.md).
+// the static model alone; docs/performance-notes.md).
 constexpr double kOneTimeClip = 3.0;
 // `scale`: the median of seconds / static_case_cost over the timed cases of the selection, the
 // static model in this machine's seconds.
