@@ -3,6 +3,7 @@
 #include <vulkan/vulkan.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -918,7 +919,10 @@ Status VulkanEngine::init() {
   for (size_t i = 0; i < devices->size(); ++i)
     known += (known.empty() ? "" : ", ") + std::to_string(i) + " '" + (*devices)[i].name + "'";
   const DeviceDescription* chosen = nullptr;
-  const std::string& want = options_.device;
+  // HDRC_VK_DEVICE: the default device where none is given (the whole test suite on a GPU).
+  const char* env_device = std::getenv("HDRC_VK_DEVICE");
+  const std::string want =
+      options_.device.empty() && env_device ? std::string(env_device) : options_.device;
   if (want.empty()) {
     for (const auto& d : *devices)
       if (lower(d.name).find("llvmpipe") != std::string::npos) chosen = &d;

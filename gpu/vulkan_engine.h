@@ -15,8 +15,9 @@
 namespace hdrc::gpu {
 
 struct VulkanOptions {
-  // "" = lavapipe (the physical device whose name contains "llvmpipe"); a number = that index in
-  // vkEnumeratePhysicalDevices order; otherwise a case-insensitive substring of the device name.
+  // "" = lavapipe (the physical device whose name contains "llvmpipe"), or the environment's
+  // HDRC_VK_DEVICE where it is set; a number = that index in vkEnumeratePhysicalDevices order;
+  // otherwise a case-insensitive substring of the device name.
   std::string device;
   std::string shader_dir;  // where stages/*.comp and lib/*.glsl are read from
   // Enable VK_LAYER_KHRONOS_validation (with synchronisation validation) and a VK_EXT_debug_utils
