@@ -268,14 +268,19 @@ DiffStats diff_images(const Image& input, const Image& reference, const Image& c
       }
       const double* in = has_input ? input.px(x, y) : nullptr;
       ++s.pixels;
-      // The pixel's largest |nits| over the finite colour values of both sides: the scale of the
-      // float32 noise for the sign-boundary rule.
+      // Each finite colour value in nits, decoded once (0 for a non-finite one), and the pixel's
+      // largest |nits| over them: the scale of the float32 noise for the sign-boundary rule.
+      ref::Vec3 ref_nits{0, 0, 0}, cand_nits{0, 0, 0};
       double pixel_scale = 0;
       for (int ch = 0; ch < 3; ++ch) {
-        if (std::isfinite(r[ch]))
-          pixel_scale = std::fmax(pixel_scale, std::fabs(enc.to_nits(r[ch])));
-        if (std::isfinite(c[ch]))
-          pixel_scale = std::fmax(pixel_scale, std::fabs(enc.to_nits(c[ch])));
+        if (std::isfinite(r[ch])) {
+          ref_nits[ch] = enc.to_nits(r[ch]);
+          pixel_scale = std::fmax(pixel_scale, std::fabs(ref_nits[ch]));
+        }
+        if (std::isfinite(c[ch])) {
+          cand_nits[ch] = enc.to_nits(c[ch]);
+          pixel_scale = std::fmax(pixel_scale, std::fabs(cand_nits[ch]));
+        }
       }
       // The whole pixel, for the messages of whichever value turns out worst.
       PixelRef whole;
@@ -307,7 +312,8 @@ DiffStats diff_images(const Image& input, const Image& reference, const Image& c
           ++s.nonfinite.consistent;
         } else if (ch < 3 && enc.nan_marks_negative() && (std::isnan(r[ch]) || std::isnan(c[ch])) &&
                    (rf || cf) &&
-                   std::fabs(enc.to_nits(rf ? r[ch] : c[ch])) < kSignBoundaryNoise * pixel_scale) {
+                   std::fabs(rf ? ref_nits[ch] : cand_nits[ch]) <
+                       kSignBoundaryNoise * pixel_scale) {
           if (s.nonfinite.sign_boundary == 0) s.nonfinite.first_sign_boundary = at_channel(ch, -1);
           ++s.nonfinite.sign_boundary;
         } else {
@@ -316,11 +322,6 @@ DiffStats diff_images(const Image& input, const Image& reference, const Image& c
         }
       }
       // The reference pixel's luminance decides the band (non-finite pixels: none).
-      ref::Vec3 ref_nits{0, 0, 0}, cand_nits{0, 0, 0};
-      for (int ch = 0; ch < 3; ++ch) {
-        ref_nits[ch] = std::isfinite(r[ch]) ? enc.to_nits(r[ch]) : 0.0;
-        cand_nits[ch] = std::isfinite(c[ch]) ? enc.to_nits(c[ch]) : 0.0;
-      }
       const ref::Vec3 ref2020 = enc.to_rec2020 * ref_nits;
       const int band = band_of_nits(ref::dot(y_row, ref2020));
       if (rgb_finite) ++s.band_pixels[band];
