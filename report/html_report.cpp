@@ -284,16 +284,6 @@ std::optional<double> pq_scale(const OutputEncoding& e) {
   return k;
 }
 
-Image nits_image(const Image& img, const OutputEncoding& e) {
-  Image out = img;
-  for (size_t i = 0; i < img.pixel_count(); ++i)
-    for (int c = 0; c < 3; ++c) {
-      double& v = out.data[i * Image::kChannels + c];
-      if (std::isfinite(v)) v = e.to_nits(v);
-    }
-  return out;
-}
-
 // Writes a file (the whole report is built in a fresh folder, swapped in at the end).
 Status write_text(const fs::path& p, const std::string& s) {
   std::ofstream f(p, std::ios::binary);
@@ -631,14 +621,23 @@ struct Builder {
     const fs::path dir = fs::path("c") / c.slug;
     fs::create_directories(out / dir);
     Rgb8 prev[3];
+    // Each image decoded to nits once, for its preview, the error maps and the float data; the
+    // candidate reuses the reference's nits where its values are the same bits.
+    Image nits[3];
+    for (int i : {0, 1, 2}) {
+      if (!c.has[i]) continue;
+      const OutputEncoding& e = (i == 0 && input_scene_linear) ? scene : *enc;
+      nits[i] =
+          i == 2 && c.has[1] ? nits_image(img[2], e, &img[1], &nits[1]) : nits_image(img[i], e);
+    }
     json images = json::object();
     for (int i = 0; i < 3; ++i) {
       if (!c.has[i]) continue;
-      const OutputEncoding& e = (i == 0 && input_scene_linear) ? scene : *enc;
       // Outputs in their gamut, converted to the display's; the input (working colour space,
       // Rec.709 primaries by default) as it is.
       const ref::Mat3 to_display = output_to_display(*enc);
-      prev[i] = preview(img[i], e, false, 0, i == 0 && input_scene_linear ? nullptr : &to_display);
+      prev[i] =
+          preview_of_nits(img[i], nits[i], 0, i == 0 && input_scene_linear ? nullptr : &to_display);
       if (Status s = put_png(dir / (std::string(kImageNames[i]) + ".png"), prev[i]); !s) return s;
     }
     const int main = c.has[2] ? 2 : c.has[1] ? 1 : 0;
@@ -649,7 +648,7 @@ struct Builder {
       for (int m = 0; m < kMetricCount; ++m)
         if (auto it = c.tol.max.find(kMetricKeys[m]); it != c.tol.max.end())
           tol.max(static_cast<Metric>(m)) = it->second;
-      ErrorMaps maps = error_maps(img[1], img[2], *enc, tol, prev[1]);
+      ErrorMaps maps = error_maps(img[1], img[2], nits[1], nits[2], *enc, tol, prev[1]);
       c.heat = true;
       c.over_pixels = maps.over;
       c.mismatch_pixels = maps.mismatch;
@@ -681,7 +680,7 @@ struct Builder {
         else if (auto q = pq_scale(e))
           im["pq_scale"] = *q;
         else
-          im["nits16"] = float16_packed_base64(nits_image(img[i], e), 3);
+          im["nits16"] = float16_packed_base64(nits[i], 3);
         px["images"][kImageNames[i]] = std::move(im);
       }
       c.px = true;

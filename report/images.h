@@ -63,6 +63,17 @@ double pq10_error(const OutputEncoding& enc, double reference, double candidate)
 // primaries, D65): a Rec.2020 or P3 output is shown in its true colours, not its raw triplets.
 Rgb8 preview(const Image& img, const OutputEncoding& enc, bool scene_linear_input, double ev = 0,
              const ref::Mat3* to_display = nullptr);
+// The same from `nits`, `img`'s values already decoded (nits_image): the report decodes each
+// image once for its preview, error maps and float data.
+Rgb8 preview_of_nits(const Image& img, const Image& nits, double ev = 0,
+                     const ref::Mat3* to_display = nullptr);
+
+// `img` with its finite colour values decoded to nits by `enc` (alpha and non-finite values as
+// they are). With `like` and `like_nits` (the nits_image of `like` under the same encoding), a
+// value bit for bit equal to `like`'s at the same place takes its nits from there: the same
+// number, without decoding it again (a candidate is often bit-identical to its reference).
+Image nits_image(const Image& img, const OutputEncoding& enc, const Image* like = nullptr,
+                 const Image* like_nits = nullptr);
 
 // The matrix from `enc`'s output gamut to the display (sRGB primaries): the standard BT.2020 →
 // BT.709 matrix from the primaries (reference/color/ue_matrices.h: standard::rgb_to_rgb, both
@@ -79,6 +90,13 @@ struct ErrorMaps {
 // non-finite value inconsistently. `ref_preview` is dimmed under the mask.
 ErrorMaps error_maps(const Image& reference, const Image& candidate, const OutputEncoding& enc,
                      const Tolerance& tol, const Rgb8& ref_preview);
+// The same with both images' nits_image under `enc` given (decoded once by the caller). Values
+// bit for bit equal in both images have no error by construction: their PQ and ΔE_ITP terms are
+// 0 without evaluating the curves (identical inputs give identical outputs), so the maps and the
+// counts are those of the full evaluation.
+ErrorMaps error_maps(const Image& reference, const Image& candidate, const Image& reference_nits,
+                     const Image& candidate_nits, const OutputEncoding& enc, const Tolerance& tol,
+                     const Rgb8& ref_preview);
 
 // A small copy for list pages: at most `max_w` wide, height stretched into [min_h, max_h].
 Rgb8 thumbnail(const Rgb8& src, int max_w, int min_h, int max_h);

@@ -14,6 +14,7 @@
 
 #include "report/html_report.h"
 #include "report/images.h"
+#include "runner/diff.h"
 
 namespace {
 
@@ -178,6 +179,66 @@ TEST(ReportErrorMaps, MaskMarksValuesOverTheirMetricAndMismatches) {
   const auto want = heat_colour(pq10, kHeatPq10);
   EXPECT_EQ(m.heat.data[3], want[0]);
   EXPECT_EQ(m.heat.data[4], want[1]);
+}
+
+// The report decodes each image once and skips the curves where the candidate's value is the
+// reference's, bit for bit: its maps and counts are those of the full evaluation, value by value.
+TEST(ReportErrorMaps, EqualValuesShortcutMatchesTheFullEvaluation) {
+  hdrc::OutputEncoding pq;
+  pq.transfer = hdrc::OutputEncoding::Transfer::kPq;
+  pq.nits_scale = 1.0;
+  const int w = 64, h = 16;
+  Image ref(w, h), cand(w, h);
+  uint32_t seed = 12345;
+  auto rnd = [&] {
+    seed = seed * 1664525u + 1013904223u;
+    return (seed >> 8) / 16777216.0;
+  };
+  for (size_t i = 0; i < ref.pixel_count(); ++i)
+    for (int c = 0; c < 4; ++c) {
+      const double v = c == 3 ? 1.0 : rnd();
+      ref.data[i * 4 + c] = v;
+      const double r = rnd();  // a third equal, a third a few ulps off, a third further off
+      cand.data[i * 4 + c] = r < 0.33 ? v : r < 0.66 ? v * (1 + 1e-7) : v + (r - 0.8) * 1e-3;
+    }
+  ref.data[5 * 4 + 1] = cand.data[5 * 4 + 1] = std::nan("");  // consistent non-finite
+  hdrc::Tolerance tol;
+  tol.pq_code10 = 0.05;
+  tol.delta_e_itp = 0.5;
+  const Rgb8 prev = preview(ref, pq, false);
+  const Image rn = nits_image(ref, pq);
+  const Image cn = nits_image(cand, pq, &ref, &rn);
+  EXPECT_EQ(std::memcmp(cn.data.data(), nits_image(cand, pq).data.data(),
+                        cn.data.size() * sizeof(double)),
+            0);
+  EXPECT_EQ(preview_of_nits(ref, rn).data, prev.data);
+  const ErrorMaps m = error_maps(ref, cand, rn, cn, pq, tol, prev);
+  size_t over = 0;
+  for (size_t i = 0; i < ref.pixel_count(); ++i) {
+    const double* r = &ref.data[i * 4];
+    const double* c = &cand.data[i * 4];
+    double worst = 0;
+    bool finite = true;
+    hdrc::ref::Vec3 a, b;
+    for (int ch = 0; ch < 3; ++ch) {
+      finite &= std::isfinite(r[ch]) && std::isfinite(c[ch]);
+      if (!std::isfinite(r[ch]) || !std::isfinite(c[ch])) continue;
+      worst = std::fmax(worst, pq10_error(pq, r[ch], c[ch]));
+      a[ch] = pq.to_nits(r[ch]);
+      b[ch] = pq.to_nits(c[ch]);
+    }
+    const double itp = finite ? hdrc::delta_e_itp(hdrc::ictcp_from_rec2020_nits(b),
+                                                  hdrc::ictcp_from_rec2020_nits(a))
+                              : 0.0;
+    over += worst > tol.pq_code10 || itp > tol.delta_e_itp;
+    const auto want = heat_colour(worst, kHeatPq10), want_itp = heat_colour(itp, kHeatItp);
+    ASSERT_EQ(std::memcmp(&m.heat.data[i * 3], want.data(), 3), 0) << i;
+    ASSERT_EQ(std::memcmp(&m.heat_itp.data[i * 3], want_itp.data(), 3), 0) << i;
+  }
+  EXPECT_GT(over, 0u);
+  EXPECT_LT(over, ref.pixel_count());
+  EXPECT_EQ(m.over, over);
+  EXPECT_EQ(m.mismatch, 0u);
 }
 
 class WriteReport : public ::testing::Test {
