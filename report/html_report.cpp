@@ -218,8 +218,9 @@ struct CaseView {
   bool has[3] = {false, false, false};  // input, reference, candidate EXR read
   bool heat = false;                    // heat/mask maps written
   size_t over_pixels = 0, mismatch_pixels = 0;
-  bool px = false;    // float data written
-  std::string error;  // why images are missing, if they are
+  bool px = false;      // float data written
+  std::string px_json;  // the float data for the case page (script-safe JSON), until it is written
+  std::string error;    // why images are missing, if they are
   int lut_size = 0;
   json meta;  // what the case page's script needs
 };
@@ -321,6 +322,16 @@ std::string page_tail(const std::string& root, const std::vector<std::string>& s
   std::string h = "</main>\n<script src=\"" + root + "assets/report.js\"></script>\n";
   for (const auto& s : scripts) h += "<script src=\"" + s + "\"></script>\n";
   return h + "</body></html>\n";
+}
+
+// A list page's thumbnail of a case: its own PNG (the main preview or the heatmap) shown at most
+// 160 pixels wide, its height stretched into [12, 40] (report.css: pixelated, nearest neighbour).
+// No separate thumbnail files: two fewer files per case to write.
+std::string thumb_img(const CaseView& c, const std::string& png, bool lazy) {
+  const auto [w, h] = thumbnail_size(c.width, c.height, 160, 12, 40);
+  return std::string("<img class=\"thumb\"") + (lazy ? " loading=\"lazy\"" : "") +
+         " alt=\"\" width=\"" + std::to_string(w) + "\" height=\"" + std::to_string(h) +
+         "\" src=\"c/" + url_path_escape(c.slug) + "/" + png + "\">";
 }
 
 std::string badge(const std::string& verdict) {
@@ -640,8 +651,6 @@ struct Builder {
           preview_of_nits(img[i], nits[i], 0, i == 0 && input_scene_linear ? nullptr : &to_display);
       if (Status s = put_png(dir / (std::string(kImageNames[i]) + ".png"), prev[i]); !s) return s;
     }
-    const int main = c.has[2] ? 2 : c.has[1] ? 1 : 0;
-    if (Status s = put_png(dir / "thumb.png", thumbnail(prev[main], 160, 12, 40)); !s) return s;
     if (c.has[1] && c.has[2]) {
       Tolerance tol;  // only the limits the mask judges, from results.json
       tol.rel_floor = c.tol.rel_floor;
@@ -655,8 +664,6 @@ struct Builder {
       if (Status s = put_png(dir / "heat.png", maps.heat); !s) return s;
       if (Status s = put_png(dir / "heat_itp.png", maps.heat_itp); !s) return s;
       if (Status s = put_png(dir / "mask.png", maps.mask); !s) return s;
-      if (Status s = put_png(dir / "heat_thumb.png", thumbnail(maps.heat, 160, 12, 40)); !s)
-        return s;
     }
     // Float data for the exposure control, the probe and the LUT view. Images over 4 Mpixel are
     // left out (the PNGs still show); no case of the suite comes near that.
@@ -683,9 +690,10 @@ struct Builder {
           im["nits16"] = float16_packed_base64(nits[i], 3);
         px["images"][kImageNames[i]] = std::move(im);
       }
+      // In the case page, as data (CSP: no inline script runs), not a px.js beside it: one file
+      // fewer per case.
       c.px = true;
-      if (Status s = put(dir / "px.js", "HDRC.pixels(" + script_safe_json(px.dump()) + ");\n"); !s)
-        return s;
+      c.px_json = script_safe_json(px.dump());
     }
     c.meta["encoding"] = enc->describe();
     c.meta["gamut"] = enc->gamut;
@@ -906,9 +914,8 @@ struct Builder {
 
     h += "<script type=\"application/json\" id=\"case-meta\">" + script_safe_json(c.meta.dump()) +
          "</script>\n";
-    std::vector<std::string> scripts;
-    if (c.px) scripts.push_back(url_path_escape(c.slug) + "/px.js");
-    return h + page_tail(root, scripts);
+    if (c.px) h += "<script type=\"application/json\" id=\"case-px\">" + c.px_json + "</script>\n";
+    return h + page_tail(root, {});
   }
 
   // The run by pipeline (core/pipeline.h): each pipeline's cases and verdicts, each linked to
@@ -995,10 +1002,8 @@ struct Builder {
              url_path_escape(c->slug) + ".html\"><code>" + html_escape(c->id) +
              "</code></a></td><td class=\"num\">" +
              (c->budget ? fmt(*c->budget * 100, "%.3g") + " %" : "—") + "</td><td>" +
-             (c->heat ? "<img class=\"thumb\" alt=\"\" src=\"c/" + url_path_escape(c->slug) +
-                            "/heat_thumb.png\">"
-                      : "") +
-             "</td><td class=\"reason\">" + html_escape(c->reason) + "</td></tr>\n";
+             (c->heat ? thumb_img(*c, "heat.png", false) : "") + "</td><td class=\"reason\">" +
+             html_escape(c->reason) + "</td></tr>\n";
       }
       h += "</tbody></table>\n";
     }
@@ -1047,11 +1052,8 @@ struct Builder {
            (c.budget ? fmt(*c.budget * 100, "%.3g") + " %" : "—") +
            "</td><td class=\"num metric\">—</td><td>";
       if (c.has[0] || c.has[1] || c.has[2])
-        h += "<img class=\"thumb\" loading=\"lazy\" alt=\"\" src=\"c/" + url_path_escape(c.slug) +
-             "/thumb.png\">";
-      if (c.heat)
-        h += "<img class=\"thumb\" loading=\"lazy\" alt=\"\" src=\"c/" + url_path_escape(c.slug) +
-             "/heat_thumb.png\">";
+        h += thumb_img(c, std::string(kImageNames[c.has[2] ? 2 : c.has[1] ? 1 : 0]) + ".png", true);
+      if (c.heat) h += thumb_img(c, "heat.png", true);
       h += "</td><td class=\"reason\">" + html_escape(c.reason) + "</td></tr>\n";
     }
     h += "</tbody></table>\n";
@@ -1203,6 +1205,7 @@ Result<report::ReportInfo> write_report(const std::string& results_dir) {
     c.meta["input"] = text(get(*c.j, {"input"}));
     c.meta["px"] = c.px;
     if (Status s = b.put(fs::path("c") / (c.slug + ".html"), b.case_page(c)); !s) return s.error();
+    c.px_json = std::string();  // written: free it
   }
   for (const Asset& a : assets())
     if (Status s = b.put(fs::path("assets") / std::string(a.name), std::string(a.contents)); !s)

@@ -6,11 +6,11 @@
 //     → DIR/report/index.html                  summary: counts, worst cases, near misses, metadata
 //       DIR/report/matrix.html                 verdict or a metric pivoted over two chosen cvars
 //       DIR/report/cases.html                  every case: filters (stage, verdict, cvar, text),
-//       sort DIR/report/c/<slug>.html               one page per case: parameters, tolerance,
-//       statistics,
-//                                              images (exposure, heatmap, mask, flip, slider,
-//                                              probe)
-//       DIR/report/c/<slug>/*.png, px.js       SDR previews, heatmap, mask, thumbnails; float data
+//                                              sort; thumbnails (the case's PNGs, scaled)
+//       DIR/report/c/<slug>.html               one page per case: parameters, tolerance,
+//                                              statistics, images (exposure, heatmap, mask,
+//                                              flip, slider, probe), float data (#case-px)
+//       DIR/report/c/<slug>/*.png              SDR previews, heatmaps, mask
 //       DIR/report/data.js, assets/            the case table for the script pages; script, style
 //
 // Fields missing from results.json are shown as "—"; nothing in it is trusted: every string is

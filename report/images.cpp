@@ -229,10 +229,14 @@ ErrorMaps error_maps(const Image& reference, const Image& candidate, const Image
   return m;
 }
 
+std::array<int, 2> thumbnail_size(int width, int height, int max_w, int min_h, int max_h) {
+  const int w = std::max(1, std::min(width, max_w));
+  const double scale = static_cast<double>(w) / std::max(1, width);
+  return {w, std::clamp(static_cast<int>(std::lround(height * scale)), min_h, max_h)};
+}
+
 Rgb8 thumbnail(const Rgb8& src, int max_w, int min_h, int max_h) {
-  const int w = std::max(1, std::min(src.width, max_w));
-  const double scale = static_cast<double>(w) / std::max(1, src.width);
-  const int h = std::clamp(static_cast<int>(std::lround(src.height * scale)), min_h, max_h);
+  const auto [w, h] = thumbnail_size(src.width, src.height, max_w, min_h, max_h);
   Rgb8 out(w, h);
   // Nearest neighbour: thumbnails of ramps and LUTs keep their hard edges.
   for (int y = 0; y < h; ++y)
@@ -251,7 +255,7 @@ Status write_png(const std::string& path, const Rgb8& img) {
   // zlib level 3 and libpng's SUB filter alone (PNG_FILTER_SUB, 0x10) instead of level 6 with
   // the adaptive choice among all five filters per row: on the report's PNGs (4316 of a 565-case
   // run) 2.3x less encoding CPU for 15 % more bytes (7.0 vs 6.1 MB; the report is ~76 MB, mostly
-  // px.js). Level 1 alone measured 0.47 vs 0.79 s for 7.0 MB, SUB at level 3 0.36 s.
+  // float data). Level 1 alone measured 0.47 vs 0.79 s for 7.0 MB, SUB at level 3 0.36 s.
   spec.attribute("png:compressionLevel", 3);
   spec.attribute("png:filter", 0x10);
   if (!out->open(path, spec)) return Error{path, "", "cannot open: " + out->geterror(), ""};

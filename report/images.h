@@ -1,5 +1,5 @@
 // The report's pictures: SDR previews of HDR images, the error heatmap, the over-tolerance mask,
-// thumbnails, and the float data the case page's script reads. Mappings are documented in
+// thumbnail sizes, and the float data the case page's script reads. Mappings are documented in
 // report/html_report.h and mirrored in report/assets/report.js (exposure control, pixel probe).
 #pragma once
 
@@ -100,6 +100,9 @@ ErrorMaps error_maps(const Image& reference, const Image& candidate, const Image
 
 // A small copy for list pages: at most `max_w` wide, height stretched into [min_h, max_h].
 Rgb8 thumbnail(const Rgb8& src, int max_w, int min_h, int max_h);
+// The thumbnail's size, {width, height}, for an image of `width` x `height`. The list pages show
+// a case's own PNGs at this size (CSS image-rendering: pixelated, nearest neighbour as here).
+std::array<int, 2> thumbnail_size(int width, int height, int max_w, int min_h, int max_h);
 
 // Writes an 8-bit RGB PNG through OpenImageIO.
 Status write_png(const std::string& path, const Rgb8& img);

@@ -1,6 +1,7 @@
 // hdrconform report: the script of every page (summary, matrix, case list, case pages).
-// Static and offline: data arrives through <script> files written beside the pages (data.js,
-// c/<case>/px.js), because file:// pages may not fetch. Text from the results is only ever set
+// Static and offline: data arrives through <script> files written beside the pages (data.js)
+// or JSON data blocks in the page (a case's #case-meta and #case-px, its float data), because
+// file:// pages may not fetch. Text from the results is only ever set
 // through textContent or attribute values, never parsed as HTML.
 //
 // The SDR preview mapping and the error metrics mirror report/images.cpp and runner/diff.cpp:
@@ -667,6 +668,8 @@ async function initCase() {
   HDRC.meta = meta;
   const w = meta.w, h = meta.h;
   const imgs = {};
+  const pxData = $('#case-px');
+  if (!HDRC.px && pxData) HDRC.px = JSON.parse(pxData.textContent);
   if (HDRC.px) {
     for (const [k, d] of Object.entries(HDRC.px.images)) imgs[k] = await FloatImage.load(HDRC.px.w, HDRC.px.h, d);
   }

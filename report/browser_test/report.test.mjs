@@ -142,6 +142,11 @@ async function fixtureTest(dir, artifacts) {
     check(meta.includes(results.candidate.device), 'run metadata names the candidate device');
     const hrefs = await page.$$eval('a[href], img[src], link[href], script[src]', (e) => e.map((x) => x.getAttribute('href') || x.getAttribute('src')));
     check(hrefs.every((h) => !h.startsWith('../') && !h.includes('://')), 'no link leaves report/ (self-contained)', hrefs.filter((h) => h.startsWith('../')));
+    // Thumbnails are the cases' own PNGs, drawn at the thumbnail size (width and height set).
+    const thumbs = await page.$$eval('#worst-cases img.thumb', (e) => Promise.all(e.map((x) => (x.complete ? Promise.resolve() :
+      new Promise((r) => { x.onload = x.onerror = r; })).then(() => [x.naturalWidth, Number(x.getAttribute('width')), Number(x.getAttribute('height')), x.getAttribute('src')]))));
+    check(thumbs.length > 0 && thumbs.every(([nw, w, h]) => nw > 0 && w > 0 && w <= 160 && h >= 12 && h <= 40),
+      'worst-case heatmap thumbnails load, at most 160 × [12, 40]', thumbs);
     const golden = await page.$$eval('#golden-failures tbody tr code', (e) => e.map((x) => x.textContent));
     check(golden.length === 1 && golden[0] === expect.golden_regression, 'golden regression listed in the report', golden);
     await page.screenshot({ path: path.join(artifacts, 'summary.png'), fullPage: true });
