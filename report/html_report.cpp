@@ -1,6 +1,7 @@
 #include "report/html_report.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -11,6 +12,7 @@
 #include <optional>
 #include <set>
 #include <sstream>
+#include <thread>
 
 #include "core/cvars.h"
 #include "core/pipeline.h"
@@ -579,7 +581,7 @@ struct Builder {
   fs::path results_dir, out;  // out: the new report folder
   json doc;
   std::vector<CaseView> cases;
-  size_t files = 0;
+  std::atomic<size_t> files{0};
 
   Status put(const fs::path& rel, const std::string& s) {
     ++files;
@@ -714,6 +716,31 @@ struct Builder {
     if (enc->stage == StageId::kCombineLuts && c.height > 0 && c.width == c.height * c.height)
       c.lut_size = c.height;
     return {};
+  }
+
+  // One case: its images, float data and page.
+  Status case_outputs(CaseView& c) {
+    if (Status s = case_images(c); !s) return s;
+    c.meta["id"] = c.id;
+    c.meta["verdict"] = c.verdict;
+    c.meta["w"] = c.width;
+    c.meta["h"] = c.height;
+    c.meta["has"] = {
+        {"input", c.has[0]}, {"reference", c.has[1]}, {"candidate", c.has[2]}, {"heat", c.heat}};
+    json tol = json::object();
+    for (const auto& [k, v] : c.tol.max) tol[k] = v;
+    tol["rel_floor"] = c.tol.rel_floor;
+    c.meta["tol"] = tol;
+    c.meta["lut_size"] = c.lut_size;
+    if (const json* wp = get(*c.j, {"worst_pixel"}); wp && wp->is_object()) {
+      auto x = num(get(*wp, {"x"})), y = num(get(*wp, {"y"}));
+      if (x && y) c.meta["worst"] = {{"x", *x}, {"y", *y}};
+    }
+    c.meta["input"] = text(get(*c.j, {"input"}));
+    c.meta["px"] = c.px;
+    Status s = put(fs::path("c") / (c.slug + ".html"), case_page(c));
+    c.px_json = std::string();  // written: free it
+    return s;
   }
 
   std::string case_page(const CaseView& c) {
@@ -1134,7 +1161,7 @@ Result<size_t> folder_size(const fs::path& p, size_t* files) {
 
 }  // namespace report
 
-Result<report::ReportInfo> write_report(const std::string& results_dir) {
+Result<report::ReportInfo> write_report(const std::string& results_dir, int jobs) {
   using namespace report;
   const auto t0 = std::chrono::steady_clock::now();
   Builder b;
@@ -1185,28 +1212,25 @@ Result<report::ReportInfo> write_report(const std::string& results_dir) {
     c.slug = slug;
     b.cases.push_back(std::move(c));
   }
-  for (auto& c : b.cases) {
-    if (Status s = b.case_images(c); !s) return s.error();
-    c.meta["id"] = c.id;
-    c.meta["verdict"] = c.verdict;
-    c.meta["w"] = c.width;
-    c.meta["h"] = c.height;
-    c.meta["has"] = {
-        {"input", c.has[0]}, {"reference", c.has[1]}, {"candidate", c.has[2]}, {"heat", c.heat}};
-    json tol = json::object();
-    for (const auto& [k, v] : c.tol.max) tol[k] = v;
-    tol["rel_floor"] = c.tol.rel_floor;
-    c.meta["tol"] = tol;
-    c.meta["lut_size"] = c.lut_size;
-    if (const json* wp = get(*c.j, {"worst_pixel"}); wp && wp->is_object()) {
-      auto x = num(get(*wp, {"x"})), y = num(get(*wp, {"y"}));
-      if (x && y) c.meta["worst"] = {{"x", *x}, {"y", *y}};
-    }
-    c.meta["input"] = text(get(*c.j, {"input"}));
-    c.meta["px"] = c.px;
-    if (Status s = b.put(fs::path("c") / (c.slug + ".html"), b.case_page(c)); !s) return s.error();
-    c.px_json = std::string();  // written: free it
-  }
+  // The cases' images and pages, on `jobs` threads (each case writes only its own files and
+  // fields); the list pages after, from every case in order.
+  const size_t n = b.cases.size();
+  const size_t threads = std::clamp<size_t>(
+      jobs > 0 ? static_cast<size_t>(jobs) : std::max(1u, std::thread::hardware_concurrency()), 1,
+      std::max<size_t>(1, n));
+  std::vector<Status> done(n);
+  std::atomic<size_t> next{0};
+  std::atomic<bool> failed{false};
+  auto work = [&] {
+    for (size_t i; !failed && (i = next++) < n;)
+      if (!(done[i] = b.case_outputs(b.cases[i]))) failed = true;
+  };
+  std::vector<std::thread> pool;
+  for (size_t t = 1; t < threads; ++t) pool.emplace_back(work);
+  work();
+  for (auto& t : pool) t.join();
+  for (const Status& s : done)
+    if (!s) return s.error();
   for (const Asset& a : assets())
     if (Status s = b.put(fs::path("assets") / std::string(a.name), std::string(a.contents)); !s)
       return s.error();

@@ -63,7 +63,8 @@ struct ReportInfo {
 
 // Rebuilds `results_dir`/report/ from `results_dir`/results.json and the case images beside it.
 // The new report is built in a sibling folder and swapped in, so a failed build leaves the old
-// one. Errors name the file and, for bad JSON, the JSON pointer.
-Result<report::ReportInfo> write_report(const std::string& results_dir);
+// one. Errors name the file and, for bad JSON, the JSON pointer. The cases' images and pages are
+// made on `jobs` threads (0: one per core); the report is the same for any number.
+Result<report::ReportInfo> write_report(const std::string& results_dir, int jobs = 0);
 
 }  // namespace hdrc

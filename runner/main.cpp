@@ -328,6 +328,8 @@ int main(int argc, char** argv) {
   report_cmd->footer(kExitCodes);
   report_cmd->add_option("RESULTS_DIR", report_dir, "a directory written by `hdrconform run --out`")
       ->required();
+  report_cmd->add_option("-j,--jobs", jobs, "threads building the case pages (default: every core)")
+      ->check(CLI::Range(0, 1024));
 
   std::string merge_out;
   std::vector<std::string> merge_dirs;
@@ -420,7 +422,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "error: %s\n", lock.error().to_string().c_str());
       return hdrc::kExitBadInput;
     }
-    auto info = hdrc::write_report(hdrc::published_run_dir(report_dir));
+    auto info = hdrc::write_report(hdrc::published_run_dir(report_dir), jobs);
     if (!info) {
       std::fprintf(stderr, "error: %s\n", info.error().to_string().c_str());
       return hdrc::kExitBadInput;
@@ -560,7 +562,7 @@ int main(int argc, char** argv) {
   auto finish = [&](int code) {
     // Golden outcomes into results.json and junit, --images applied, then the report, all in the
     // staging folder; then the run is published as a whole (runner/output_set.h).
-    code = hdrc::finish_run_outputs(suite.out_dir, code, goldens_checked, images);
+    code = hdrc::finish_run_outputs(suite.out_dir, code, goldens_checked, images, jobs);
     code = hdrc::publish_run(outset.get(), code);
     std::error_code ec;
     if (code != hdrc::kExitBadInput &&

@@ -467,7 +467,7 @@ int exit_code_of(const nlohmann::ordered_json& doc) {
 }
 
 int finish_run_outputs(const std::string& out_dir, int code, bool goldens_checked,
-                       const std::string& images) {
+                       const std::string& images, int jobs) {
   if (code == kExitBadInput) return code;
   auto doc = read_results_json(out_dir + "/results.json");
   if (!doc) return code;  // nothing was written (the run failed before its outputs)
@@ -481,7 +481,7 @@ int finish_run_outputs(const std::string& out_dir, int code, bool goldens_checke
   if (s) s = write_file_atomic(out_dir + "/results.json", dump_json(*doc, -1) + "\n");
   if (s) s = write_file_atomic(out_dir + "/junit.xml", junit_from_results(*doc));
   if (s) {
-    auto report = write_report(out_dir);
+    auto report = write_report(out_dir, jobs);
     if (!report) s = report.error();
   }
   if (!s) {

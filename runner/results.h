@@ -42,9 +42,10 @@ int exit_code_of(const nlohmann::ordered_json& results);
 
 // The end of `run`/`verify`, after the golden check: golden outcomes recorded (when checked),
 // summary.exit_code set to the process's exit code, --images applied, results.json and junit.xml
-// rewritten, the report built. Returns the exit code (kExitFail when writing failed).
+// rewritten, the report built (on `jobs` threads, 0: one per core, as `run -j`). Returns the
+// exit code (kExitFail when writing failed).
 int finish_run_outputs(const std::string& out_dir, int exit_code, bool goldens_checked,
-                       const std::string& images);
+                       const std::string& images, int jobs = 0);
 
 // Writes results.json and junit.xml into `out_dir`, each atomically; the report too unless the
 // run has provenance (a `run`/`verify` of the command line, which ends with finish_run_outputs).
