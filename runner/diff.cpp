@@ -127,15 +127,7 @@ int band_of_nits(double nits) {
 }
 
 ref::Vec3 ictcp_from_rec2020_nits(const ref::Vec3& rgb) {
-  // ITU-R BT.2100-2 Table 7: LMS from BT.2020 RGB, the PQ non-linearity (inverse EOTF on
-  // absolute luminance) per component, then I, Ct, Cp. The integer/4096 forms are the standard's.
-  const ref::Mat3 kRgbToLms{{1688.0 / 4096, 2146.0 / 4096, 262.0 / 4096,  //
-                             683.0 / 4096, 2951.0 / 4096, 462.0 / 4096,   //
-                             99.0 / 4096, 309.0 / 4096, 3688.0 / 4096}};
-  const ref::Vec3 lms = kRgbToLms * rgb;
-  const ref::Vec3 pq{pq_signal(lms[0]), pq_signal(lms[1]), pq_signal(lms[2])};
-  return {0.5 * pq[0] + 0.5 * pq[1], (6610.0 * pq[0] - 13613.0 * pq[1] + 7003.0 * pq[2]) / 4096.0,
-          (17933.0 * pq[0] - 17390.0 * pq[1] - 543.0 * pq[2]) / 4096.0};
+  return ictcp_from_rec2020_nits_with(rgb, pq_signal);
 }
 
 double delta_e_itp(const ref::Vec3& a, const ref::Vec3& b) {

@@ -155,6 +155,21 @@ std::string nonfinite_rule(StageId stage, int device, const PixelRef& p);
 
 // BT.2100 ICtCp of a BT.2020 RGB colour in nits (PQ variant), and BT.2124's ΔE_ITP.
 ref::Vec3 ictcp_from_rec2020_nits(const ref::Vec3& rgb_nits);
+// The same with `pq(nits)` for the PQ non-linearity of each LMS component (the diff's: black for
+// NaN and negatives, capped at 10 000 nits): ictcp_from_rec2020_nits is this with that function,
+// and the report passes a cache of it (report/images.cpp), the same numbers.
+template <class Pq>
+ref::Vec3 ictcp_from_rec2020_nits_with(const ref::Vec3& rgb, Pq&& pq) {
+  // ITU-R BT.2100-2 Table 7: LMS from BT.2020 RGB, the PQ non-linearity (inverse EOTF on
+  // absolute luminance) per component, then I, Ct, Cp. The integer/4096 forms are the standard's.
+  const ref::Mat3 kRgbToLms{{1688.0 / 4096, 2146.0 / 4096, 262.0 / 4096,  //
+                             683.0 / 4096, 2951.0 / 4096, 462.0 / 4096,   //
+                             99.0 / 4096, 309.0 / 4096, 3688.0 / 4096}};
+  const ref::Vec3 lms = kRgbToLms * rgb;
+  const ref::Vec3 p{pq(lms[0]), pq(lms[1]), pq(lms[2])};
+  return {0.5 * p[0] + 0.5 * p[1], (6610.0 * p[0] - 13613.0 * p[1] + 7003.0 * p[2]) / 4096.0,
+          (17933.0 * p[0] - 17390.0 * p[1] - 543.0 * p[2]) / 4096.0};
+}
 double delta_e_itp(const ref::Vec3& ictcp_a, const ref::Vec3& ictcp_b);
 
 }  // namespace hdrc
