@@ -6,6 +6,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -93,14 +94,16 @@ Result<Image> read_image(const std::string& path) {
   return img;
 }
 
-Status write_exr(const std::string& path, const Image& image) {
+Status write_exr(const std::string& path, const Image& image, int zip_level) {
   namespace fs = std::filesystem;
   const fs::path target(path);
   std::error_code ec;
   if (target.has_parent_path()) fs::create_directories(target.parent_path(), ec);
   const std::string tmp = path + ".tmp" + std::to_string(::getpid()) + ".exr";
   OIIO::ImageSpec spec(image.width, image.height, Image::kChannels, OIIO::TypeDesc::FLOAT);
-  spec.attribute("compression", "zip");
+  spec.attribute("compression", zip_level < 0
+                                    ? std::string("zip")
+                                    : "zip:" + std::to_string(std::clamp(zip_level, 1, 9)));
   std::vector<float> pixels(image.data.begin(), image.data.end());
   auto out = OIIO::ImageOutput::create(tmp);
   if (!out || !out->open(tmp, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()) ||

@@ -61,8 +61,10 @@ inline constexpr size_t kMaxImageFileBytes = kMaxImagePixels * 4 * 4 + (size_t{1
 // optionally A (in that order; a missing alpha is filled with 1). Errors name the file.
 Result<Image> read_image(const std::string& path);
 
-// Writes a 32-bit float EXR (ZIP compression) atomically: a temporary file beside the target is
-// written first and renamed over it, so a failed write never leaves a half-written file.
-Status write_exr(const std::string& path, const Image& image);
+// Writes a 32-bit float EXR (ZIP compression, lossless) atomically: a temporary file beside the
+// target is written first and renamed over it, so a failed write never leaves a half-written file.
+// `zip_level`: zlib's level 1-9; -1 OpenEXR's default (4). A run's case images use 1: 20 % less
+// encoding CPU for 3 % more bytes (1622 images of a 565-case run: 0.75 vs 0.94 s, 30.7 vs 29.7 MB).
+Status write_exr(const std::string& path, const Image& image, int zip_level = -1);
 
 }  // namespace hdrc

@@ -544,7 +544,7 @@ GoldenUpdateReport update_goldens(const std::vector<Case>& cases, const std::str
 GoldenRunSummary check_run_against_goldens(const std::vector<Case>& cases,
                                            const std::string& out_dir,
                                            const std::string& goldens_dir,
-                                           const std::string& update_extra) {
+                                           const std::string& update_extra, int jobs) {
   GoldenRunSummary sum;
   json report = json::object();
   report["goldens_dir"] = goldens_dir;
@@ -556,38 +556,62 @@ GoldenRunSummary check_run_against_goldens(const std::vector<Case>& cases,
   if (results && results->contains("cases") && (*results)["cases"].is_array())
     for (const json& e : (*results)["cases"])
       if (e.contains("id") && e["id"].is_string()) by_id[e["id"].get<std::string>()] = &e;
+  // The cases run, in order; their checks (two EXRs read, the input resolved, the named values
+  // compared) on `jobs` threads; the lines, counts and goldens.json after, in order.
+  std::vector<std::pair<const Case*, const json*>> run;
   for (const Case& c : cases) {
     auto it = by_id.find(c.id);
     if (it == by_id.end()) continue;
     const json& e = *it->second;
     if (!e.contains("images") || !e["images"].contains("reference")) continue;  // not run
-    GoldenCheck check;
-    auto ref_img = read_image(out_dir + "/" + e["images"]["reference"].get<std::string>());
-    auto resolved = resolve_case(c);
-    if (!ref_img || !resolved) {
-      check.outcome = GoldenCheck::kRegression;
-      check.message = "cannot check: " +
-                      (!ref_img ? ref_img.error().to_string() : resolved.error().to_string());
-    } else {
-      check = check_golden(goldens_dir, c, *resolved, *ref_img, update_extra);
-      if (check.outcome == GoldenCheck::kMatch) {
-        // The named numbers (VisualizeHDR's text) against the sidecar's.
-        auto side = read_json(golden_paths(goldens_dir, c.id).sidecar);
-        std::map<std::string, double> values;
-        if (e.contains("reference_values") && e["reference_values"].is_object())
-          for (auto v = e["reference_values"].begin(); v != e["reference_values"].end(); ++v)
-            if (v.value().is_number()) values[v.key()] = v.value().get<double>();
-        if (!side || !values_equal(side->value("values", json::object()), values)) {
-          check.outcome = GoldenCheck::kRegression;
-          check.message =
-              "golden regression: the stage's named values differ from the "
-              "sidecar's (golden made by reference " +
-              (side ? side->value("reference_version", "?") : std::string("?")) + ", this is " +
-              reference_version() +
-              "); if the change is intended: " + golden_update_command(c.id, update_extra);
+    run.push_back({&c, &e});
+  }
+  std::vector<GoldenCheck> checks(run.size());
+  std::atomic<size_t> next{0};
+  auto work = [&] {
+    for (size_t i; (i = next++) < run.size();) {
+      const Case& c = *run[i].first;
+      const json& e = *run[i].second;
+      GoldenCheck check;
+      auto ref_img = read_image(out_dir + "/" + e["images"]["reference"].get<std::string>());
+      auto resolved = resolve_case(c);
+      if (!ref_img || !resolved) {
+        check.outcome = GoldenCheck::kRegression;
+        check.message = "cannot check: " +
+                        (!ref_img ? ref_img.error().to_string() : resolved.error().to_string());
+      } else {
+        check = check_golden(goldens_dir, c, *resolved, *ref_img, update_extra);
+        if (check.outcome == GoldenCheck::kMatch) {
+          // The named numbers (VisualizeHDR's text) against the sidecar's.
+          auto side = read_json(golden_paths(goldens_dir, c.id).sidecar);
+          std::map<std::string, double> values;
+          if (e.contains("reference_values") && e["reference_values"].is_object())
+            for (auto v = e["reference_values"].begin(); v != e["reference_values"].end(); ++v)
+              if (v.value().is_number()) values[v.key()] = v.value().get<double>();
+          if (!side || !values_equal(side->value("values", json::object()), values)) {
+            check.outcome = GoldenCheck::kRegression;
+            check.message =
+                "golden regression: the stage's named values differ from the "
+                "sidecar's (golden made by reference " +
+                (side ? side->value("reference_version", "?") : std::string("?")) + ", this is " +
+                reference_version() +
+                "); if the change is intended: " + golden_update_command(c.id, update_extra);
+          }
         }
       }
+      checks[i] = std::move(check);
     }
+  };
+  const size_t n = std::min<size_t>(
+      std::max<size_t>(1, run.size()),
+      jobs > 0 ? static_cast<size_t>(jobs) : std::max(1u, std::thread::hardware_concurrency()));
+  std::vector<std::thread> pool;
+  for (size_t t = 1; t < n; ++t) pool.emplace_back(work);
+  work();
+  for (auto& t : pool) t.join();
+  for (size_t i = 0; i < run.size(); ++i) {
+    const Case& c = *run[i].first;
+    const GoldenCheck& check = checks[i];
     ++sum.checked;
     const char* outcome = "match";
     if (check.outcome == GoldenCheck::kMissing) {

@@ -88,7 +88,8 @@ GoldenUpdateReport update_goldens(const std::vector<Case>& cases, const std::str
 // The golden check of `hdrconform run`: every case of `cases` whose reference image the run
 // wrote (listed in OUT/results.json with images.reference) is compared with its golden, and its
 // named values with the sidecar's. Prints one line per failing case and a summary line, writes
-// OUT/goldens.json (atomically). A run with any failure fails (exit code 1).
+// OUT/goldens.json (atomically). A run with any failure fails (exit code 1). The cases are checked
+// on `jobs` threads (0: one per core); lines and goldens.json are in the cases' order for any.
 struct GoldenRunSummary {
   int checked = 0, missing = 0, stale = 0, regressions = 0;
   int failed() const { return missing + stale + regressions; }
@@ -96,7 +97,7 @@ struct GoldenRunSummary {
 GoldenRunSummary check_run_against_goldens(const std::vector<Case>& cases,
                                            const std::string& out_dir,
                                            const std::string& goldens_dir,
-                                           const std::string& update_extra = "");
+                                           const std::string& update_extra = "", int jobs = 1);
 
 // Total size in bytes of the files under `goldens_dir`.
 uintmax_t directory_bytes(const std::string& dir);

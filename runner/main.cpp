@@ -647,7 +647,7 @@ int main(int argc, char** argv) {
     // Goldens exist for the quick tier only (docs/cases.md).
     std::erase_if(checked, [](const hdrc::Case& c) { return c.tier != "quick"; });
     const hdrc::GoldenRunSummary g =
-        hdrc::check_run_against_goldens(checked, suite.out_dir, goldens_dir, golden_extra);
+        hdrc::check_run_against_goldens(checked, suite.out_dir, goldens_dir, golden_extra, jobs);
     if (g.failed() > 0 && code != hdrc::kExitFail) code = hdrc::kExitFail;
     goldens_checked = true;
   }

@@ -331,7 +331,9 @@ class Executor {
   bool save(CaseResult& r, const std::string& name, const Image& img) {
     if (opt_.image_dir.empty()) return true;
     const std::string rel = case_image_dir(r.spec.id) + "/" + name + ".exr";
-    if (Status st = write_exr(opt_.image_dir + "/" + rel, img); !st) {
+    // zlib level 1: these are the run's own images, written for every case (the report reads
+    // them back once; --images may delete them).
+    if (Status st = write_exr(opt_.image_dir + "/" + rel, img, /*zip_level=*/1); !st) {
       r = error(std::move(r), "cannot write " + name + " image: " + st.error().to_string());
       return false;
     }
