@@ -3,6 +3,7 @@
 #include <vulkan/vulkan.h>
 
 #include <algorithm>
+#include <bit>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -431,9 +432,13 @@ constexpr LutFormat kLutFormats[] = {
     // Unity URP's LDR grading LUT (ColorGradingLutPass: R8G8B8A8_UNorm).
     {VK_FORMAT_R8G8B8A8_UNORM, "VK_FORMAT_R8G8B8A8_UNORM", 4},
 };
-// The dummies bound where a pass has no LUT image: RGBA16F, whose storage, sampling and linear
-// filtering every Vulkan device supports (Vulkan spec, "Mandatory format support").
-constexpr VkFormat kDummyFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
+// The format of the intermediate image a LUT bake pass writes (bake_format_ok): every float32 value
+// the pass stores is kept as it is, and the store pass (kLutStoreShader) then writes it to the LUT
+// image of the case's format.
+constexpr VkFormat kBakeFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
+// The shader of that store pass: the engine's own, always compiled from the built-in shader
+// directory (a --shader-dir port provides only the stage passes).
+constexpr const char* kLutStoreShader = "engine/lut_store.comp";
 
 }  // namespace
 
@@ -483,8 +488,13 @@ struct Gpu {
   Owned<VkDescriptorSetLayout, vkDestroyDescriptorSetLayout> set_layout;
   Owned<VkPipelineLayout, vkDestroyPipelineLayout> pipeline_layout;
   Owned<VkSampler, vkDestroySampler> sampler;
-  Texture dummy_3d, dummy_2d;  // 1 texel each, bound where a pass has no LUT image
-  Buffer dummy_buffer;         // 16 bytes, bound where a pass has no aux image
+  // 1 texel each, bound where a pass has no LUT image (or user LUT), in kBakeFormat where the
+  // device can sample and filter it, else RGBA16F (Vulkan spec, "Mandatory format support").
+  // llvmpipe compiles a variant of a shader for each format, target and power-of-two-ness of the
+  // images and textures it uses (lp_state_cs.c, make_variant_key): dummies in the format of the
+  // bake image and of the user LUTs (RGBA32F) let a bake pass bound to either keep one variant.
+  Texture dummy_3d, dummy_2d;
+  Buffer dummy_buffer;  // 16 bytes, bound where a pass has no aux image
   struct Pipelines {
     VkDevice device = VK_NULL_HANDLE;
     std::map<std::string, VkPipeline> by_shader;
@@ -504,6 +514,12 @@ struct CaseWork {
   Buffer params, input, output, aux0, aux1, scratch, readback;
   Texture lut;
   int lut_format = -1, lut_layout = -1, lut_size = -1;  // what `lut` holds
+  // The bake pass's image (kBakeFormat, the LUT's layout, each extent rounded up to a power of
+  // two so that its variant of the bake shader is the same for every r.LUT.Size); the store pass
+  // copies its N³ texels into `lut`.
+  Texture bake;
+  int bake_layout = -1;
+  VkExtent3D bake_extent{};
   // The case's user LUTs (binding kBindingUserLut, one per slot): strips N^2 x N, RGBA32F or
   // 8-bit UNORM (StageInfo::user_lut_unorm8), uploaded from `user_lut_staging` at the start of
   // every case that has them.
@@ -790,10 +806,19 @@ Status VulkanEngine::State::create_gpu() {
   sci.unnormalizedCoordinates = VK_FALSE;
   HDRC_VK(vkCreateSampler(d, &sci, nullptr, &g->sampler.handle));
 
-  if (auto st = make_texture(d, memory, VK_IMAGE_TYPE_3D, kDummyFormat, {1, 1, 1}, &g->dummy_3d);
+  VkFormat dummy_format = VK_FORMAT_R16G16B16A16_SFLOAT;
+  {
+    VkFormatProperties fp;
+    vkGetPhysicalDeviceFormatProperties(g->physical, kBakeFormat, &fp);
+    const VkFormatFeatureFlags want =
+        VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT | VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT |
+        VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT | VK_FORMAT_FEATURE_TRANSFER_DST_BIT;
+    if ((fp.optimalTilingFeatures & want) == want) dummy_format = kBakeFormat;
+  }
+  if (auto st = make_texture(d, memory, VK_IMAGE_TYPE_3D, dummy_format, {1, 1, 1}, &g->dummy_3d);
       !st)
     return st;
-  if (auto st = make_texture(d, memory, VK_IMAGE_TYPE_2D, kDummyFormat, {1, 1, 1}, &g->dummy_2d);
+  if (auto st = make_texture(d, memory, VK_IMAGE_TYPE_2D, dummy_format, {1, 1, 1}, &g->dummy_2d);
       !st)
     return st;
   if (auto st = make_buffer(d, memory, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, &g->dummy_buffer);
@@ -1100,11 +1125,31 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
   const VkDevice d = g.device.handle;
   const std::string stage_name(stage.name);
 
-  std::vector<VkPipeline> pipelines;
+  // The dispatches: the stage's passes, each LUT bake pass (domain lut_texels) followed by the
+  // engine's store pass. The bake pass writes the float32 values it stores to the bake image
+  // (kBakeFormat); the store pass writes each of them with imageStore to the LUT image of the
+  // case's format and layout, the store that does the format's conversion, as the bake pass's
+  // own store would. llvmpipe compiles a shader variant per format, target and
+  // power-of-two-ness of the images a shader uses (make_variant_key): the large bake shader
+  // then has one variant for every format, layout and size, and only the small store shader one
+  // per LUT image.
+  enum class Role { kPass, kBake, kStore };
+  struct Run {
+    VkPipeline pipeline;
+    Dispatch domain;
+    bool output_to_scratch;
+    Role role;
+  };
+  std::vector<Run> runs;
   for (const StagePass& pass : stage.passes) {
     auto p = s.pipeline(shader_dir, std::string(pass.shader));
     if (!p) return p.error();
-    pipelines.push_back(*p);
+    const bool bake = pass.domain == Dispatch::kLutTexels;
+    runs.push_back({*p, pass.domain, pass.output_to_scratch, bake ? Role::kBake : Role::kPass});
+    if (!bake) continue;
+    auto store = s.pipeline(default_shader_dir(), kLutStoreShader);
+    if (!store) return store.error();
+    runs.push_back({*store, Dispatch::kLutTexels, false, Role::kStore});
   }
 
   // Parameters: the case's block; only the aux image sizes are filled in here, from what is bound.
@@ -1160,6 +1205,21 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
       w.lut_format = params.lut_format;
       w.lut_layout = params.lut_layout;
       w.lut_size = n;
+    }
+    // The extents are at most the device's maximum image dimensions, which are powers of two
+    // (Vulkan spec, "Limit Requirements" lists none that is not), when the LUT's are.
+    const VkExtent3D bake_extent{std::bit_ceil(extent.width), std::bit_ceil(extent.height),
+                                 std::bit_ceil(extent.depth)};
+    if (w.bake.image &&
+        (w.bake_layout != params.lut_layout || w.bake_extent.width != bake_extent.width ||
+         w.bake_extent.height != bake_extent.height || w.bake_extent.depth != bake_extent.depth))
+      release(&w.bake);
+    if (!w.bake.image) {
+      w.bake_layout = -1;
+      if (Status st = make_texture(d, g.memory, type, kBakeFormat, bake_extent, &w.bake); !st)
+        return st.error();
+      w.bake_layout = params.lut_layout;
+      w.bake_extent = bake_extent;
     }
   }
 
@@ -1248,8 +1308,9 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
       return st.error();
   }
 
-  // One descriptor set per pass (they differ only in binding 2 for output_to_scratch).
-  const uint32_t sets = static_cast<uint32_t>(stage.passes.size());
+  // One descriptor set per dispatch (they differ in binding 2 for output_to_scratch and in the
+  // LUT bindings of the bake and store passes).
+  const uint32_t sets = static_cast<uint32_t>(runs.size());
   if (w.descriptor_pool.handle && w.descriptor_capacity < sets) {
     vkDestroyDescriptorPool(d, w.descriptor_pool.handle, nullptr);
     w.descriptor_pool.handle = VK_NULL_HANDLE;
@@ -1257,8 +1318,9 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
   if (w.descriptor_pool.handle) {
     HDRC_VK_CASE(vkResetDescriptorPool(d, w.descriptor_pool.handle, 0));
   } else {
-    // Room for the largest stage (VisualizeHDR: 4 passes), so one pool serves every case.
-    const uint32_t capacity = std::max<uint32_t>(sets, 4);
+    // Room for the largest stage (VisualizeHDR: 4 passes and the store pass), so one pool
+    // serves every case.
+    const uint32_t capacity = std::max<uint32_t>(sets, 5);
     const VkDescriptorPoolSize pool_sizes[] = {
         {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 6 * capacity},
         {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 2 * capacity},
@@ -1285,16 +1347,18 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
   const bool unwrapped = bakes_lut && params.lut_layout == 1;
   const VkImageView view_3d = volume ? w.lut.view : g.dummy_3d.view;
   const VkImageView view_2d = unwrapped ? w.lut.view : g.dummy_2d.view;
+  const VkImageView bake_3d = volume ? w.bake.view : g.dummy_3d.view;
+  const VkImageView bake_2d = unwrapped ? w.bake.view : g.dummy_2d.view;
   // Each binding sees exactly this case's range (a reused buffer may be larger).
   auto aux_of = [&](const Image* img, const Buffer& b) -> VkDescriptorBufferInfo {
     if (!img) return {g.dummy_buffer.buffer, 0, VK_WHOLE_SIZE};
     return {b.buffer, 0, std::max<VkDeviceSize>(img->pixel_count() * 16, 16)};
   };
   for (uint32_t i = 0; i < sets; ++i) {
+    const Role role = runs[i].role;
     const VkDescriptorBufferInfo out =
-        stage.passes[i].output_to_scratch
-            ? VkDescriptorBufferInfo{w.scratch.buffer, 0, scratch_bytes}
-            : VkDescriptorBufferInfo{w.output.buffer, 0, image_bytes};
+        runs[i].output_to_scratch ? VkDescriptorBufferInfo{w.scratch.buffer, 0, scratch_bytes}
+                                  : VkDescriptorBufferInfo{w.output.buffer, 0, image_bytes};
     const VkDescriptorBufferInfo buffers[kBindingCount] = {{w.params.buffer, 0, packed.size()},
                                                            {w.input.buffer, 0, image_bytes},
                                                            out,
@@ -1306,14 +1370,25 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
                                                            aux_of(aux1, w.aux1),
                                                            {w.scratch.buffer, 0, scratch_bytes},
                                                            {}};
+    // The bake pass stores to the bake image and samples no LUT; the store pass reads the bake
+    // image (texelFetch) and stores to the LUT image; the other passes have the LUT image on
+    // both.
+    const VkImageView store_3d = role == Role::kBake ? bake_3d : view_3d;
+    const VkImageView store_2d = role == Role::kBake ? bake_2d : view_2d;
+    const VkImageView sampled_3d = role == Role::kBake    ? g.dummy_3d.view
+                                   : role == Role::kStore ? bake_3d
+                                                          : view_3d;
+    const VkImageView sampled_2d = role == Role::kBake    ? g.dummy_2d.view
+                                   : role == Role::kStore ? bake_2d
+                                                          : view_2d;
     const VkDescriptorImageInfo images[kBindingCount] = {
         {},
         {},
         {},
-        {VK_NULL_HANDLE, view_3d, VK_IMAGE_LAYOUT_GENERAL},
-        {VK_NULL_HANDLE, view_2d, VK_IMAGE_LAYOUT_GENERAL},
-        {g.sampler.handle, view_3d, VK_IMAGE_LAYOUT_GENERAL},
-        {g.sampler.handle, view_2d, VK_IMAGE_LAYOUT_GENERAL},
+        {VK_NULL_HANDLE, store_3d, VK_IMAGE_LAYOUT_GENERAL},
+        {VK_NULL_HANDLE, store_2d, VK_IMAGE_LAYOUT_GENERAL},
+        {g.sampler.handle, sampled_3d, VK_IMAGE_LAYOUT_GENERAL},
+        {g.sampler.handle, sampled_2d, VK_IMAGE_LAYOUT_GENERAL},
         {},
         {},
         {},
@@ -1367,7 +1442,10 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
   bi.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
   bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   HDRC_VK_CASE(vkBeginCommandBuffer(cmd, &bi));
-  if (bakes_lut) record_clear_to_general(cmd, w.lut.image);
+  if (bakes_lut) {
+    record_clear_to_general(cmd, w.lut.image);
+    record_clear_to_general(cmd, w.bake.image);  // a texel the bake pass skips is stored as 0
+  }
   for (size_t slot = 0; slot < kUserLutSlots; ++slot)
     if (has_user_lut[slot])
       record_upload_to_general(
@@ -1375,7 +1453,7 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
           {uint32_t(c.user_luts[slot].width), uint32_t(c.user_luts[slot].height), 1});
 
   const uint32_t max_groups = std::max<uint32_t>(g.limits.maxComputeWorkGroupCount[0], 1);
-  for (size_t i = 0; i < stage.passes.size(); ++i) {
+  for (size_t i = 0; i < runs.size(); ++i) {
     if (i > 0) {
       // Pass i reads what pass i−1 wrote (buffers and the LUT image, which stays GENERAL): a
       // global memory barrier covers both.
@@ -1387,10 +1465,10 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
                            VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &between, 0, nullptr, 0,
                            nullptr);
     }
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines[i]);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, runs[i].pipeline);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, g.pipeline_layout.handle, 0, 1,
                             &descriptor_sets[i], 0, nullptr);
-    const uint64_t count = invocations(stage.passes[i].domain, pixels, n);
+    const uint64_t count = invocations(runs[i].domain, pixels, n);
     const uint64_t groups = (count + kLocalSizeX - 1) / kLocalSizeX;
     for (uint64_t base = 0; base < groups; base += max_groups) {
       const uint32_t here = static_cast<uint32_t>(std::min<uint64_t>(max_groups, groups - base));
