@@ -5,7 +5,9 @@
 #include <algorithm>
 #include <bit>
 #include <cctype>
+#include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -14,6 +16,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <utility>
 #include <vector>
 
@@ -563,6 +566,56 @@ Result<std::shared_ptr<const std::vector<uint32_t>>> shared_spirv(const std::str
   auto code = std::make_shared<const std::vector<uint32_t>>(std::move(*compiled));
   std::lock_guard<std::mutex> lock(mu);
   return cache.emplace(key, std::move(code)).first->second;
+}
+
+// Cold-cache compiles shared by the engines of one process (each worker has its own engine and
+// device, and llvmpipe keeps a pipeline's compiled variants per device): the first submission that
+// needs a shader variant compiles it and puts it in Mesa's disk cache (lp_state_cs.c,
+// generate_variant: lp_disk_cache_insert_shader); a second engine that needs the same variant while
+// that submission runs would compile it again, in parallel, on a cold cache. It waits for the
+// first instead and then finds the variant in the disk cache. A variant is named by the pass's
+// shader and the state of what is bound to it that llvmpipe compiles into the variant
+// (make_variant_key: format, target and power-of-two extents of the images and textures); `done`
+// holds the names submitted in this process, `running` those whose first submission runs now.
+// Only a wait, never a different result: at worst (cache disabled or full) the engine compiles
+// the variant itself after the wait.
+class VariantGate {
+ public:
+  // Waits (at most `timeout`) while another engine runs the first submission of any of `names`,
+  // then claims those not yet submitted; the returned list is passed to release().
+  std::vector<std::string> acquire(const std::vector<std::string>& names,
+                                   std::chrono::duration<double> timeout) {
+    std::unique_lock<std::mutex> lock(mu_);
+    cv_.wait_for(lock, timeout, [&] {
+      return std::none_of(names.begin(), names.end(),
+                          [&](const std::string& n) { return running_.count(n) > 0; });
+    });
+    std::vector<std::string> claimed;
+    for (const std::string& n : names)
+      if (!done_.count(n) && running_.insert(n).second) claimed.push_back(n);
+    return claimed;
+  }
+  void release(const std::vector<std::string>& claimed) {
+    if (claimed.empty()) return;
+    {
+      std::lock_guard<std::mutex> lock(mu_);
+      for (const std::string& n : claimed) {
+        running_.erase(n);
+        done_.insert(n);
+      }
+    }
+    cv_.notify_all();
+  }
+
+ private:
+  std::mutex mu_;
+  std::condition_variable cv_;
+  std::set<std::string> done_, running_;
+};
+
+VariantGate& variant_gate() {
+  static VariantGate gate;
+  return gate;
 }
 
 // Frees a buffer so that make_buffer can create it again.
@@ -1135,6 +1188,7 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
   // per LUT image.
   enum class Role { kPass, kBake, kStore };
   struct Run {
+    std::string shader;  // shader_dir/shader, naming its variants for the VariantGate
     VkPipeline pipeline;
     Dispatch domain;
     bool output_to_scratch;
@@ -1145,11 +1199,13 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
     auto p = s.pipeline(shader_dir, std::string(pass.shader));
     if (!p) return p.error();
     const bool bake = pass.domain == Dispatch::kLutTexels;
-    runs.push_back({*p, pass.domain, pass.output_to_scratch, bake ? Role::kBake : Role::kPass});
+    runs.push_back({shader_dir + '/' + std::string(pass.shader), *p, pass.domain,
+                    pass.output_to_scratch, bake ? Role::kBake : Role::kPass});
     if (!bake) continue;
     auto store = s.pipeline(default_shader_dir(), kLutStoreShader);
     if (!store) return store.error();
-    runs.push_back({*store, Dispatch::kLutTexels, false, Role::kStore});
+    runs.push_back({default_shader_dir() + '/' + kLutStoreShader, *store, Dispatch::kLutTexels,
+                    false, Role::kStore});
   }
 
   // Parameters: the case's block; only the aux image sizes are filled in here, from what is bound.
@@ -1525,6 +1581,29 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
   si.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
   si.commandBufferCount = 1;
   si.pCommandBuffers = &cmd;
+  // The variants this submission compiles (VariantGate): per pass, its shader and the state of
+  // the LUT images bound to it (the bake pass has the bake image and dummies, whose state never
+  // changes) and of the user-LUT textures (RGBA32F like the dummies: only whether the strip's
+  // extents are powers of two differs).
+  auto pot = [](int v) { return v > 0 && std::has_single_bit(static_cast<unsigned>(v)); };
+  std::string user_lut_state;
+  for (size_t slot = 0; slot < kUserLutSlots; ++slot)
+    user_lut_state += !has_user_lut[slot] || pot(params.user_lut_size) ? 'p' : 'n';
+  const std::string lut_state = bakes_lut ? " lut " + std::to_string(params.lut_format) + '/' +
+                                                std::to_string(params.lut_layout) +
+                                                (pot(n) ? "/pot" : "/npot")
+                                          : std::string(" no lut");
+  std::vector<std::string> variants;
+  for (const Run& r : runs)
+    variants.push_back(r.shader + (r.role == Role::kBake ? std::string(" bake") : lut_state) +
+                       (r.role == Role::kStore ? "" : " user " + user_lut_state));
+  const std::vector<std::string> claimed =
+      variant_gate().acquire(variants, std::chrono::duration<double>(s.fence_timeout_s));
+  struct Release {
+    const std::vector<std::string>& claimed;
+    ~Release() { variant_gate().release(claimed); }
+  } release_claimed{claimed};
+
   HDRC_VK_CASE(vkQueueSubmit(g.queue, 1, &si, w.fence.handle));
   const uint64_t timeout_ns = static_cast<uint64_t>(s.fence_timeout_s * 1e9);
   const VkResult waited = vkWaitForFences(d, 1, &w.fence.handle, VK_TRUE, timeout_ns);
