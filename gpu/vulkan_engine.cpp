@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <initializer_list>
 #include <iterator>
 #include <limits>
 #include <map>
@@ -499,6 +500,11 @@ struct Gpu {
   // images and textures it uses (lp_state_cs.c, make_variant_key): dummies in the format of the
   // bake image and of the user LUTs (RGBA32F) let a bake pass bound to either keep one variant.
   Texture dummy_3d, dummy_2d;
+  // Per LUT format (kLutFormats), a 1-texel 3-D and 2-D image in that format, made on first use:
+  // bound in place of the LUT of the layout a case does not use, so that the shaders reading or
+  // writing the LUT see the same state on both bindings for a power-of-two LUT of either layout
+  // (one variant instead of two).
+  std::array<Texture, 4> format_dummy_3d, format_dummy_2d;
   Buffer dummy_buffer;  // 16 bytes, bound where a pass has no aux image
   struct Pipelines {
     VkDevice device = VK_NULL_HANDLE;
@@ -638,6 +644,33 @@ void release(Texture* t) {
   t->view = VK_NULL_HANDLE;
   t->image = VK_NULL_HANDLE;
   t->memory = VK_NULL_HANDLE;
+}
+
+// Clears `images` to 0 and moves them to GENERAL in a submission of their own, waited for.
+Status clear_images_now(Gpu& g, std::initializer_list<VkImage> images) {
+  const VkDevice d = g.device.handle;
+  VkCommandBufferAllocateInfo cbai{};
+  cbai.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO;
+  cbai.commandPool = g.command_pool.handle;
+  cbai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  cbai.commandBufferCount = 1;
+  CaseWork::Commands cmds;
+  cmds.device = d;
+  cmds.pool = g.command_pool.handle;
+  HDRC_VK(vkAllocateCommandBuffers(d, &cbai, &cmds.cmd));
+  VkCommandBufferBeginInfo bi{};
+  bi.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
+  bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  HDRC_VK(vkBeginCommandBuffer(cmds.cmd, &bi));
+  for (VkImage image : images) record_clear_to_general(cmds.cmd, image);
+  HDRC_VK(vkEndCommandBuffer(cmds.cmd));
+  VkSubmitInfo si{};
+  si.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
+  si.commandBufferCount = 1;
+  si.pCommandBuffers = &cmds.cmd;
+  HDRC_VK(vkQueueSubmit(g.queue, 1, &si, VK_NULL_HANDLE));
+  HDRC_VK(vkQueueWaitIdle(g.queue));
+  return {};
 }
 
 // A buffer of at least `size` bytes: the existing one when it is large enough, else a new one.
@@ -881,28 +914,7 @@ Status VulkanEngine::State::create_gpu() {
     return st;
 
   // The dummies go to GENERAL, cleared, once per device.
-  VkCommandBufferAllocateInfo cbai{};
-  cbai.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO;
-  cbai.commandPool = g->command_pool.handle;
-  cbai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-  cbai.commandBufferCount = 1;
-  CaseWork::Commands cmds;
-  cmds.device = d;
-  cmds.pool = g->command_pool.handle;
-  HDRC_VK(vkAllocateCommandBuffers(d, &cbai, &cmds.cmd));
-  VkCommandBufferBeginInfo bi{};
-  bi.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
-  bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-  HDRC_VK(vkBeginCommandBuffer(cmds.cmd, &bi));
-  record_clear_to_general(cmds.cmd, g->dummy_3d.image);
-  record_clear_to_general(cmds.cmd, g->dummy_2d.image);
-  HDRC_VK(vkEndCommandBuffer(cmds.cmd));
-  VkSubmitInfo si{};
-  si.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
-  si.commandBufferCount = 1;
-  si.pCommandBuffers = &cmds.cmd;
-  HDRC_VK(vkQueueSubmit(g->queue, 1, &si, VK_NULL_HANDLE));
-  HDRC_VK(vkQueueWaitIdle(g->queue));
+  if (Status st = clear_images_now(*g, {g->dummy_3d.image, g->dummy_2d.image}); !st) return st;
 
   gpu = std::move(g);
   ++generation;
@@ -1440,8 +1452,25 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
 
   const bool volume = bakes_lut && params.lut_layout == 0;
   const bool unwrapped = bakes_lut && params.lut_layout == 1;
-  const VkImageView view_3d = volume ? w.lut.view : g.dummy_3d.view;
-  const VkImageView view_2d = unwrapped ? w.lut.view : g.dummy_2d.view;
+  // The LUT's format dummies, made on this device's first case in the format.
+  if (bakes_lut && !g.format_dummy_3d[params.lut_format].image) {
+    Texture& d3 = g.format_dummy_3d[params.lut_format];
+    Texture& d2 = g.format_dummy_2d[params.lut_format];
+    Status st = make_texture(d, g.memory, VK_IMAGE_TYPE_3D, fmt->format, {1, 1, 1}, &d3);
+    if (st) st = make_texture(d, g.memory, VK_IMAGE_TYPE_2D, fmt->format, {1, 1, 1}, &d2);
+    if (st) st = clear_images_now(g, {d3.image, d2.image});
+    if (!st) {
+      release(&d3);
+      release(&d2);
+      return st.error();
+    }
+  }
+  const VkImageView view_3d = volume      ? w.lut.view
+                              : unwrapped ? g.format_dummy_3d[params.lut_format].view
+                                          : g.dummy_3d.view;
+  const VkImageView view_2d = unwrapped ? w.lut.view
+                              : volume  ? g.format_dummy_2d[params.lut_format].view
+                                        : g.dummy_2d.view;
   const VkImageView bake_3d = volume ? w.bake.view : g.dummy_3d.view;
   const VkImageView bake_2d = unwrapped ? w.bake.view : g.dummy_2d.view;
   // Each binding sees exactly this case's range (a reused buffer may be larger).
@@ -1628,10 +1657,12 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
   std::string user_lut_state;
   for (size_t slot = 0; slot < kUserLutSlots; ++slot)
     user_lut_state += !has_user_lut[slot] || pot(params.user_lut_size) ? 'p' : 'n';
-  const std::string lut_state = bakes_lut ? " lut " + std::to_string(params.lut_format) + '/' +
-                                                std::to_string(params.lut_layout) +
-                                                (pot(n) ? "/pot" : "/npot")
-                                          : std::string(" no lut");
+  // A power-of-two LUT binds the same state for either layout (the format dummies).
+  std::string lut_state = " no lut";
+  if (bakes_lut) {
+    lut_state = " lut " + std::to_string(params.lut_format);
+    lut_state += pot(n) ? " pot" : " npot layout " + std::to_string(params.lut_layout);
+  }
   std::vector<std::string> variants;
   for (const Run& r : runs)
     variants.push_back(r.shader + (r.role == Role::kBake ? std::string(" bake") : lut_state) +
