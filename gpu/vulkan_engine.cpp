@@ -1300,10 +1300,13 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
       w.lut_layout = params.lut_layout;
       w.lut_size = n;
     }
-    // The extents are at most the device's maximum image dimensions, which are powers of two
-    // (Vulkan spec, "Limit Requirements" lists none that is not), when the LUT's are.
-    const VkExtent3D bake_extent{std::bit_ceil(extent.width), std::bit_ceil(extent.height),
-                                 std::bit_ceil(extent.depth)};
+    // An extent rounded up past the device's maximum image dimension stays as it is (a
+    // variant more, never a failure).
+    const uint32_t max_dim =
+        params.lut_layout == 0 ? g.limits.maxImageDimension3D : g.limits.maxImageDimension2D;
+    auto rounded = [&](uint32_t v) { return std::bit_ceil(v) <= max_dim ? std::bit_ceil(v) : v; };
+    const VkExtent3D bake_extent{rounded(extent.width), rounded(extent.height),
+                                 rounded(extent.depth)};
     if (w.bake.image &&
         (w.bake_layout != params.lut_layout || w.bake_extent.width != bake_extent.width ||
          w.bake_extent.height != bake_extent.height || w.bake_extent.depth != bake_extent.depth))
