@@ -1,19 +1,26 @@
 #include "gpu/vulkan_engine.h"
 
+#include <sys/mman.h>
 #include <vulkan/vulkan.h>
 
 #include <algorithm>
-#include <cstdlib>
+#include <bit>
 #include <cctype>
+#include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <initializer_list>
 #include <iterator>
 #include <limits>
 #include <map>
 #include <memory>
 #include <mutex>
+#include <set>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -432,9 +439,13 @@ constexpr LutFormat kLutFormats[] = {
     // Unity URP's LDR grading LUT (ColorGradingLutPass: R8G8B8A8_UNorm).
     {VK_FORMAT_R8G8B8A8_UNORM, "VK_FORMAT_R8G8B8A8_UNORM", 4},
 };
-// The dummies bound where a pass has no LUT image: RGBA16F, whose storage, sampling and linear
-// filtering every Vulkan device supports (Vulkan spec, "Mandatory format support").
-constexpr VkFormat kDummyFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
+// The format of the intermediate image a LUT bake pass writes (bake_format_ok): every float32 value
+// the pass stores is kept as it is, and the store pass (kLutStoreShader) then writes it to the LUT
+// image of the case's format.
+constexpr VkFormat kBakeFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
+// The shader of that store pass: the engine's own, always compiled from the built-in shader
+// directory (a --shader-dir port provides only the stage passes).
+constexpr const char* kLutStoreShader = "engine/lut_store.comp";
 
 }  // namespace
 
@@ -484,8 +495,18 @@ struct Gpu {
   Owned<VkDescriptorSetLayout, vkDestroyDescriptorSetLayout> set_layout;
   Owned<VkPipelineLayout, vkDestroyPipelineLayout> pipeline_layout;
   Owned<VkSampler, vkDestroySampler> sampler;
-  Texture dummy_3d, dummy_2d;  // 1 texel each, bound where a pass has no LUT image
-  Buffer dummy_buffer;         // 16 bytes, bound where a pass has no aux image
+  // 1 texel each, bound where a pass has no LUT image (or user LUT), in kBakeFormat where the
+  // device can sample and filter it, else RGBA16F (Vulkan spec, "Mandatory format support").
+  // llvmpipe compiles a variant of a shader for each format, target and power-of-two-ness of the
+  // images and textures it uses (lp_state_cs.c, make_variant_key): dummies in the format of the
+  // bake image and of the user LUTs (RGBA32F) let a bake pass bound to either keep one variant.
+  Texture dummy_3d, dummy_2d;
+  // Per LUT format (kLutFormats), a 1-texel 3-D and 2-D image in that format, made on first use:
+  // bound in place of the LUT of the layout a case does not use, so that the shaders reading or
+  // writing the LUT see the same state on both bindings for a power-of-two LUT of either layout
+  // (one variant instead of two).
+  std::array<Texture, 4> format_dummy_3d, format_dummy_2d;
+  Buffer dummy_buffer;  // 16 bytes, bound where a pass has no aux image
   struct Pipelines {
     VkDevice device = VK_NULL_HANDLE;
     std::map<std::string, VkPipeline> by_shader;
@@ -505,6 +526,12 @@ struct CaseWork {
   Buffer params, input, output, aux0, aux1, scratch, readback;
   Texture lut;
   int lut_format = -1, lut_layout = -1, lut_size = -1;  // what `lut` holds
+  // The bake pass's image (kBakeFormat, the LUT's layout, each extent rounded up to a power of
+  // two so that its variant of the bake shader is the same for every r.LUT.Size); the store pass
+  // copies its N³ texels into `lut`.
+  Texture bake;
+  int bake_layout = -1;
+  VkExtent3D bake_extent{};
   // The case's user LUTs (binding kBindingUserLut, one per slot): strips N^2 x N, RGBA32F or
   // 8-bit UNORM (StageInfo::user_lut_unorm8), uploaded from `user_lut_staging` at the start of
   // every case that has them.
@@ -550,6 +577,56 @@ Result<std::shared_ptr<const std::vector<uint32_t>>> shared_spirv(const std::str
   return cache.emplace(key, std::move(code)).first->second;
 }
 
+// Cold-cache compiles shared by the engines of one process (each worker has its own engine and
+// device, and llvmpipe keeps a pipeline's compiled variants per device): the first submission that
+// needs a shader variant compiles it and puts it in Mesa's disk cache (lp_state_cs.c,
+// generate_variant: lp_disk_cache_insert_shader); a second engine that needs the same variant while
+// that submission runs would compile it again, in parallel, on a cold cache. It waits for the
+// first instead and then finds the variant in the disk cache. A variant is named by the pass's
+// shader and the state of what is bound to it that llvmpipe compiles into the variant
+// (make_variant_key: format, target and power-of-two extents of the images and textures); `done`
+// holds the names submitted in this process, `running` those whose first submission runs now.
+// Only a wait, never a different result: at worst (cache disabled or full) the engine compiles
+// the variant itself after the wait.
+class VariantGate {
+ public:
+  // Waits (at most `timeout`) while another engine runs the first submission of any of `names`,
+  // then claims those not yet submitted; the returned list is passed to release().
+  std::vector<std::string> acquire(const std::vector<std::string>& names,
+                                   std::chrono::duration<double> timeout) {
+    std::unique_lock<std::mutex> lock(mu_);
+    cv_.wait_for(lock, timeout, [&] {
+      return std::none_of(names.begin(), names.end(),
+                          [&](const std::string& n) { return running_.count(n) > 0; });
+    });
+    std::vector<std::string> claimed;
+    for (const std::string& n : names)
+      if (!done_.count(n) && running_.insert(n).second) claimed.push_back(n);
+    return claimed;
+  }
+  void release(const std::vector<std::string>& claimed) {
+    if (claimed.empty()) return;
+    {
+      std::lock_guard<std::mutex> lock(mu_);
+      for (const std::string& n : claimed) {
+        running_.erase(n);
+        done_.insert(n);
+      }
+    }
+    cv_.notify_all();
+  }
+
+ private:
+  std::mutex mu_;
+  std::condition_variable cv_;
+  std::set<std::string> done_, running_;
+};
+
+VariantGate& variant_gate() {
+  static VariantGate gate;
+  return gate;
+}
+
 // Frees a buffer so that make_buffer can create it again.
 void release(Buffer* b) {
   if (b->mapped) vkUnmapMemory(b->device, b->memory);
@@ -568,6 +645,33 @@ void release(Texture* t) {
   t->view = VK_NULL_HANDLE;
   t->image = VK_NULL_HANDLE;
   t->memory = VK_NULL_HANDLE;
+}
+
+// Clears `images` to 0 and moves them to GENERAL in a submission of their own, waited for.
+Status clear_images_now(Gpu& g, std::initializer_list<VkImage> images) {
+  const VkDevice d = g.device.handle;
+  VkCommandBufferAllocateInfo cbai{};
+  cbai.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO;
+  cbai.commandPool = g.command_pool.handle;
+  cbai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  cbai.commandBufferCount = 1;
+  CaseWork::Commands cmds;
+  cmds.device = d;
+  cmds.pool = g.command_pool.handle;
+  HDRC_VK(vkAllocateCommandBuffers(d, &cbai, &cmds.cmd));
+  VkCommandBufferBeginInfo bi{};
+  bi.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
+  bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  HDRC_VK(vkBeginCommandBuffer(cmds.cmd, &bi));
+  for (VkImage image : images) record_clear_to_general(cmds.cmd, image);
+  HDRC_VK(vkEndCommandBuffer(cmds.cmd));
+  VkSubmitInfo si{};
+  si.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
+  si.commandBufferCount = 1;
+  si.pCommandBuffers = &cmds.cmd;
+  HDRC_VK(vkQueueSubmit(g.queue, 1, &si, VK_NULL_HANDLE));
+  HDRC_VK(vkQueueWaitIdle(g.queue));
+  return {};
 }
 
 // A buffer of at least `size` bytes: the existing one when it is large enough, else a new one.
@@ -791,10 +895,19 @@ Status VulkanEngine::State::create_gpu() {
   sci.unnormalizedCoordinates = VK_FALSE;
   HDRC_VK(vkCreateSampler(d, &sci, nullptr, &g->sampler.handle));
 
-  if (auto st = make_texture(d, memory, VK_IMAGE_TYPE_3D, kDummyFormat, {1, 1, 1}, &g->dummy_3d);
+  VkFormat dummy_format = VK_FORMAT_R16G16B16A16_SFLOAT;
+  {
+    VkFormatProperties fp;
+    vkGetPhysicalDeviceFormatProperties(g->physical, kBakeFormat, &fp);
+    const VkFormatFeatureFlags want =
+        VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT | VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT |
+        VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT | VK_FORMAT_FEATURE_TRANSFER_DST_BIT;
+    if ((fp.optimalTilingFeatures & want) == want) dummy_format = kBakeFormat;
+  }
+  if (auto st = make_texture(d, memory, VK_IMAGE_TYPE_3D, dummy_format, {1, 1, 1}, &g->dummy_3d);
       !st)
     return st;
-  if (auto st = make_texture(d, memory, VK_IMAGE_TYPE_2D, kDummyFormat, {1, 1, 1}, &g->dummy_2d);
+  if (auto st = make_texture(d, memory, VK_IMAGE_TYPE_2D, dummy_format, {1, 1, 1}, &g->dummy_2d);
       !st)
     return st;
   if (auto st = make_buffer(d, memory, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, &g->dummy_buffer);
@@ -802,28 +915,7 @@ Status VulkanEngine::State::create_gpu() {
     return st;
 
   // The dummies go to GENERAL, cleared, once per device.
-  VkCommandBufferAllocateInfo cbai{};
-  cbai.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO;
-  cbai.commandPool = g->command_pool.handle;
-  cbai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-  cbai.commandBufferCount = 1;
-  CaseWork::Commands cmds;
-  cmds.device = d;
-  cmds.pool = g->command_pool.handle;
-  HDRC_VK(vkAllocateCommandBuffers(d, &cbai, &cmds.cmd));
-  VkCommandBufferBeginInfo bi{};
-  bi.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
-  bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-  HDRC_VK(vkBeginCommandBuffer(cmds.cmd, &bi));
-  record_clear_to_general(cmds.cmd, g->dummy_3d.image);
-  record_clear_to_general(cmds.cmd, g->dummy_2d.image);
-  HDRC_VK(vkEndCommandBuffer(cmds.cmd));
-  VkSubmitInfo si{};
-  si.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
-  si.commandBufferCount = 1;
-  si.pCommandBuffers = &cmds.cmd;
-  HDRC_VK(vkQueueSubmit(g->queue, 1, &si, VK_NULL_HANDLE));
-  HDRC_VK(vkQueueWaitIdle(g->queue));
+  if (Status st = clear_images_now(*g, {g->dummy_3d.image, g->dummy_2d.image}); !st) return st;
 
   gpu = std::move(g);
   ++generation;
@@ -1079,9 +1171,33 @@ uint64_t invocations(Dispatch domain, size_t pixels, int lut_size) {
   return 0;
 }
 
+// From this many pixels on, the host's work on a case's buffers is split over two threads.
+constexpr size_t kParallelHostPixels = size_t{1} << 20;
+
 void upload(const Image& img, Buffer* b) {
   float* dst = static_cast<float*>(b->mapped);
   for (size_t i = 0; i < img.data.size(); ++i) dst[i] = static_cast<float>(img.data[i]);
+}
+
+// The output image, each float widened exactly to double. The vector is filled from the floats
+// directly (no zero-filling pass first), and a large one is backed by transparent huge pages where
+// the kernel offers them (MADV_HUGEPAGE; "madvise" mode): a 4K image of doubles is 265 MB of fresh
+// memory per case, whose 4 KiB page faults cost more than the copy.
+Image widen_output(const float* src, int width, int height) {
+  Image out;
+  out.width = width;
+  out.height = height;
+  const size_t n = out.pixel_count() * Image::kChannels;
+  out.data.reserve(n);
+  constexpr size_t kHuge = size_t{2} << 20;
+  if (n * sizeof(double) >= 4 * kHuge) {
+    const auto begin = reinterpret_cast<uintptr_t>(out.data.data());
+    const uintptr_t first = (begin + kHuge - 1) & ~(kHuge - 1);
+    const uintptr_t last = (begin + n * sizeof(double)) & ~(kHuge - 1);
+    if (last > first) (void)madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
+  }
+  out.data.assign(src, src + n);
+  return out;
 }
 
 #define HDRC_VK_CASE(call)                                     \
@@ -1104,11 +1220,34 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
   const VkDevice d = g.device.handle;
   const std::string stage_name(stage.name);
 
-  std::vector<VkPipeline> pipelines;
+  // The dispatches: the stage's passes, each LUT bake pass (domain lut_texels) followed by the
+  // engine's store pass. The bake pass writes the float32 values it stores to the bake image
+  // (kBakeFormat); the store pass writes each of them with imageStore to the LUT image of the
+  // case's format and layout, the store that does the format's conversion, as the bake pass's
+  // own store would. llvmpipe compiles a shader variant per format, target and
+  // power-of-two-ness of the images a shader uses (make_variant_key): the large bake shader
+  // then has one variant for every format, layout and size, and only the small store shader one
+  // per LUT image.
+  enum class Role { kPass, kBake, kStore };
+  struct Run {
+    std::string shader;  // shader_dir/shader, naming its variants for the VariantGate
+    VkPipeline pipeline;
+    Dispatch domain;
+    bool output_to_scratch;
+    Role role;
+  };
+  std::vector<Run> runs;
   for (const StagePass& pass : stage.passes) {
     auto p = s.pipeline(shader_dir, std::string(pass.shader));
     if (!p) return p.error();
-    pipelines.push_back(*p);
+    const bool bake = pass.domain == Dispatch::kLutTexels;
+    runs.push_back({shader_dir + '/' + std::string(pass.shader), *p, pass.domain,
+                    pass.output_to_scratch, bake ? Role::kBake : Role::kPass});
+    if (!bake) continue;
+    auto store = s.pipeline(default_shader_dir(), kLutStoreShader);
+    if (!store) return store.error();
+    runs.push_back({default_shader_dir() + '/' + kLutStoreShader, *store, Dispatch::kLutTexels,
+                    false, Role::kStore});
   }
 
   // Parameters: the case's block; only the aux image sizes are filled in here, from what is bound.
@@ -1164,6 +1303,24 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
       w.lut_format = params.lut_format;
       w.lut_layout = params.lut_layout;
       w.lut_size = n;
+    }
+    // An extent rounded up past the device's maximum image dimension stays as it is (a
+    // variant more, never a failure).
+    const uint32_t max_dim =
+        params.lut_layout == 0 ? g.limits.maxImageDimension3D : g.limits.maxImageDimension2D;
+    auto rounded = [&](uint32_t v) { return std::bit_ceil(v) <= max_dim ? std::bit_ceil(v) : v; };
+    const VkExtent3D bake_extent{rounded(extent.width), rounded(extent.height),
+                                 rounded(extent.depth)};
+    if (w.bake.image &&
+        (w.bake_layout != params.lut_layout || w.bake_extent.width != bake_extent.width ||
+         w.bake_extent.height != bake_extent.height || w.bake_extent.depth != bake_extent.depth))
+      release(&w.bake);
+    if (!w.bake.image) {
+      w.bake_layout = -1;
+      if (Status st = make_texture(d, g.memory, type, kBakeFormat, bake_extent, &w.bake); !st)
+        return st.error();
+      w.bake_layout = params.lut_layout;
+      w.bake_extent = bake_extent;
     }
   }
 
@@ -1233,9 +1390,22 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
   if (Status st = ensure_buffer(d, g.memory, scratch_bytes, storage, &w.scratch); !st)
     return st.error();
   std::memcpy(w.params.mapped, packed.data(), packed.size());
-  upload(c.input, &w.input);
-  std::memset(w.output.mapped, 0, image_bytes);
-  std::memset(w.scratch.mapped, 0, scratch_bytes);
+  {
+    // A large image's conversion and the two clears (hundreds of MB at 4K) run side by side: the
+    // device's threads are idle until the submission, and each part writes its own buffer.
+    auto clear = [&] {
+      std::memset(w.output.mapped, 0, image_bytes);
+      std::memset(w.scratch.mapped, 0, scratch_bytes);
+    };
+    if (pixels >= kParallelHostPixels) {
+      std::thread clearing(clear);
+      upload(c.input, &w.input);
+      clearing.join();
+    } else {
+      upload(c.input, &w.input);
+      clear();
+    }
+  }
   for (auto [img, buf] : {std::pair{aux0, &w.aux0}, std::pair{aux1, &w.aux1}}) {
     if (!img) continue;
     const VkDeviceSize bytes = std::max<VkDeviceSize>(img->pixel_count() * 16, 16);
@@ -1252,8 +1422,9 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
       return st.error();
   }
 
-  // One descriptor set per pass (they differ only in binding 2 for output_to_scratch).
-  const uint32_t sets = static_cast<uint32_t>(stage.passes.size());
+  // One descriptor set per dispatch (they differ in binding 2 for output_to_scratch and in the
+  // LUT bindings of the bake and store passes).
+  const uint32_t sets = static_cast<uint32_t>(runs.size());
   if (w.descriptor_pool.handle && w.descriptor_capacity < sets) {
     vkDestroyDescriptorPool(d, w.descriptor_pool.handle, nullptr);
     w.descriptor_pool.handle = VK_NULL_HANDLE;
@@ -1261,8 +1432,9 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
   if (w.descriptor_pool.handle) {
     HDRC_VK_CASE(vkResetDescriptorPool(d, w.descriptor_pool.handle, 0));
   } else {
-    // Room for the largest stage (VisualizeHDR: 4 passes), so one pool serves every case.
-    const uint32_t capacity = std::max<uint32_t>(sets, 4);
+    // Room for the largest stage (VisualizeHDR: 4 passes and the store pass), so one pool
+    // serves every case.
+    const uint32_t capacity = std::max<uint32_t>(sets, 5);
     const VkDescriptorPoolSize pool_sizes[] = {
         {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 6 * capacity},
         {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 2 * capacity},
@@ -1287,18 +1459,37 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
 
   const bool volume = bakes_lut && params.lut_layout == 0;
   const bool unwrapped = bakes_lut && params.lut_layout == 1;
-  const VkImageView view_3d = volume ? w.lut.view : g.dummy_3d.view;
-  const VkImageView view_2d = unwrapped ? w.lut.view : g.dummy_2d.view;
+  // The LUT's format dummies, made on this device's first case in the format.
+  if (bakes_lut && !g.format_dummy_3d[params.lut_format].image) {
+    Texture& d3 = g.format_dummy_3d[params.lut_format];
+    Texture& d2 = g.format_dummy_2d[params.lut_format];
+    Status st = make_texture(d, g.memory, VK_IMAGE_TYPE_3D, fmt->format, {1, 1, 1}, &d3);
+    if (st) st = make_texture(d, g.memory, VK_IMAGE_TYPE_2D, fmt->format, {1, 1, 1}, &d2);
+    if (st) st = clear_images_now(g, {d3.image, d2.image});
+    if (!st) {
+      release(&d3);
+      release(&d2);
+      return st.error();
+    }
+  }
+  const VkImageView view_3d = volume      ? w.lut.view
+                              : unwrapped ? g.format_dummy_3d[params.lut_format].view
+                                          : g.dummy_3d.view;
+  const VkImageView view_2d = unwrapped ? w.lut.view
+                              : volume  ? g.format_dummy_2d[params.lut_format].view
+                                        : g.dummy_2d.view;
+  const VkImageView bake_3d = volume ? w.bake.view : g.dummy_3d.view;
+  const VkImageView bake_2d = unwrapped ? w.bake.view : g.dummy_2d.view;
   // Each binding sees exactly this case's range (a reused buffer may be larger).
   auto aux_of = [&](const Image* img, const Buffer& b) -> VkDescriptorBufferInfo {
     if (!img) return {g.dummy_buffer.buffer, 0, VK_WHOLE_SIZE};
     return {b.buffer, 0, std::max<VkDeviceSize>(img->pixel_count() * 16, 16)};
   };
   for (uint32_t i = 0; i < sets; ++i) {
+    const Role role = runs[i].role;
     const VkDescriptorBufferInfo out =
-        stage.passes[i].output_to_scratch
-            ? VkDescriptorBufferInfo{w.scratch.buffer, 0, scratch_bytes}
-            : VkDescriptorBufferInfo{w.output.buffer, 0, image_bytes};
+        runs[i].output_to_scratch ? VkDescriptorBufferInfo{w.scratch.buffer, 0, scratch_bytes}
+                                  : VkDescriptorBufferInfo{w.output.buffer, 0, image_bytes};
     const VkDescriptorBufferInfo buffers[kBindingCount] = {{w.params.buffer, 0, packed.size()},
                                                            {w.input.buffer, 0, image_bytes},
                                                            out,
@@ -1310,14 +1501,25 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
                                                            aux_of(aux1, w.aux1),
                                                            {w.scratch.buffer, 0, scratch_bytes},
                                                            {}};
+    // The bake pass stores to the bake image and samples no LUT; the store pass reads the bake
+    // image (texelFetch) and stores to the LUT image; the other passes have the LUT image on
+    // both.
+    const VkImageView store_3d = role == Role::kBake ? bake_3d : view_3d;
+    const VkImageView store_2d = role == Role::kBake ? bake_2d : view_2d;
+    const VkImageView sampled_3d = role == Role::kBake    ? g.dummy_3d.view
+                                   : role == Role::kStore ? bake_3d
+                                                          : view_3d;
+    const VkImageView sampled_2d = role == Role::kBake    ? g.dummy_2d.view
+                                   : role == Role::kStore ? bake_2d
+                                                          : view_2d;
     const VkDescriptorImageInfo images[kBindingCount] = {
         {},
         {},
         {},
-        {VK_NULL_HANDLE, view_3d, VK_IMAGE_LAYOUT_GENERAL},
-        {VK_NULL_HANDLE, view_2d, VK_IMAGE_LAYOUT_GENERAL},
-        {g.sampler.handle, view_3d, VK_IMAGE_LAYOUT_GENERAL},
-        {g.sampler.handle, view_2d, VK_IMAGE_LAYOUT_GENERAL},
+        {VK_NULL_HANDLE, store_3d, VK_IMAGE_LAYOUT_GENERAL},
+        {VK_NULL_HANDLE, store_2d, VK_IMAGE_LAYOUT_GENERAL},
+        {g.sampler.handle, sampled_3d, VK_IMAGE_LAYOUT_GENERAL},
+        {g.sampler.handle, sampled_2d, VK_IMAGE_LAYOUT_GENERAL},
         {},
         {},
         {},
@@ -1371,7 +1573,10 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
   bi.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
   bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   HDRC_VK_CASE(vkBeginCommandBuffer(cmd, &bi));
-  if (bakes_lut) record_clear_to_general(cmd, w.lut.image);
+  if (bakes_lut) {
+    record_clear_to_general(cmd, w.lut.image);
+    record_clear_to_general(cmd, w.bake.image);  // a texel the bake pass skips is stored as 0
+  }
   for (size_t slot = 0; slot < kUserLutSlots; ++slot)
     if (has_user_lut[slot])
       record_upload_to_general(
@@ -1379,7 +1584,7 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
           {uint32_t(c.user_luts[slot].width), uint32_t(c.user_luts[slot].height), 1});
 
   const uint32_t max_groups = std::max<uint32_t>(g.limits.maxComputeWorkGroupCount[0], 1);
-  for (size_t i = 0; i < stage.passes.size(); ++i) {
+  for (size_t i = 0; i < runs.size(); ++i) {
     if (i > 0) {
       // Pass i reads what pass i−1 wrote (buffers and the LUT image, which stays GENERAL): a
       // global memory barrier covers both.
@@ -1391,10 +1596,10 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
                            VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &between, 0, nullptr, 0,
                            nullptr);
     }
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines[i]);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, runs[i].pipeline);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, g.pipeline_layout.handle, 0, 1,
                             &descriptor_sets[i], 0, nullptr);
-    const uint64_t count = invocations(stage.passes[i].domain, pixels, n);
+    const uint64_t count = invocations(runs[i].domain, pixels, n);
     const uint64_t groups = (count + kLocalSizeX - 1) / kLocalSizeX;
     for (uint64_t base = 0; base < groups; base += max_groups) {
       const uint32_t here = static_cast<uint32_t>(std::min<uint64_t>(max_groups, groups - base));
@@ -1451,6 +1656,31 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
   si.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
   si.commandBufferCount = 1;
   si.pCommandBuffers = &cmd;
+  // The variants this submission compiles (VariantGate): per pass, its shader and the state of
+  // the LUT images bound to it (the bake pass has the bake image and dummies, whose state never
+  // changes) and of the user-LUT textures (RGBA32F like the dummies: only whether the strip's
+  // extents are powers of two differs).
+  auto pot = [](int v) { return v > 0 && std::has_single_bit(static_cast<unsigned>(v)); };
+  std::string user_lut_state;
+  for (size_t slot = 0; slot < kUserLutSlots; ++slot)
+    user_lut_state += !has_user_lut[slot] || pot(params.user_lut_size) ? 'p' : 'n';
+  // A power-of-two LUT binds the same state for either layout (the format dummies).
+  std::string lut_state = " no lut";
+  if (bakes_lut) {
+    lut_state = " lut " + std::to_string(params.lut_format);
+    lut_state += pot(n) ? " pot" : " npot layout " + std::to_string(params.lut_layout);
+  }
+  std::vector<std::string> variants;
+  for (const Run& r : runs)
+    variants.push_back(r.shader + (r.role == Role::kBake ? std::string(" bake") : lut_state) +
+                       (r.role == Role::kStore ? "" : " user " + user_lut_state));
+  const std::vector<std::string> claimed =
+      variant_gate().acquire(variants, std::chrono::duration<double>(s.fence_timeout_s));
+  struct Release {
+    const std::vector<std::string>& claimed;
+    ~Release() { variant_gate().release(claimed); }
+  } release_claimed{claimed};
+
   HDRC_VK_CASE(vkQueueSubmit(g.queue, 1, &si, w.fence.handle));
   const uint64_t timeout_ns = static_cast<uint64_t>(s.fence_timeout_s * 1e9);
   const VkResult waited = vkWaitForFences(d, 1, &w.fence.handle, VK_TRUE, timeout_ns);
@@ -1467,10 +1697,7 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
   HDRC_VK_CASE(waited);
 
   if (reads_back) return decode_lut(w.readback.mapped, *fmt, params.lut_layout, n);
-  Image out(c.input.width, c.input.height);
-  const float* src = static_cast<const float*>(w.output.mapped);
-  for (size_t i = 0; i < pixels * 4; ++i) out.data[i] = src[i];
-  return out;
+  return widen_output(static_cast<const float*>(w.output.mapped), c.input.width, c.input.height);
 }
 
 Result<Image> VulkanEngine::run(const ResolvedCase& c) {

@@ -296,7 +296,8 @@ TEST(VulkanEngine, LutReadBackEveryFormatAndLayout) {
             }
         EXPECT_EQ(wrong, 0);
       }
-  EXPECT_EQ(engine.compiled_pipeline_count(), 1);  // one pipeline whatever the case's parameters
+  // One pipeline whatever the case's parameters, and the engine's store pass.
+  EXPECT_EQ(engine.compiled_pipeline_count(), 2);
 }
 
 // A four-pass stage (visualize_hdr's pass list, with probe shaders): the LUT baked by pass 1 is
