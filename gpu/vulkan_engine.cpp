@@ -396,6 +396,21 @@ void record_clear_to_general(VkCommandBuffer cmd, VkImage image) {
                        0, nullptr, 0, nullptr, 1, &to_shader);
 }
 
+// Records: UNDEFINED → GENERAL (contents discarded), for compute shaders' reads and writes.
+void record_to_general(VkCommandBuffer cmd, VkImage image) {
+  VkImageMemoryBarrier b{};
+  b.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER;
+  b.srcAccessMask = 0;
+  b.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
+  b.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  b.newLayout = VK_IMAGE_LAYOUT_GENERAL;
+  b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  b.image = image;
+  b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                       0, 0, nullptr, 0, nullptr, 1, &b);
+}
+
 // Records: UNDEFINED → TRANSFER_DST, `staging` copied into the whole of `image` (tightly packed
 // texels), then GENERAL, visible to compute shaders' reads.
 void record_upload_to_general(VkCommandBuffer cmd, VkBuffer staging, VkImage image,
@@ -526,12 +541,11 @@ struct CaseWork {
   Buffer params, input, output, aux0, aux1, scratch, readback;
   Texture lut;
   int lut_format = -1, lut_layout = -1, lut_size = -1;  // what `lut` holds
-  // The bake pass's image (kBakeFormat, the LUT's layout, each extent rounded up to a power of
-  // two so that its variant of the bake shader is the same for every r.LUT.Size); the store pass
-  // copies its N³ texels into `lut`.
-  Texture bake;
-  int bake_layout = -1;
-  VkExtent3D bake_extent{};
+  // The bake pass's images, per layout (kBakeFormat, each extent rounded up to a power of two so
+  // that the bake shader's variant is the same for every r.LUT.Size, and only ever grown: a case
+  // with a smaller LUT uses the corner it needs); the store pass copies N³ texels into `lut`.
+  std::array<Texture, 2> bake;
+  std::array<VkExtent3D, 2> bake_extent{};
   // The case's user LUTs (binding kBindingUserLut, one per slot): strips N^2 x N, RGBA32F or
   // 8-bit UNORM (StageInfo::user_lut_unorm8), uploaded from `user_lut_staging` at the start of
   // every case that has them.
@@ -1309,18 +1323,26 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
     const uint32_t max_dim =
         params.lut_layout == 0 ? g.limits.maxImageDimension3D : g.limits.maxImageDimension2D;
     auto rounded = [&](uint32_t v) { return std::bit_ceil(v) <= max_dim ? std::bit_ceil(v) : v; };
-    const VkExtent3D bake_extent{rounded(extent.width), rounded(extent.height),
-                                 rounded(extent.depth)};
-    if (w.bake.image &&
-        (w.bake_layout != params.lut_layout || w.bake_extent.width != bake_extent.width ||
-         w.bake_extent.height != bake_extent.height || w.bake_extent.depth != bake_extent.depth))
-      release(&w.bake);
-    if (!w.bake.image) {
-      w.bake_layout = -1;
-      if (Status st = make_texture(d, g.memory, type, kBakeFormat, bake_extent, &w.bake); !st)
+    Texture& bake = w.bake[params.lut_layout];
+    VkExtent3D& have = w.bake_extent[params.lut_layout];
+    // Per dimension: what the image has if that will do, else what is needed, grown to the
+    // larger of the two where both are powers of two.
+    auto dim = [&](uint32_t has, uint32_t need) {
+      const uint32_t want = rounded(need);
+      if (has == want || (has > want && std::has_single_bit(has) && std::has_single_bit(want)))
+        return has;
+      return std::has_single_bit(has) && std::has_single_bit(want) ? std::max(has, want) : want;
+    };
+    const VkExtent3D bake_extent{dim(have.width, extent.width), dim(have.height, extent.height),
+                                 dim(have.depth, extent.depth)};
+    if (bake.image && (bake_extent.width != have.width || bake_extent.height != have.height ||
+                       bake_extent.depth != have.depth))
+      release(&bake);
+    if (!bake.image) {
+      have = {};
+      if (Status st = make_texture(d, g.memory, type, kBakeFormat, bake_extent, &bake); !st)
         return st.error();
-      w.bake_layout = params.lut_layout;
-      w.bake_extent = bake_extent;
+      have = bake_extent;
     }
   }
 
@@ -1478,8 +1500,8 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
   const VkImageView view_2d = unwrapped ? w.lut.view
                               : volume  ? g.format_dummy_2d[params.lut_format].view
                                         : g.dummy_2d.view;
-  const VkImageView bake_3d = volume ? w.bake.view : g.dummy_3d.view;
-  const VkImageView bake_2d = unwrapped ? w.bake.view : g.dummy_2d.view;
+  const VkImageView bake_3d = volume ? w.bake[0].view : g.dummy_3d.view;
+  const VkImageView bake_2d = unwrapped ? w.bake[1].view : g.dummy_2d.view;
   // Each binding sees exactly this case's range (a reused buffer may be larger).
   auto aux_of = [&](const Image* img, const Buffer& b) -> VkDescriptorBufferInfo {
     if (!img) return {g.dummy_buffer.buffer, 0, VK_WHOLE_SIZE};
@@ -1574,8 +1596,10 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
   bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   HDRC_VK_CASE(vkBeginCommandBuffer(cmd, &bi));
   if (bakes_lut) {
-    record_clear_to_general(cmd, w.lut.image);
-    record_clear_to_general(cmd, w.bake.image);  // a texel the bake pass skips is stored as 0
+    // The store pass writes every texel of the LUT (0 where the bake pass wrote none: the bake
+    // image is cleared), so the LUT itself only changes layout.
+    record_to_general(cmd, w.lut.image);
+    record_clear_to_general(cmd, w.bake[params.lut_layout].image);
   }
   for (size_t slot = 0; slot < kUserLutSlots; ++slot)
     if (has_user_lut[slot])
