@@ -1027,8 +1027,9 @@ Status VulkanEngine::init() {
   const DeviceDescription* chosen = nullptr;
   // HDRC_VK_DEVICE: the default device where none is given (the whole test suite on a GPU).
   const char* env_device = std::getenv("HDRC_VK_DEVICE");
-  const std::string want =
-      options_.device.empty() && env_device ? std::string(env_device) : options_.device;
+  const bool from_env = options_.device.empty() && env_device;
+  const std::string want = from_env ? std::string(env_device) : options_.device;
+  const std::string named = from_env ? "HDRC_VK_DEVICE=" : "--device ";  // where `want` came from
   if (want.empty()) {
     for (const auto& d : *devices)
       if (lower(d.name).find("llvmpipe") != std::string::npos) chosen = &d;
@@ -1040,7 +1041,7 @@ Status VulkanEngine::init() {
   } else if (std::all_of(want.begin(), want.end(), ::isdigit)) {
     const size_t index = std::stoul(want);
     if (index >= devices->size())
-      return Error{"", "", "--device " + want + ": no Vulkan device with that index", known};
+      return Error{"", "", named + want + ": no Vulkan device with that index", known};
     chosen = &(*devices)[index];
   } else {
     for (const auto& d : *devices)
@@ -1048,7 +1049,7 @@ Status VulkanEngine::init() {
         chosen = &d;
         break;
       }
-    if (!chosen) return Error{"", "", "--device '" + want + "': no Vulkan device matches", known};
+    if (!chosen) return Error{"", "", named + "'" + want + "': no Vulkan device matches", known};
   }
   const VkPhysicalDevice physical = chosen->handle;
   s->physical_index = static_cast<size_t>(chosen - devices->data());
