@@ -113,7 +113,16 @@ Result<ParamBlock> params_from_json(const json& j, const std::string& file,
     if constexpr (std::is_same_v<T, int32_t> || std::is_same_v<T, double>) {
       double v = 0;
       status = read_number(j, name, file, pointer, &v);
-      field = static_cast<T>(v);
+      if constexpr (std::is_same_v<T, int32_t>) {
+        // An integer field: a non-integral or out-of-range value has no int32 (the cast would
+        // be undefined behaviour), so it is refused.
+        if (status && !(v >= -2147483648.0 && v <= 2147483647.0 && v == std::trunc(v))) {
+          status = Error{file, at, "expected an integer, got " + j[name].dump(),
+                         "an integer in [-2147483648, 2147483647]"};
+          return;
+        }
+      }
+      if (status) field = static_cast<T>(v);
     } else if (!j.contains(name)) {
       status = Error{file, at, std::string("missing parameter ") + name, ""};
     } else if constexpr (std::is_same_v<T, std::array<double, 4>>) {

@@ -56,6 +56,26 @@ TEST(Export, MissingOrBadParameterIsLocated) {
   EXPECT_EQ(r.error().pointer, "/params/wcs_to_ap1/2");
 }
 
+// Found by fuzz/params_fuzzer (UBSan: 4.44444e+88 outside the range of int): an integer field
+// with a value no int32 holds, or a fraction, is refused with its pointer, not cast.
+TEST(Export, IntegerParameterOutOfRangeOrFractionalIsRefused) {
+  for (const double bad : {4.44444e88, -3e9, 2147483648.0, 1.5}) {
+    auto j = hdrc::params_json(hdrc::ParamBlock{});
+    j["lut_size"] = bad;
+    auto r = hdrc::params_from_json(j, "p.json", "/params");
+    ASSERT_FALSE(r.ok()) << bad;
+    EXPECT_EQ(r.error().pointer, "/params/lut_size") << bad;
+    EXPECT_NE(r.error().to_string().find("an integer in [-2147483648, 2147483647]"),
+              std::string::npos)
+        << r.error().to_string();
+  }
+  auto j = hdrc::params_json(hdrc::ParamBlock{});
+  j["lut_size"] = 33.0;  // integral: accepted
+  auto r = hdrc::params_from_json(j, "p.json", "/params");
+  ASSERT_TRUE(r.ok());
+  EXPECT_EQ(r->lut_size, 33);
+}
+
 TEST(Verify, CommandTemplateSplitsLikeAShellWithoutOne) {
   auto w = hdrc::split_command_template(
       R"(my_port --in {input} 'a b' "c \"d\" \\" e\ f $HOME;rm `x` *)");
