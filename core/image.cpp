@@ -12,6 +12,8 @@
 #include <cstring>
 #include <filesystem>
 #include <memory>
+#include <mutex>
+#include <unordered_map>
 
 #include "core/exr_header.h"
 #include "core/utf8.h"
@@ -119,5 +121,89 @@ Status write_exr(const std::string& path, const Image& image, int zip_level) {
   }
   return {};
 }
+
+namespace written_images {
+namespace {
+
+struct Kept {
+  int width = 0, height = 0;
+  std::vector<float> rgba;
+};
+
+struct Store {
+  std::mutex m;
+  std::unordered_map<std::string, Kept> images;
+  size_t bytes = 0, capacity = 0;
+};
+
+Store& store() {
+  static Store s;
+  return s;
+}
+
+std::string key_of(const std::string& path) {
+  return std::filesystem::path(path).lexically_normal().string();
+}
+
+}  // namespace
+
+void set_capacity(size_t bytes) {
+  std::lock_guard lock(store().m);
+  store().capacity = bytes;
+}
+
+void keep(const std::string& path, const Image& image) {
+  const size_t bytes = image.data.size() * sizeof(float);
+  const std::string key = key_of(path);
+  Store& s = store();
+  std::lock_guard lock(s.m);
+  if (auto it = s.images.find(key); it != s.images.end()) {  // written again: the newer values
+    s.bytes -= it->second.rgba.size() * sizeof(float);
+    s.images.erase(it);
+  }
+  if (bytes > s.capacity - std::min(s.capacity, s.bytes)) return;
+  s.images.emplace(key, Kept{image.width, image.height,
+                             std::vector<float>(image.data.begin(), image.data.end())});
+  s.bytes += bytes;
+}
+
+std::optional<Image> take(const std::string& path) {
+  Kept k;
+  {
+    Store& s = store();
+    std::lock_guard lock(s.m);
+    auto it = s.images.find(key_of(path));
+    if (it == s.images.end()) return std::nullopt;
+    k = std::move(it->second);
+    s.images.erase(it);
+    s.bytes -= k.rgba.size() * sizeof(float);
+  }
+  Image img(k.width, k.height);
+  std::copy(k.rgba.begin(), k.rgba.end(), img.data.begin());
+  return img;
+}
+
+void forget(const std::string& path) {
+  Store& s = store();
+  std::lock_guard lock(s.m);
+  if (auto it = s.images.find(key_of(path)); it != s.images.end()) {
+    s.bytes -= it->second.rgba.size() * sizeof(float);
+    s.images.erase(it);
+  }
+}
+
+void clear() {
+  Store& s = store();
+  std::lock_guard lock(s.m);
+  s.images.clear();
+  s.bytes = 0;
+}
+
+size_t bytes_kept() {
+  std::lock_guard lock(store().m);
+  return store().bytes;
+}
+
+}  // namespace written_images
 
 }  // namespace hdrc

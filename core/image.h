@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -66,5 +67,23 @@ Result<Image> read_image(const std::string& path);
 // `zip_level`: zlib's level 1-9; -1 OpenEXR's default (4). A run's case images use 1: 20 % less
 // encoding CPU for 3 % more bytes (1622 images of a 565-case run: 0.75 vs 0.94 s, 30.7 vs 29.7 MB).
 Status write_exr(const std::string& path, const Image& image, int zip_level = -1);
+
+// Images a run wrote, kept in memory for the report it builds at its end, so that the report does
+// not read and decode again what the run has just encoded (decoding was a quarter of the report's
+// CPU). Process-wide and thread-safe; values are kept as float32, exactly what the EXR holds, so
+// an image taken from here is the one read_image would return. Bounded: an image that would take
+// the total over the capacity is not kept (the report then reads the file). The capacity is 0
+// (nothing kept) until a run sets it. Paths are compared lexically normalised.
+namespace written_images {
+void set_capacity(size_t bytes);
+// After `path` was written with `image`'s values.
+void keep(const std::string& path, const Image& image);
+// The image kept for `path`, removed from memory; nullopt if none.
+std::optional<Image> take(const std::string& path);
+// Drops what is kept for `path` (its file was deleted), or everything.
+void forget(const std::string& path);
+void clear();
+size_t bytes_kept();
+}  // namespace written_images
 
 }  // namespace hdrc

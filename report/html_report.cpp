@@ -5,6 +5,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -225,6 +227,17 @@ struct CaseView {
   std::string error;    // why images are missing, if they are
   int lut_size = 0;
   json meta;  // what the case page's script needs
+  // Where each picture of the case lies in its one PNG, c/<slug>.png (see case_images): input,
+  // reference, candidate (SDR previews), heat, heat_itp, mask.
+  struct Rect {
+    int x = 0, y = 0, w = 0, h = 0;
+  };
+  std::map<std::string, Rect> sprite;
+  std::string sprite_png;  // that PNG's bytes, until the page (which carries it) is written
+  // The list pages' thumbnails (the main preview, the heatmap), and where write_report put them
+  // in the thumbnail atlases: t/<atlas>.png at (0, y).
+  Rgb8 thumb[2];
+  int thumb_atlas = -1, thumb_y[2] = {0, 0};
 };
 
 const char* const kImageNames[3] = {"input", "reference", "candidate"};
@@ -263,28 +276,31 @@ Result<OutputEncoding> encoding_of(const json& c, int width, int height) {
   return output_encoding(*spec.stage, r->params);
 }
 
-// When to_nits is v · k for every v (scene-linear, scRGB, nits), the script is sent k instead of
-// a second array of luminances. Checked numerically so it follows any change of the encoding.
-std::optional<double> linear_scale(const OutputEncoding& e) {
-  const double k = e.to_nits(1.0);
-  if (!std::isfinite(k)) return std::nullopt;
-  for (double v : {-2.0, -0.5, 1e-5, 1e-3, 0.0371, 0.37, 0.99, 3.5, 123.0}) {
-    const double n = e.to_nits(v);
-    if (!(std::fabs(n - v * k) <= 1e-12 * std::fabs(v * k))) return std::nullopt;
+// OutputEncoding::to_nits as data for the page's script (assets/report.js toNits): nits =
+// transfer(pre_scale · v) · nits_scale.
+json encoding_json(const OutputEncoding& e) {
+  const char* t = "linear";
+  switch (e.transfer) {
+    case OutputEncoding::Transfer::kLinear:
+      t = "linear";
+      break;
+    case OutputEncoding::Transfer::kPq:
+      t = "pq";
+      break;
+    case OutputEncoding::Transfer::kSrgb:
+      t = "srgb";
+      break;
+    case OutputEncoding::Transfer::kRec709:
+      t = "rec709";
+      break;
+    case OutputEncoding::Transfer::kGamma:
+      t = "gamma";
+      break;
   }
-  return k;
-}
-
-// When to_nits is k · ST 2084 EOTF(v) (PQ outputs), the script is sent k and decodes the PQ
-// signal itself (assets/report.js: nitsFromPq), instead of a second array. Checked numerically.
-std::optional<double> pq_scale(const OutputEncoding& e) {
-  const double k = e.to_nits(1.0) / ref::st2084::nits_from_pq(1.0);
-  if (!std::isfinite(k) || k <= 0) return std::nullopt;
-  for (double v : {0.0, 1e-4, 0.01, 0.1, 0.3, 0.5081, 0.58, 0.75, 0.9, 0.999}) {
-    const double want = k * ref::st2084::nits_from_pq(v), got = e.to_nits(v);
-    if (!(std::fabs(got - want) <= 1e-9 * std::fmax(1e-12, std::fabs(want)))) return std::nullopt;
-  }
-  return k;
+  return {{"transfer", t},
+          {"pre_scale", e.pre_scale},
+          {"nits_scale", e.nits_scale},
+          {"gamma", e.gamma}};
 }
 
 // Writes a file (the whole report is built in a fresh folder, swapped in at the end).
@@ -294,6 +310,17 @@ Status write_text(const fs::path& p, const std::string& s) {
   f.close();
   if (!f) return Error{p.string(), "", "cannot write", ""};
   return {};
+}
+
+// The bytes of `p`, or "" if it cannot be read or is larger than `max_bytes`.
+std::string read_small_file(const fs::path& p, size_t max_bytes) {
+  std::error_code ec;
+  const auto size = fs::file_size(p, ec);
+  if (ec || size > max_bytes) return {};
+  std::ifstream f(p, std::ios::binary);
+  std::string s(static_cast<size_t>(size), '\0');
+  if (!f.read(s.data(), static_cast<std::streamsize>(s.size()))) return {};
+  return s;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -326,14 +353,22 @@ std::string page_tail(const std::string& root, const std::vector<std::string>& s
   return h + "</body></html>\n";
 }
 
-// A list page's thumbnail of a case: its own PNG (the main preview or the heatmap) shown at most
-// 160 pixels wide, its height stretched into [12, 40] (report.css: pixelated, nearest neighbour).
-// No separate thumbnail files: two fewer files per case to write.
-std::string thumb_img(const CaseView& c, const std::string& png, bool lazy) {
-  const auto [w, h] = thumbnail_size(c.width, c.height, 160, 12, 40);
-  return std::string("<img class=\"thumb\"") + (lazy ? " loading=\"lazy\"" : "") +
-         " alt=\"\" width=\"" + std::to_string(w) + "\" height=\"" + std::to_string(h) +
-         "\" src=\"c/" + url_path_escape(c.slug) + "/" + png + "\">";
+// "12px": a CSS length in pixels, to 4 decimals (thumbnail scale factors are not integers).
+std::string css_px(double v) {
+  return fmt(v, "%.4g") + "px";
+}
+
+// A list page's thumbnail of a case (`which`: 0 its main preview, 1 its heatmap), nearest
+// neighbour at most 160 pixels wide and [12, 40] high (report/images.h thumbnail). Thumbnails
+// are not files of their own: every case's sit stacked in a few atlas PNGs, t/<n>.png (written
+// by write_report), and a thumbnail is its atlas offset in a box of its size (no script needed).
+std::string thumb_img(const CaseView& c, int which, bool lazy) {
+  const Rgb8& t = c.thumb[which];
+  if (c.thumb_atlas < 0 || t.width <= 0 || t.height <= 0) return "";
+  return "<span class=\"thumb\" data-key=\"" + std::string(which ? "heat" : "main") +
+         "\" style=\"width:" + css_px(t.width) + ";height:" + css_px(t.height) + "\"><img" +
+         (lazy ? " loading=\"lazy\"" : "") + " alt=\"\" src=\"t/" + std::to_string(c.thumb_atlas) +
+         ".png\" style=\"margin-top:" + css_px(-c.thumb_y[which]) + "\"></span>";
 }
 
 std::string badge(const std::string& verdict) {
@@ -595,6 +630,7 @@ struct Builder {
   // Images and float data of one case; a missing or unreadable EXR is noted, never fatal.
   Status case_images(CaseView& c) {
     Image img[3];
+    fs::path path[3];
     const fs::path case_dir = results_dir / "cases" / fs::path(c.id);
     // Ids are data: refuse any that would leave the results directory.
     const bool safe = c.id.find("..") == std::string::npos && !c.id.empty() && c.id[0] != '/';
@@ -606,12 +642,15 @@ struct Builder {
       }
       std::error_code ec;
       if (!fs::exists(p, ec)) continue;
-      auto r = read_image(p.string());
+      // What the run just wrote, from memory when it kept it (core/image.h written_images).
+      std::optional<Image> kept = written_images::take(p.string());
+      auto r = kept ? Result<Image>(std::move(*kept)) : read_image(p.string());
       if (!r) {
         c.error += r.error().to_string() + "\n";
         continue;
       }
       img[i] = std::move(*r);
+      path[i] = p;
       c.has[i] = true;
     }
     const Image* shape = c.has[1] ? &img[1] : c.has[2] ? &img[2] : c.has[0] ? &img[0] : nullptr;
@@ -631,71 +670,126 @@ struct Builder {
     const bool input_scene_linear = enc->stage != StageId::kUiComposite;
     OutputEncoding scene;  // scene-linear × 100 nits: how inputs are read (shaper's encoding)
     scene.stage = StageId::kShaper;
-    const fs::path dir = fs::path("c") / c.slug;
-    fs::create_directories(out / dir);
-    Rgb8 prev[3];
-    // Each image decoded to nits once, for its preview, the error maps and the float data; the
-    // candidate reuses the reference's nits where its values are the same bits.
+    // Images up to 4 Mpixel (every case of the suites) go into the case page as float data, and
+    // the page's script draws their previews, heatmaps and mask from it (assets/report.js:
+    // previewData, pixelError, maskData): here only the list pages' thumbnails are made, from
+    // the pixels a thumbnail shows (sample_nearest, the sampling of thumbnail()), which are the
+    // same bytes as thumbnails of the full pictures without making those. Larger images get no
+    // float data; their pictures are made here, into one PNG the page carries.
+    const size_t kMaxPxData = size_t{1} << 22;
+    const bool script_draws = c.width * static_cast<size_t>(c.height) <= kMaxPxData;
+    const int main = c.has[2] ? 2 : c.has[1] ? 1 : 0;
+    const bool compared = c.has[1] && c.has[2];
+    Image sampled[3];
+    const Image* src[3] = {&img[0], &img[1], &img[2]};
+    if (script_draws) {
+      const auto [tw, th] = thumbnail_size(c.width, c.height, 160, 12, 40);
+      for (int i = 0; i < 3; ++i)
+        if (c.has[i] && (i == main || (compared && i > 0))) {
+          sampled[i] = sample_nearest(img[i], tw, th);
+          src[i] = &sampled[i];
+        }
+    }
+    auto wanted = [&](int i) {
+      return c.has[i] && (!script_draws || i == main || (compared && i > 0));
+    };
+    // Each image decoded to nits once, for its preview and the error maps; the candidate reuses
+    // the reference's nits where its values are the same bits.
     Image nits[3];
     for (int i : {0, 1, 2}) {
-      if (!c.has[i]) continue;
+      if (!wanted(i)) continue;
       const OutputEncoding& e = (i == 0 && input_scene_linear) ? scene : *enc;
       nits[i] =
-          i == 2 && c.has[1] ? nits_image(img[2], e, &img[1], &nits[1]) : nits_image(img[i], e);
+          i == 2 && c.has[1] ? nits_image(*src[2], e, src[1], &nits[1]) : nits_image(*src[i], e);
     }
-    json images = json::object();
+    Rgb8 prev[3];
     for (int i = 0; i < 3; ++i) {
-      if (!c.has[i]) continue;
+      if (!wanted(i) || (script_draws && i != main && i != 1)) continue;
       // Outputs in their gamut, converted to the display's; the input (working colour space,
       // Rec.709 primaries by default) as it is.
       const ref::Mat3 to_display = output_to_display(*enc);
-      prev[i] =
-          preview_of_nits(img[i], nits[i], 0, i == 0 && input_scene_linear ? nullptr : &to_display);
-      if (Status s = put_png(dir / (std::string(kImageNames[i]) + ".png"), prev[i]); !s) return s;
+      prev[i] = preview_of_nits(*src[i], nits[i], 0,
+                                i == 0 && input_scene_linear ? nullptr : &to_display);
     }
-    if (c.has[1] && c.has[2]) {
+    ErrorMaps maps;
+    if (compared) {
       Tolerance tol;  // only the limits the mask judges, from results.json
       tol.rel_floor = c.tol.rel_floor;
       for (int m = 0; m < kMetricCount; ++m)
         if (auto it = c.tol.max.find(kMetricKeys[m]); it != c.tol.max.end())
           tol.max(static_cast<Metric>(m)) = it->second;
-      ErrorMaps maps = error_maps(img[1], img[2], nits[1], nits[2], *enc, tol, prev[1]);
+      maps = error_maps(*src[1], *src[2], nits[1], nits[2], *enc, tol, prev[1]);
       c.heat = true;
-      c.over_pixels = maps.over;
-      c.mismatch_pixels = maps.mismatch;
-      if (Status s = put_png(dir / "heat.png", maps.heat); !s) return s;
-      if (Status s = put_png(dir / "heat_itp.png", maps.heat_itp); !s) return s;
-      if (Status s = put_png(dir / "mask.png", maps.mask); !s) return s;
+      if (!script_draws) {  // the script counts them where it draws the mask
+        c.over_pixels = maps.over;
+        c.mismatch_pixels = maps.mismatch;
+      }
     }
-    // Float data for the exposure control, the probe and the LUT view. Images over 4 Mpixel are
-    // left out (the PNGs still show); no case of the suite comes near that.
-    const size_t kMaxPxData = size_t{1} << 22;
-    if (c.width * static_cast<size_t>(c.height) <= kMaxPxData) {
-      json px = {{"w", c.width},
-                 {"h", c.height},
-                 {"packing", "float32 byte planes (nits16: float16), deflate, base64"},
-                 {"images", json::object()}};
+    c.thumb[0] = thumbnail(prev[main], 160, 12, 40);  // script_draws: already that size
+    if (c.heat) c.thumb[1] = thumbnail(maps.heat, 160, 12, 40);
+    if (!script_draws) {
+      // Every picture of the case in one PNG, stacked top to bottom in this order
+      // (CaseView::sprite says where), carried by the case page itself (a data: URL).
+      std::vector<std::pair<std::string, const Rgb8*>> pictures;
+      for (int i = 0; i < 3; ++i)
+        if (c.has[i]) pictures.emplace_back(kImageNames[i], &prev[i]);
+      if (c.heat) {
+        pictures.emplace_back("heat", &maps.heat);
+        pictures.emplace_back("heat_itp", &maps.heat_itp);
+        pictures.emplace_back("mask", &maps.mask);
+      }
+      int sprite_w = 0, sprite_h = 0;
+      for (const auto& [key, pic] : pictures) {
+        c.sprite[key] = {0, sprite_h, pic->width, pic->height};
+        sprite_w = std::max(sprite_w, pic->width);
+        sprite_h += pic->height;
+      }
+      Rgb8 sprite(sprite_w, sprite_h);  // black where a narrower picture leaves room
+      for (const auto& [key, pic] : pictures)
+        for (int y = 0; y < pic->height; ++y)
+          std::memcpy(sprite.px(0, c.sprite[key].y + y),
+                      &pic->data[static_cast<size_t>(y) * pic->width * 3],
+                      static_cast<size_t>(pic->width) * 3);
+      c.sprite_png = png_bytes(sprite);
+      if (c.sprite_png.empty())
+        return Error{(out / "c" / (c.slug + ".html")).string(), "", "cannot encode the case's PNG",
+                     ""};
+    } else {
+      // Float data for the previews, heatmaps, mask, exposure control, probe and LUT view.
+      // The JSON is written out here rather than through json::dump and script_safe_json: the
+      // values are megabytes of base64, whose alphabet needs no escaping in JSON or in a
+      // <script> element, and the rest are numbers and fixed keys.
+      std::string px = "{\"w\":" + std::to_string(c.width) + ",\"h\":" + std::to_string(c.height) +
+                       ",\"packing\":\"exr: the OpenEXR file; v: float32 byte planes, deflate; "
+                       "base64\",\"images\":{";
+      bool first = true;
       for (int i = 0; i < 3; ++i) {
         if (!c.has[i]) continue;
         const OutputEncoding& e = (i == 0 && input_scene_linear) ? scene : *enc;
-        json im;
-        double a = 0;
-        const bool const_a = constant_alpha(img[i], &a);
-        im["ch"] = const_a ? 3 : 4;
-        if (const_a) im["alpha"] = a;
-        im["v"] = float32_packed_base64(img[i], const_a ? 3 : 4);
-        if (auto k = linear_scale(e))
-          im["scale"] = *k;
-        else if (auto q = pq_scale(e))
-          im["pq_scale"] = *q;
-        else
-          im["nits16"] = float16_packed_base64(nits[i], 3);
-        px["images"][kImageNames[i]] = std::move(im);
+        px += std::string(first ? "" : ",") + "\"" + kImageNames[i] + "\":{";
+        first = false;
+        // The EXR itself when the script can decode it (report.js decodeExr): what the run
+        // wrote, no repacking; else its float32 values packed.
+        std::string file;
+        if (img[i].width == c.width && img[i].height == c.height)
+          file = read_small_file(path[i], kMaxPxData * 16 + (size_t{1} << 20));
+        if (!file.empty() && exr_embeddable(file, c.width, c.height)) {
+          px += "\"exr\":\"" +
+                base64_of(reinterpret_cast<const uint8_t*>(file.data()), file.size()) + "\"";
+        } else {
+          double a = 0;
+          const bool const_a = constant_alpha(img[i], &a);
+          px += "\"ch\":" + std::to_string(const_a ? 3 : 4);
+          if (const_a) px += ",\"alpha\":" + json(a).dump();
+          px += ",\"v\":\"" + float32_packed_base64(img[i], const_a ? 3 : 4) + "\"";
+        }
+        // How the script decodes a value to nits: OutputEncoding::to_nits, as parameters.
+        px += ",\"enc\":" + encoding_json(e).dump() + "}";
       }
       // In the case page, as data (CSP: no inline script runs), not a px.js beside it: one file
       // fewer per case.
       c.px = true;
-      c.px_json = script_safe_json(px.dump());
+      c.px_json = px + "}}";
     }
     c.meta["encoding"] = enc->describe();
     c.meta["gamut"] = enc->gamut;
@@ -738,8 +832,14 @@ struct Builder {
     }
     c.meta["input"] = text(get(*c.j, {"input"}));
     c.meta["px"] = c.px;
+    if (!c.sprite.empty()) {
+      json panels = json::object();
+      for (const auto& [key, r] : c.sprite) panels[key] = {r.x, r.y, r.w, r.h};
+      c.meta["sprite"] = {{"panels", panels}};
+    }
     Status s = put(fs::path("c") / (c.slug + ".html"), case_page(c));
     c.px_json = std::string();  // written: free it
+    c.sprite_png = std::string();
     return s;
   }
 
@@ -792,12 +892,31 @@ struct Builder {
            "VisualizeHDR's Colorize of the histogram position; PQ signal: ST 2084 codes as grey. "
            "NaN pixels magenta, infinite pixels cyan.</p>\n";
       h += "<div id=\"panels\" class=\"panels\">\n";
+      // Each panel shows its picture of the case's PNG at 1:1 without the script (a box of the
+      // picture's size over the PNG, offset); the script redraws the panels.
+      // With float data the script draws every panel (an empty frame until then).
       auto panel = [&](const std::string& key, const std::string& label, bool present) {
         if (!present) return;
         h += "<figure class=\"panel\" data-key=\"" + key + "\"><figcaption>" + label +
-             "</figcaption><div class=\"frame\"><img alt=\"" + label + "\" src=\"" +
-             url_path_escape(c.slug) + "/" + key + ".png\"></div></figure>\n";
+             "</figcaption><div class=\"frame\">";
+        if (const auto it = c.sprite.find(key); it != c.sprite.end()) {
+          const CaseView::Rect& r = it->second;
+          h += "<span class=\"sprite\" role=\"img\" aria-label=\"" + label +
+               "\" style=\"width:" + css_px(r.w) + ";height:" + css_px(r.h) +
+               ";background-position:" + css_px(-r.x) + " " + css_px(-r.y) + "\"></span>";
+        }
+        h += "</div></figure>\n";
       };
+      if (c.px)
+        h += "<noscript><p class=\"warning\">The pictures of this case are drawn by the page's "
+             "script from its float data: they need JavaScript.</p></noscript>\n";
+      // The case's PNG, once: the panels' background (shown without the script too) and what
+      // the script draws its canvases from (report.js initCase). Base64 needs no escaping in CSS.
+      if (!c.sprite_png.empty())
+        h += "<style id=\"case-sprite\">#images .sprite { background-image: "
+             "url(\"data:image/png;base64," +
+             base64_of(reinterpret_cast<const uint8_t*>(c.sprite_png.data()), c.sprite_png.size()) +
+             "\"); }</style>\n";
       panel("input", "input", c.has[0]);
       panel("reference", "reference", c.has[1]);
       panel("candidate", "candidate", c.has[2]);
@@ -810,12 +929,13 @@ struct Builder {
              "per pixel the largest error of its colour channels (<span "
              "id=\"legend-unit\">PQ 10-bit code values</span>), VisualizeHDR's Colorize ramp on a "
              "log scale; black = exact, white = non-finite mismatch; ▲ = the tolerance. Mask: "
-             "<span class=\"sw over\"></span> a value over its metric's max (" +
-             std::to_string(c.over_pixels) +
-             " pixels), <span class=\"sw nan\"></span> non-finite "
-             "mismatch (" +
-             std::to_string(c.mismatch_pixels) +
-             " pixels), grey: within tolerance (dimmed reference).</p></div>\n";
+             "<span class=\"sw over\"></span> a value over its metric's max (<span "
+             "id=\"mask-over\">" +
+             (c.px ? std::string("…") : std::to_string(c.over_pixels)) +
+             "</span> pixels), <span class=\"sw nan\"></span> non-finite mismatch (<span "
+             "id=\"mask-mismatch\">" +
+             (c.px ? std::string("…") : std::to_string(c.mismatch_pixels)) +
+             "</span> pixels), grey: within tolerance (dimmed reference).</p></div>\n";
       }
       h += "<div id=\"probe\" class=\"probe\"><p id=\"probe-hint\">" +
            std::string(c.px ? "Hover over an image for the pixel probe; click to pin."
@@ -1029,7 +1149,7 @@ struct Builder {
              url_path_escape(c->slug) + ".html\"><code>" + html_escape(c->id) +
              "</code></a></td><td class=\"num\">" +
              (c->budget ? fmt(*c->budget * 100, "%.3g") + " %" : "—") + "</td><td>" +
-             (c->heat ? thumb_img(*c, "heat.png", false) : "") + "</td><td class=\"reason\">" +
+             (c->heat ? thumb_img(*c, 1, false) : "") + "</td><td class=\"reason\">" +
              html_escape(c->reason) + "</td></tr>\n";
       }
       h += "</tbody></table>\n";
@@ -1078,9 +1198,8 @@ struct Builder {
            esc_text(get(*c.j, {"input"})) + "</td><td class=\"num\">" +
            (c.budget ? fmt(*c.budget * 100, "%.3g") + " %" : "—") +
            "</td><td class=\"num metric\">—</td><td>";
-      if (c.has[0] || c.has[1] || c.has[2])
-        h += thumb_img(c, std::string(kImageNames[c.has[2] ? 2 : c.has[1] ? 1 : 0]) + ".png", true);
-      if (c.heat) h += thumb_img(c, "heat.png", true);
+      if (c.has[0] || c.has[1] || c.has[2]) h += thumb_img(c, 0, true);
+      if (c.heat) h += thumb_img(c, 1, true);
       h += "</td><td class=\"reason\">" + html_escape(c.reason) + "</td></tr>\n";
     }
     h += "</tbody></table>\n";
@@ -1164,6 +1283,7 @@ Result<size_t> folder_size(const fs::path& p, size_t* files) {
 Result<report::ReportInfo> write_report(const std::string& results_dir, int jobs) {
   using namespace report;
   const auto t0 = std::chrono::steady_clock::now();
+  const std::clock_t cpu0 = std::clock();  // process CPU time, all threads (POSIX clock())
   Builder b;
   b.results_dir = results_dir;
   const fs::path results = b.results_dir / "results.json";
@@ -1231,6 +1351,39 @@ Result<report::ReportInfo> write_report(const std::string& results_dir, int jobs
   for (auto& t : pool) t.join();
   for (const Status& s : done)
     if (!s) return s.error();
+  // The thumbnail atlases: the cases' thumbnails in order, stacked, 64 cases an atlas (a list
+  // page loads only the atlases of the rows it shows: <img loading="lazy">).
+  {
+    constexpr size_t kCasesPerAtlas = 64;
+    std::vector<CaseView*> with;
+    for (auto& c : b.cases)
+      if (c.thumb[0].width > 0 || c.thumb[1].width > 0) with.push_back(&c);
+    if (!with.empty()) fs::create_directories(b.out / "t", ec);
+    for (size_t first = 0, atlas = 0; first < with.size(); first += kCasesPerAtlas, ++atlas) {
+      const size_t last = std::min(with.size(), first + kCasesPerAtlas);
+      int w = 1, h = 0;
+      for (size_t i = first; i < last; ++i)
+        for (const Rgb8& t : with[i]->thumb) {
+          w = std::max(w, t.width);
+          h += t.height;
+        }
+      Rgb8 sheet(w, std::max(h, 1));
+      int y = 0;
+      for (size_t i = first; i < last; ++i) {
+        CaseView& c = *with[i];
+        c.thumb_atlas = static_cast<int>(atlas);
+        for (int k = 0; k < 2; ++k) {
+          const Rgb8& t = c.thumb[k];
+          c.thumb_y[k] = y;
+          for (int row = 0; row < t.height; ++row, ++y)
+            std::memcpy(sheet.px(0, y), &t.data[static_cast<size_t>(row) * t.width * 3],
+                        static_cast<size_t>(t.width) * 3);
+        }
+      }
+      if (Status s = b.put_png(fs::path("t") / (std::to_string(atlas) + ".png"), sheet); !s)
+        return s.error();
+    }
+  }
   for (const Asset& a : assets())
     if (Status s = b.put(fs::path("assets") / std::string(a.name), std::string(a.contents)); !s)
       return s.error();
@@ -1258,6 +1411,7 @@ Result<report::ReportInfo> write_report(const std::string& results_dir, int jobs
   if (!bytes) return bytes.error();
   info.bytes = *bytes;
   info.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  info.cpu_seconds = static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC;
   return info;
 }
 

@@ -6,20 +6,28 @@
 //     → DIR/report/index.html                  summary: counts, worst cases, near misses, metadata
 //       DIR/report/matrix.html                 verdict or a metric pivoted over two chosen cvars
 //       DIR/report/cases.html                  every case: filters (stage, verdict, cvar, text),
-//                                              sort; thumbnails (the case's PNGs, scaled)
-//       DIR/report/c/<slug>.html               one page per case: parameters, tolerance,
-//                                              statistics, images (exposure, heatmap, mask,
-//                                              flip, slider, probe), float data (#case-px)
-//       DIR/report/c/<slug>/*.png              SDR previews, heatmaps, mask
+//                                              sort; thumbnails
+//       DIR/report/c/<slug>.html               one page per case, one file: parameters,
+//                                              tolerance, statistics, images (exposure, heatmap,
+//                                              mask, flip, slider, probe), the float data
+//                                              (#case-px: the case's EXR files themselves, which
+//                                              the page's script decodes, or packed float32)
+//       DIR/report/t/<n>.png                   thumbnail atlases: the list pages' thumbnails of
+//                                              64 cases each, stacked
 //       DIR/report/data.js, assets/            the case table for the script pages; script, style
+//
+// The case page's script draws the previews, heatmaps and mask from the float data (images up
+// to 4 Mpixel: assets/report.js previewData, heatData, maskData, mirroring the C++ below, which
+// the browser test compares); only the thumbnails are made here, from the pixels they show.
+// Larger images get no float data: their pictures are made here, in one PNG the page carries.
 //
 // Fields missing from results.json are shown as "—"; nothing in it is trusted: every string is
 // escaped where it is written (HTML text, attributes, URLs, script data).
 //
-// SDR preview mapping (the same in C++ for the PNGs and in assets/report.js for the exposure
-// control): each value is decoded to absolute luminance with the case's output encoding (the one
-// the diff uses, docs/diff-metrics.md; inputs are scene-linear × 100 nits except for ui_composite,
-// whose input is a back buffer in the output's encoding), then
+// SDR preview mapping (the same in C++ for the thumbnails and in assets/report.js for the panels
+// and control): each value is decoded to absolute luminance with the case's output encoding (the
+// one the diff uses, docs/diff-metrics.md; inputs are scene-linear × 100 nits except for
+// ui_composite, whose input is a back buffer in the output's encoding), then
 //   display = sRGB_OETF(clamp(nits / 100 · 2^EV, 0, 1))          (100 nits at EV 0 = SDR white)
 // per channel, 8 bits. A pixel with a NaN channel is drawn magenta, with an infinite one cyan.
 //
@@ -55,8 +63,9 @@ struct ReportInfo {
   std::string index_path;  // DIR/report/index.html
   size_t cases = 0;
   size_t files = 0;
-  size_t bytes = 0;  // total size of the report folder
-  double seconds = 0;
+  size_t bytes = 0;        // total size of the report folder
+  double seconds = 0;      // wall
+  double cpu_seconds = 0;  // CPU time of the process (every thread) while it built the report
 };
 
 }  // namespace report

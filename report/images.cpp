@@ -1,7 +1,7 @@
 #include "report/images.h"
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
-#include <half.h>
 #include <zlib.h>
 
 #include <algorithm>
@@ -272,22 +272,43 @@ std::array<int, 2> thumbnail_size(int width, int height, int max_w, int min_h, i
   return {w, std::clamp(static_cast<int>(std::lround(height * scale)), min_h, max_h)};
 }
 
+namespace {
+
+// The source column (row) of thumbnail column (row) `x` of `w`, from a source of `n`.
+int nearest_source(int x, int w, int n) {
+  return std::min(n - 1, static_cast<int>((x + 0.5) * n / w));
+}
+
+}  // namespace
+
 Rgb8 thumbnail(const Rgb8& src, int max_w, int min_h, int max_h) {
   const auto [w, h] = thumbnail_size(src.width, src.height, max_w, min_h, max_h);
+  if (w == src.width && h == src.height) return src;
   Rgb8 out(w, h);
   // Nearest neighbour: thumbnails of ramps and LUTs keep their hard edges.
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
-      const int sx = std::min(src.width - 1, static_cast<int>((x + 0.5) * src.width / w));
-      const int sy = std::min(src.height - 1, static_cast<int>((y + 0.5) * src.height / h));
+      const int sx = nearest_source(x, w, src.width), sy = nearest_source(y, h, src.height);
       std::memcpy(out.px(x, y), &src.data[(static_cast<size_t>(sy) * src.width + sx) * 3], 3);
     }
   return out;
 }
 
-Status write_png(const std::string& path, const Rgb8& img) {
-  auto out = OIIO::ImageOutput::create(path);
-  if (!out) return Error{path, "", "cannot create a PNG writer: " + OIIO::geterror(), ""};
+Image sample_nearest(const Image& src, int width, int height) {
+  Image out(width, height);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const double* p =
+          src.px(nearest_source(x, width, src.width), nearest_source(y, height, src.height));
+      std::copy(p, p + Image::kChannels, out.px(x, y));
+    }
+  return out;
+}
+
+namespace {
+
+// The report's PNG settings, for files and in-memory PNGs alike.
+OIIO::ImageSpec png_spec(const Rgb8& img) {
   OIIO::ImageSpec spec(img.width, img.height, 3, OIIO::TypeDesc::UINT8);
   // zlib level 3 and libpng's SUB filter alone (PNG_FILTER_SUB, 0x10) instead of level 6 with
   // the adaptive choice among all five filters per row: on the report's PNGs (4316 of a 565-case
@@ -295,11 +316,31 @@ Status write_png(const std::string& path, const Rgb8& img) {
   // float data). Level 1 alone measured 0.47 vs 0.79 s for 7.0 MB, SUB at level 3 0.36 s.
   spec.attribute("png:compressionLevel", 3);
   spec.attribute("png:filter", 0x10);
+  return spec;
+}
+
+}  // namespace
+
+Status write_png(const std::string& path, const Rgb8& img) {
+  auto out = OIIO::ImageOutput::create(path);
+  if (!out) return Error{path, "", "cannot create a PNG writer: " + OIIO::geterror(), ""};
+  const OIIO::ImageSpec spec = png_spec(img);
   if (!out->open(path, spec)) return Error{path, "", "cannot open: " + out->geterror(), ""};
   const bool ok = out->write_image(OIIO::TypeDesc::UINT8, img.data.data());
   const bool closed = out->close();
   if (!ok || !closed) return Error{path, "", "cannot write: " + out->geterror(), ""};
   return {};
+}
+
+std::string png_bytes(const Rgb8& img) {
+  std::vector<unsigned char> buf;
+  OIIO::Filesystem::IOVecOutput vec(buf);
+  auto out = OIIO::ImageOutput::create("png");
+  if (!out || !out->set_ioproxy(&vec)) return {};
+  if (!out->open("memory.png", png_spec(img))) return {};
+  const bool ok = out->write_image(OIIO::TypeDesc::UINT8, img.data.data());
+  if (!out->close() || !ok) return {};
+  return std::string(buf.begin(), buf.end());
 }
 
 std::string float32_base64(const Image& img, int channels) {
@@ -367,23 +408,6 @@ std::string base64(const uint8_t* bytes, size_t n) {
 
 }  // namespace
 
-std::string float16_packed_base64(const Image& img, int channels) {
-  const size_t count = img.pixel_count() * static_cast<size_t>(channels);
-  std::vector<uint8_t> planes(count * 2);
-  size_t j = 0;
-  for (size_t i = 0; i < img.pixel_count(); ++i)
-    for (int c = 0; c < channels; ++c, ++j) {
-      const uint16_t u = half(static_cast<float>(img.data[i * Image::kChannels + c])).bits();
-      planes[j] = static_cast<uint8_t>(u & 0xFF);
-      planes[count + j] = static_cast<uint8_t>(u >> 8);
-    }
-  uLongf size = compressBound(static_cast<uLong>(planes.size()));
-  std::vector<uint8_t> z(size);
-  if (compress2(z.data(), &size, planes.data(), static_cast<uLong>(planes.size()), 1) != Z_OK)
-    return "";
-  return base64(z.data(), size);
-}
-
 std::string float32_packed_base64(const Image& img, int channels) {
   const size_t count = img.pixel_count() * static_cast<size_t>(channels);
   // Byte planes: byte b of every value together (exponents and high mantissa bytes of smooth
@@ -404,6 +428,144 @@ std::string float32_packed_base64(const Image& img, int channels) {
   if (compress2(z.data(), &size, planes.data(), static_cast<uLong>(planes.size()), 1) != Z_OK)
     return "";
   return base64(z.data(), size);
+}
+
+std::string base64_of(const uint8_t* bytes, size_t n) {
+  return base64(bytes, n);
+}
+
+namespace {
+
+// A bounded little-endian reader over a byte string: every read checks the end first.
+struct ByteReader {
+  std::string_view b;
+  size_t at = 0;
+  bool ok = true;
+  bool need(size_t n) {
+    if (!ok || n > b.size() - at) ok = false;
+    return ok;
+  }
+  uint64_t le(size_t n) {
+    if (!need(n)) return 0;
+    uint64_t v = 0;
+    for (size_t i = 0; i < n; ++i)
+      v |= static_cast<uint64_t>(static_cast<uint8_t>(b[at + i])) << (8 * i);
+    at += n;
+    return v;
+  }
+  int32_t i32() { return static_cast<int32_t>(static_cast<uint32_t>(le(4))); }
+  // A NUL-terminated string of at most 255 bytes (OpenEXR's long-name limit).
+  std::string_view cstr() {
+    if (!ok) return {};
+    const size_t end = b.find('\0', at);
+    if (end == std::string_view::npos || end - at > 255) {
+      ok = false;
+      return {};
+    }
+    std::string_view s = b.substr(at, end - at);
+    at = end + 1;
+    return s;
+  }
+};
+
+}  // namespace
+
+bool exr_embeddable(std::string_view bytes, int width, int height) {
+  if (width <= 0 || height <= 0) return false;
+  ByteReader r{bytes};
+  if (r.le(4) != 20000630) return false;  // the magic number 76 2f 31 01
+  const uint64_t version = r.le(4);
+  // Version 2; flags: 0x200 tiled, 0x800 deep ("non-image"), 0x1000 multi-part. 0x400 (long
+  // names) changes nothing a scan-line reader does.
+  if ((version & 0xFF) != 2 || (version & (0x200 | 0x800 | 0x1000)) != 0) return false;
+  int compression = -1, line_order = 0;
+  bool have_window = false;
+  int32_t y_min = 0, x_min = 0, x_max = -1, y_max = -1;
+  size_t bytes_per_pixel = 0;
+  bool rgb[3] = {false, false, false};
+  for (int attrs = 0; attrs < 1000; ++attrs) {  // bounded: a real header has a few dozen
+    const std::string_view name = r.cstr();
+    if (!r.ok) return false;
+    if (name.empty()) break;
+    const std::string_view type = r.cstr();
+    const int32_t size = r.i32();
+    if (!r.ok || size < 0 || !r.need(static_cast<size_t>(size))) return false;
+    ByteReader v{bytes.substr(r.at, static_cast<size_t>(size))};
+    r.at += static_cast<size_t>(size);
+    if (name == "channels") {
+      if (type != "chlist") return false;
+      for (int ch = 0; ch < 16; ++ch) {
+        const std::string_view cn = v.cstr();
+        if (!v.ok) return false;
+        if (cn.empty()) break;
+        const int32_t pixel_type = v.i32();
+        v.le(4);  // pLinear and 3 reserved bytes
+        const int32_t xs = v.i32(), ys = v.i32();
+        if (!v.ok || xs != 1 || ys != 1 || (pixel_type != 1 && pixel_type != 2)) return false;
+        if (cn == "R")
+          rgb[0] = true;
+        else if (cn == "G")
+          rgb[1] = true;
+        else if (cn == "B")
+          rgb[2] = true;
+        else if (cn != "A")
+          return false;
+        bytes_per_pixel += pixel_type == 1 ? 2 : 4;
+      }
+      if (v.at != v.b.size()) return false;  // more than R, G, B, A (or a repeated name)
+    } else if (name == "compression") {
+      if (type != "compression" || size != 1) return false;
+      compression = static_cast<int>(v.le(1));
+    } else if (name == "dataWindow") {
+      if (type != "box2i" || size != 16) return false;
+      x_min = v.i32(), y_min = v.i32(), x_max = v.i32(), y_max = v.i32();
+      have_window = true;
+    } else if (name == "lineOrder") {
+      if (type != "lineOrder" || size != 1) return false;
+      line_order = static_cast<int>(v.le(1));
+    } else if (name == "tiles" || name == "type" || name == "chunkCount") {
+      return false;  // tiles, or a typed part: not what a single-part scan-line file has
+    }
+  }
+  // Channel names are unique in a valid file; R, G, B present and at most 16 bytes a pixel.
+  if (!rgb[0] || !rgb[1] || !rgb[2] || bytes_per_pixel > 16) return false;
+  if (!have_window || static_cast<int64_t>(x_max) - x_min + 1 != width ||
+      static_cast<int64_t>(y_max) - y_min + 1 != height)
+    return false;
+  if (line_order > 1) return false;  // RANDOM_Y: chunks in any order; not written by us
+  int lines;                         // scan lines per chunk
+  switch (compression) {
+    case 0:
+    case 2:
+      lines = 1;
+      break;  // NONE, ZIPS
+    case 3:
+      lines = 16;
+      break;  // ZIP
+    default:
+      return false;
+  }
+  const int64_t chunks = (static_cast<int64_t>(height) + lines - 1) / lines;
+  const size_t line_bytes = static_cast<size_t>(width) * bytes_per_pixel;
+  const size_t table = r.at;
+  if (!r.need(static_cast<size_t>(chunks) * 8)) return false;
+  for (int64_t k = 0; k < chunks; ++k) {
+    ByteReader t{bytes, table + static_cast<size_t>(k) * 8};
+    const uint64_t offset = t.le(8);
+    if (offset > bytes.size()) return false;
+    ByteReader c{bytes, static_cast<size_t>(offset)};
+    const int32_t y = c.i32(), size = c.i32();
+    if (!c.ok || size <= 0 || !c.need(static_cast<size_t>(size))) return false;
+    // Chunk k holds rows y_min + k·lines onwards; in bytes at most lines · line_bytes (stored
+    // data is exactly that; compressed data is smaller, or OpenEXR stores it raw).
+    if (static_cast<int64_t>(y) != y_min + k * lines) return false;
+    const int64_t rows = std::min<int64_t>(lines, static_cast<int64_t>(y_max) - y + 1);
+    const uint64_t raw = static_cast<uint64_t>(rows) * line_bytes;
+    if (static_cast<uint64_t>(size) > raw ||
+        (compression == 0 && static_cast<uint64_t>(size) != raw))
+      return false;
+  }
+  return true;
 }
 
 }  // namespace hdrc::report

@@ -6,6 +6,7 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/case.h"
@@ -100,12 +101,17 @@ ErrorMaps error_maps(const Image& reference, const Image& candidate, const Image
 
 // A small copy for list pages: at most `max_w` wide, height stretched into [min_h, max_h].
 Rgb8 thumbnail(const Rgb8& src, int max_w, int min_h, int max_h);
+// The pixels of `src` a `width` x `height` nearest-neighbour thumbnail shows (the sampling of
+// thumbnail()), as an image: per-pixel pictures of it equal thumbnail() of the full pictures.
+Image sample_nearest(const Image& src, int width, int height);
 // The thumbnail's size, {width, height}, for an image of `width` x `height`. The list pages show
-// a case's own PNGs at this size (CSS image-rendering: pixelated, nearest neighbour as here).
+// thumbnails at this size (CSS image-rendering: pixelated, nearest neighbour as here).
 std::array<int, 2> thumbnail_size(int width, int height, int max_w, int min_h, int max_h);
 
 // Writes an 8-bit RGB PNG through OpenImageIO.
 Status write_png(const std::string& path, const Rgb8& img);
+// The same PNG's bytes, made in memory (for a data: URL); "" if encoding fails.
+std::string png_bytes(const Rgb8& img);
 
 // Base64 of the float32 (little-endian) values of the given channels of `img`.
 std::string float32_base64(const Image& img, int channels);
@@ -116,9 +122,17 @@ std::string float32_base64(const Image& img, int channels);
 // values exactly. "" if deflate fails.
 std::string float32_packed_base64(const Image& img, int channels);
 
-// The same for IEEE half floats (2 byte planes): for derived display data (nits), where 11
-// significant bits are plenty and the size halves. Rounds to nearest (Imath's half).
-std::string float16_packed_base64(const Image& img, int channels);
+// Whether `bytes`, an OpenEXR file, is one the case page's script decodes itself (report.js
+// decodeExr), so that the page carries the file as it is, with no decoding and repacking here:
+// OpenEXR 2 single-part scan lines (no tiles, deep data or parts), compression NONE, ZIPS or ZIP,
+// channels R, G, B and optionally A and nothing else, each HALF or FLOAT sampled 1 x 1, a data
+// window of `width` x `height`, and an offset table whose every chunk header lies in the file, at
+// the y it must have, with a size that fits. A walk of the bytes with every read bounded (OpenEXR
+// file layout, openexr.com "OpenEXR File Layout"); the file was already read by OpenImageIO.
+bool exr_embeddable(std::string_view bytes, int width, int height);
+
+// Base64 (RFC 4648, with padding) of `n` bytes.
+std::string base64_of(const uint8_t* bytes, size_t n);
 
 // Whether every alpha value of `img` equals `*value` (set from the first pixel).
 bool constant_alpha(const Image& img, double* value);

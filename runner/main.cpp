@@ -428,8 +428,8 @@ int main(int argc, char** argv) {
       return hdrc::kExitBadInput;
     }
     std::error_code ec;
-    std::printf("report: %zu cases, %zu files, %.1f MB in %.2f s\nreport: %s\n", info->cases,
-                info->files, info->bytes / 1e6, info->seconds,
+    std::printf("report: %zu cases, %zu files, %.1f MB in %.2f s (CPU %.2f s)\nreport: %s\n",
+                info->cases, info->files, info->bytes / 1e6, info->seconds, info->cpu_seconds,
                 std::filesystem::absolute(info->index_path, ec).lexically_normal().c_str());
     return hdrc::kExitPass;
   }
@@ -557,13 +557,21 @@ int main(int argc, char** argv) {
 
   suite.cases_dir = cases_dir;
   suite.out_dir = outset ? outset->staging() : out_dir;
+  // The case images the run writes stay in memory, up to 384 MB, for the report built at its end
+  // (core/image.h written_images; the default suite's are 120-300 MB).
+  hdrc::written_images::set_capacity(size_t{384} << 20);
   // The run's last line names the report (README: the main job ends with the report's path).
   bool goldens_checked = false;
   auto finish = [&](int code) {
     // Golden outcomes into results.json and junit, --images applied, then the report, all in the
     // staging folder; then the run is published as a whole (runner/output_set.h).
-    code = hdrc::finish_run_outputs(suite.out_dir, code, goldens_checked, images, jobs);
+    hdrc::report::ReportInfo report;
+    code = hdrc::finish_run_outputs(suite.out_dir, code, goldens_checked, images, jobs, &report);
+    hdrc::written_images::clear();
     code = hdrc::publish_run(outset.get(), code);
+    if (report.cases > 0)
+      std::printf("report: %zu cases, %zu files, %.1f MB in %.2f s (CPU %.2f s)\n", report.cases,
+                  report.files, report.bytes / 1e6, report.seconds, report.cpu_seconds);
     std::error_code ec;
     if (code != hdrc::kExitBadInput &&
         fs::exists(out_dir + "/results.json"))  // bad input writes nothing

@@ -435,6 +435,7 @@ Status apply_image_policy(nlohmann::ordered_json& doc, const std::string& out_di
       if (rel.rfind("cases/", 0) != 0 || rel.find("..") != std::string::npos) continue;
       const fs::path p = fs::path(out_dir) / rel;
       fs::remove(p, ec);
+      written_images::forget(p.string());
       // The case's folder and its parents up to OUT/cases, when that leaves them empty.
       for (fs::path d = p.parent_path(); d.filename() != "cases" && fs::is_empty(d, ec) && !ec;
            d = d.parent_path())
@@ -467,7 +468,7 @@ int exit_code_of(const nlohmann::ordered_json& doc) {
 }
 
 int finish_run_outputs(const std::string& out_dir, int code, bool goldens_checked,
-                       const std::string& images, int jobs) {
+                       const std::string& images, int jobs, report::ReportInfo* report_info) {
   if (code == kExitBadInput) return code;
   auto doc = read_results_json(out_dir + "/results.json");
   if (!doc) return code;  // nothing was written (the run failed before its outputs)
@@ -482,7 +483,10 @@ int finish_run_outputs(const std::string& out_dir, int code, bool goldens_checke
   if (s) s = write_file_atomic(out_dir + "/junit.xml", junit_from_results(*doc));
   if (s) {
     auto report = write_report(out_dir, jobs);
-    if (!report) s = report.error();
+    if (!report)
+      s = report.error();
+    else if (report_info)
+      *report_info = *report;
   }
   if (!s) {
     std::fprintf(stderr, "error: %s\n", s.error().to_string().c_str());

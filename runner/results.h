@@ -6,6 +6,7 @@
 #include <string>
 
 #include "core/result.h"
+#include "report/html_report.h"
 #include "runner/run.h"
 
 namespace hdrc {
@@ -44,8 +45,11 @@ int exit_code_of(const nlohmann::ordered_json& results);
 // summary.exit_code set to the process's exit code, --images applied, results.json and junit.xml
 // rewritten, the report built (on `jobs` threads, 0: one per core, as `run -j`). Returns the
 // exit code (kExitFail when writing failed).
+// `report_info`, when given, receives what the report build measured (files, size, wall and
+// CPU seconds).
 int finish_run_outputs(const std::string& out_dir, int exit_code, bool goldens_checked,
-                       const std::string& images, int jobs = 0);
+                       const std::string& images, int jobs = 0,
+                       report::ReportInfo* report_info = nullptr);
 
 // Writes results.json and junit.xml into `out_dir`, each atomically; the report too unless the
 // run has provenance (a `run`/`verify` of the command line, which ends with finish_run_outputs).

@@ -333,10 +333,12 @@ class Executor {
     const std::string rel = case_image_dir(r.spec.id) + "/" + name + ".exr";
     // zlib level 1: these are the run's own images, written for every case (the report reads
     // them back once; --images may delete them).
-    if (Status st = write_exr(opt_.image_dir + "/" + rel, img, /*zip_level=*/1); !st) {
+    const std::string path = opt_.image_dir + "/" + rel;
+    if (Status st = write_exr(path, img, /*zip_level=*/1); !st) {
       r = error(std::move(r), "cannot write " + name + " image: " + st.error().to_string());
       return false;
     }
+    written_images::keep(path, img);  // for the report at the run's end (when enabled)
     r.images[name] = rel;
     return true;
   }

@@ -149,8 +149,8 @@ function colorize(x) {
   return [Math.round(t * x * 255), Math.round((1 - t) * 255), Math.round(t * (1 - x) * 255)];
 }
 const HEAT = {
-  pq10: { min: -4, max: 1, unit: 'PQ 10-bit code values', tol: 'pq_code10', png: 'heat.png' },
-  itp: { min: -3, max: 2, unit: 'ΔE_ITP', tol: 'delta_e_itp', png: 'heat_itp.png' },
+  pq10: { min: -4, max: 1, unit: 'PQ 10-bit code values', tol: 'pq_code10', panel: 'heat' },
+  itp: { min: -3, max: 2, unit: 'ΔE_ITP', tol: 'delta_e_itp', panel: 'heat_itp' },
 };
 function heatColour(e, scale) {
   if (Number.isNaN(e)) return [255, 255, 255];
@@ -184,6 +184,32 @@ function nitsFromPq(e) {
 }
 function pqSignal(n) {
   return pqFromNits(n > 0 ? Math.min(n, 10000) : 0);
+}
+// OutputEncoding::to_nits (core/output_encoding.cpp) from the parameters the report sends
+// (html_report.cpp encoding_json): nits = transfer(pre_scale · v) · nits_scale. sRGB and Rec.709
+// decode as reference/color/gamma_correction.h srgb_to_linear / rec709_to_linear (UE's
+// SrgbToLinear / Rec709ToLinear) after its min-normal clamp fmax(6.10352e-5, c); gamma:
+// max(v, 0)^gamma.
+const MIN_NORMAL = 6.10352e-5;
+function toNits(e, v) {
+  if (e.pre_scale !== 1) v *= e.pre_scale;
+  const clamped = () => (Number.isNaN(v) ? MIN_NORMAL : Math.max(MIN_NORMAL, v));
+  switch (e.transfer) {
+    case 'pq':
+      return nitsFromPq(v) * e.nits_scale;
+    case 'srgb': {
+      const c = clamped();
+      return (c > 0.04045 ? Math.pow(c * (1 / 1.055) + 0.0521327, 2.4) : c * (1 / 12.92)) * e.nits_scale;
+    }
+    case 'rec709': {
+      const c = clamped();
+      return (c > 0.081 ? Math.pow((c + 0.099) / 1.099, 1 / 0.45) : c / 4.5) * e.nits_scale;
+    }
+    case 'gamma':
+      return (v > 0 ? Math.pow(v, e.gamma) : 0) * e.nits_scale;
+    default:
+      return v * e.nits_scale;
+  }
 }
 // ITU-R BT.2100-2 Table 7 (ICtCp, PQ) and BT.2124-0 eq. 1–2 (ΔE_ITP), as runner/diff.cpp.
 function ictcp(rgb2020) {
@@ -251,48 +277,143 @@ async function decodePacked(b64) {
   }
   return new Float32Array(bytes.buffer); // little-endian hosts (every browser we target)
 }
-// The same for half floats (nits16: 2 byte planes), decoded per IEEE 754 binary16.
-async function decodePackedHalf(b64) {
-  const bin = atob(b64);
-  const z = new Uint8Array(bin.length);
-  for (let i = 0; i < bin.length; i++) z[i] = bin.charCodeAt(i);
-  const stream = new Blob([z]).stream().pipeThrough(new DecompressionStream('deflate'));
-  const planes = new Uint8Array(await new Response(stream).arrayBuffer());
-  const n = planes.length / 2;
-  const out = new Float32Array(n);
-  for (let i = 0; i < n; i++) {
-    const u = planes[i] | (planes[n + i] << 8);
-    const sgn = u & 0x8000 ? -1 : 1, e = (u >> 10) & 31, m = u & 1023;
-    out[i] = e === 0 ? sgn * m * Math.pow(2, -24) : e === 31 ? (m ? NaN : sgn * Infinity) :
-      sgn * (1 + m / 1024) * Math.pow(2, e - 15);
+// An OpenEXR file (report/images.h exr_embeddable: one part, scan lines, compression NONE, ZIPS
+// or ZIP, channels R, G, B and maybe A, HALF or FLOAT) → its RGBA values as float32, 4 per pixel
+// (alpha 1 without an A channel, as the runner reads it). OpenEXR file layout: magic, version,
+// header attributes (name, type, size, value) up to an empty name, the offset table (one uint64
+// per chunk, by increasing y), chunks (int32 y, int32 size, data). A ZIP/ZIPS chunk is zlib data
+// that inflates to the predictor-coded, interleaved bytes (OpenEXR's ImfZip.cpp: each byte is the
+// previous plus it minus 128; then the first and second halves interleave), unless its size is
+// the raw size (stored). A scan line holds each channel's `w` values in turn, channels sorted by
+// name. Every read is bounded by the file; anything else is an error.
+async function decodeExr(b64, w, h) {
+  const b = bytesOf(b64);
+  const dv = new DataView(b.buffer, b.byteOffset, b.byteLength);
+  const fail = (why) => { throw new Error('OpenEXR data: ' + why); };
+  const need = (at, n) => { if (at < 0 || at + n > b.length) fail('truncated'); };
+  need(0, 8);
+  if (dv.getUint32(0, true) !== 20000630 || (dv.getUint32(4, true) & 0x1aff) !== 2) fail('not a single-part scan-line file');
+  let at = 8;
+  const cstr = () => {
+    const end = b.indexOf(0, at);
+    if (end < 0 || end - at > 255) fail('bad string');
+    const s = String.fromCharCode(...b.subarray(at, end));
+    at = end + 1;
+    return s;
+  };
+  const chans = [];
+  let compression = -1, win = null;
+  for (let n = 0; n < 1000; n++) {
+    const name = cstr();
+    if (!name) break;
+    cstr(); // type
+    need(at, 4);
+    const size = dv.getInt32(at, true);
+    at += 4;
+    need(at, size);
+    if (name === 'channels') {
+      let p = at;
+      while (p < at + size && b[p] !== 0 && chans.length < 16) {
+        const end = b.indexOf(0, p);
+        if (end < 0 || end + 17 > at + size) fail('bad channel list');
+        chans.push({ name: String.fromCharCode(...b.subarray(p, end)), type: dv.getInt32(end + 1, true) });
+        p = end + 17;
+      }
+    } else if (name === 'compression') compression = b[at];
+    else if (name === 'dataWindow' && size === 16) win = [0, 4, 8, 12].map((o) => dv.getInt32(at + o, true));
+    at += size;
   }
+  if (!win || win[2] - win[0] + 1 !== w || win[3] - win[1] + 1 !== h) fail('data window is not ' + w + ' x ' + h);
+  const lines = compression === 3 ? 16 : compression === 0 || compression === 2 ? 1 : fail('compression ' + compression);
+  const slot = { R: 0, G: 1, B: 2, A: 3 };
+  if (chans.some((c) => !(c.name in slot) || (c.type !== 1 && c.type !== 2))) fail('channels');
+  const lineBytes = chans.reduce((n, c) => n + w * (c.type === 1 ? 2 : 4), 0);
+  const out = new Float32Array(w * h * 4);
+  if (!chans.some((c) => c.name === 'A')) for (let i = 3; i < out.length; i += 4) out[i] = 1;
+  const chunks = Math.ceil(h / lines);
+  need(at, chunks * 8);
+  await Promise.all(Array.from({ length: chunks }, async (_, k) => {
+    const off = Number(dv.getBigUint64(at + k * 8, true));
+    need(off, 8);
+    const y0 = dv.getInt32(off, true) - win[1], size = dv.getInt32(off + 4, true);
+    const rows = Math.min(lines, h - y0);
+    if (y0 !== k * lines || size <= 0) fail('chunk ' + k);
+    need(off + 8, size);
+    const raw = rows * lineBytes;
+    let data = b.subarray(off + 8, off + 8 + size);
+    if (compression !== 0 && size < raw) {
+      const z = await inflateBounded(data, raw);
+      for (let i = 1; i < z.length; i++) z[i] = (z[i - 1] + z[i] - 128) & 255;
+      data = new Uint8Array(raw);
+      const half = (raw + 1) >> 1;
+      for (let i = 0; i < half; i++) data[2 * i] = z[i];
+      for (let i = 0; 2 * i + 1 < raw; i++) data[2 * i + 1] = z[half + i];
+    } else if (size !== raw) fail('chunk ' + k + ' size');
+    const cv = new DataView(data.buffer, data.byteOffset, data.byteLength);
+    let p = 0;
+    for (let r = 0; r < rows; r++) {
+      const base = (y0 + r) * w * 4;
+      for (const c of chans) {
+        const s = slot[c.name];
+        if (c.type === 2) for (let x = 0; x < w; x++, p += 4) out[base + x * 4 + s] = cv.getFloat32(p, true);
+        else for (let x = 0; x < w; x++, p += 2) out[base + x * 4 + s] = halfToFloat(cv.getUint16(p, true));
+      }
+    }
+  }));
   return out;
 }
+// Base64 → bytes.
+function bytesOf(b64) {
+  const bin = atob(b64);
+  const bytes = new Uint8Array(bin.length);
+  for (let i = 0; i < bin.length; i++) bytes[i] = bin.charCodeAt(i);
+  return bytes;
+}
+// zlib data → exactly `n` bytes, reading no more than that from the stream (a chunk declaring a
+// small raw size cannot inflate into memory beyond it).
+async function inflateBounded(z, n) {
+  const reader = new Blob([z]).stream().pipeThrough(new DecompressionStream('deflate')).getReader();
+  const out = new Uint8Array(n);
+  let got = 0;
+  for (;;) {
+    const { done, value } = await reader.read();
+    if (done) break;
+    if (got + value.length > n) {
+      reader.cancel();
+      throw new Error('OpenEXR data: a chunk inflates past its size');
+    }
+    out.set(value, got);
+    got += value.length;
+  }
+  if (got !== n) throw new Error('OpenEXR data: a chunk inflates to ' + got + ' bytes, not ' + n);
+  return out;
+}
+// IEEE 754 binary16 → number.
+function halfToFloat(u) {
+  const sgn = u & 0x8000 ? -1 : 1, e = (u >> 10) & 31, m = u & 1023;
+  return e === 0 ? sgn * m * Math.pow(2, -24) : e === 31 ? (m ? NaN : sgn * Infinity) : sgn * (1 + m / 1024) * Math.pow(2, e - 15);
+}
+
 class FloatImage {
   constructor(w, h, d, v, nits) {
     this.w = w;
     this.h = h;
-    this.ch = d.ch;
+    this.ch = d.exr ? 4 : d.ch;
     this.alpha = d.alpha;
     this.v = v;
-    this.nitsArr = nits;
-    this.scale = d.scale;
-    this.pqScale = d.pq_scale;
+    this.enc = d.enc || { transfer: 'linear', pre_scale: 1, nits_scale: 1, gamma: 1 };
   }
   static async load(w, h, d) {
     const packed = !!HDRC.px.packing;
     const dec = packed ? decodePacked : async (b) => decodeF32(b);
-    const nits = d.nits16 ? await decodePackedHalf(d.nits16) : d.nits ? await dec(d.nits) : null;
-    return new FloatImage(w, h, d, await dec(d.v), nits);
+    return new FloatImage(w, h, d, d.exr ? await decodeExr(d.exr, w, h) : await dec(d.v), null);
   }
   value(i, c) {
     if (c === 3 && this.ch === 3) return this.alpha;
     return this.v[i * this.ch + c];
   }
   nits(i, c) {
-    if (this.nitsArr) return this.nitsArr[i * 3 + c];
-    const v = this.v[i * this.ch + c];
-    return this.pqScale !== undefined ? this.pqScale * nitsFromPq(v) : v * this.scale;
+    return toNits(this.enc, this.v[i * this.ch + c]);
   }
 }
 
@@ -699,8 +820,18 @@ async function initCase() {
     return;
   }
   const keys = $$('figure.panel').map((f) => f.dataset.key);
-  // The case's image folder, from the PNG the page was written with (c/<slug>/).
-  const imgBase = $('figure.panel img').getAttribute('src').replace(/[^/]*$/, '');
+  // The case's pictures: one PNG, the panels' background image (a data: URL in the page's
+  // #case-sprite style), each picture at meta.sprite.panels[key] = [x, y, w, h] in it
+  // (report/html_report.cpp case_images). Loaded once; a picture is drawn from it onto a canvas.
+  // null if it does not load (the panels then stay empty).
+  const spriteUrl = $('#images .sprite') && /^url\("?(.*?)"?\)$/.exec(getComputedStyle($('#images .sprite')).backgroundImage);
+  const sprite = meta.sprite && spriteUrl ? await new Promise((resolve) => {
+    const i = new Image();
+    i.onload = () => resolve(i);
+    i.onerror = () => resolve(null);
+    i.src = spriteUrl[1];
+  }) : null;
+  HDRC.spriteUrl = spriteUrl && spriteUrl[1];
   const labels = { input: 'input', reference: 'reference', candidate: 'candidate', heat: 'error heatmap', mask: 'over tolerance', diff: 'difference (heatmap)' };
 
   // Rendering of the float images (cached per display mode and exposure). Each pixel's nits are
@@ -718,13 +849,13 @@ async function initCase() {
   function displayMode() {
     return $('#display-mode') ? $('#display-mode').value : 'clip';
   }
-  function previewData(key) {
-    const mode = displayMode() === 'hdr' ? 'clip' : displayMode();
-    const ck = key + '@' + ev + '@' + mode;
+  function previewData(key, atEv = ev, atMode = undefined) {
+    const mode = atMode || (displayMode() === 'hdr' ? 'clip' : displayMode());
+    const ck = key + '@' + atEv + '@' + mode;
     if (cache.has(ck)) return cache.get(ck);
     const im = imgs[key];
     const data = new ImageData(w, h);
-    const k = Math.pow(2, ev) / 100;
+    const k = Math.pow(2, atEv) / 100;
     const m = key === 'input' ? [1, 0, 0, 0, 1, 0, 0, 0, 1] : toDisplay;
     const m2 = key === 'input' ? [1, 0, 0, 0, 1, 0, 0, 0, 1] : m2020;
     for (let i = 0; i < w * h; i++) {
@@ -798,6 +929,80 @@ async function initCase() {
     hdrCache.set(ck, url);
     return url;
   }
+  // The error heatmap of the chosen metric (report/images.cpp error_maps: Colorize of log10 of
+  // the pixel's error; black exact, white a non-finite mismatch).
+  const heatCache = new Map();
+  function heatData() {
+    if (heatCache.has(heatKey)) return heatCache.get(heatKey);
+    const d = new ImageData(w, h);
+    for (let i = 0; i < w * h; i++) {
+      const [r, g, b] = heatColour(pixelError(i), HEAT[heatKey]);
+      d.data.set([r, g, b, 255], i * 4);
+    }
+    heatCache.set(heatKey, d);
+    return d;
+  }
+  // The over-tolerance mask and its counts, as report/images.cpp error_maps: a pixel pairing a
+  // non-finite value inconsistently (alpha too) is a mismatch (magenta); one with a colour value
+  // over the max of a judged metric (linear_abs, linear_rel, pq_code10, pq_code12; ΔE_ITP per
+  // pixel) is over (red); the rest show the reference's 0 EV preview as dim grey. A metric with
+  // no max in the tolerance is not judged; a NaN error is over (!(v <= max)).
+  let maskCache = null;
+  function maskData() {
+    if (maskCache) return maskCache;
+    const r = imgs.reference, c = imgs.candidate;
+    const refPrev = previewData('reference', 0, 'clip').data;
+    const d = new ImageData(w, h);
+    const max = (k) => (typeof tol[k] === 'number' ? tol[k] : Infinity);
+    const mAbs = max('linear_abs'), mRel = max('linear_rel'), m10 = max('pq_code10'), m12 = max('pq_code12'), mItp = max('delta_e_itp');
+    const floor = tol.rel_floor || 0;
+    let over = 0, mismatch = 0;
+    for (let i = 0; i < w * h; i++) {
+      let mis = false, ov = false, finite = true, same = true;
+      const rn = [0, 0, 0], cn = [0, 0, 0];
+      for (let ch = 0; ch < 4; ch++) {
+        const rv = r.value(i, ch), cv = c.value(i, ch);
+        const rf = Number.isFinite(rv), cf = Number.isFinite(cv);
+        if (!rf || !cf) {
+          mis = mis || !(!rf && !cf && ((Number.isNaN(rv) && Number.isNaN(cv)) || rv === cv));
+          if (ch < 3) finite = false;
+          continue;
+        }
+        if (ch === 3) continue;
+        rn[ch] = r.nits(i, ch);
+        cn[ch] = c.nits(i, ch);
+        const eq = Object.is(rv, cv);
+        same = same && eq;
+        const abs = Math.abs(cv - rv);
+        const rel = abs === 0 ? 0 : abs / Math.max(Math.abs(rv), floor);
+        const dq = eq ? 0 : Math.abs(pqSignal(cn[ch]) - pqSignal(rn[ch]));
+        ov = ov || !(abs <= mAbs) || !(rel <= mRel) || !(dq * 1023 <= m10) || !(dq * 4095 <= m12);
+      }
+      if (finite) {
+        const itp = same ? 0 : deltaEItp(ictcp(mul3(m2020, cn)), ictcp(mul3(m2020, rn)));
+        ov = ov || !(itp <= mItp);
+      }
+      const o = i * 4;
+      d.data[o + 3] = 255;
+      if (mis) {
+        d.data.set([255, 0, 255], o);
+        mismatch++;
+      } else if (ov) {
+        d.data.set([255, 0, 0], o);
+        over++;
+      } else {
+        const g = Math.floor((refPrev[o] * 3 + refPrev[o + 1] * 6 + refPrev[o + 2]) / 40);
+        d.data.set([g, g, g], o);
+      }
+    }
+    maskCache = { data: d, over, mismatch };
+    return maskCache;
+  }
+  if (imgs.reference && imgs.candidate && $('#mask-over')) {
+    const m = maskData();
+    $('#mask-over').textContent = String(m.over);
+    $('#mask-mismatch').textContent = String(m.mismatch);
+  }
   const floatKeys = new Set(['input', 'reference', 'candidate'].filter((k) => imgs[k]));
 
   // One displayable element for `key`: a canvas drawn from the float data (previews), or the
@@ -812,21 +1017,16 @@ async function initCase() {
     } else if (floatKeys.has(key)) {
       e = el('canvas', { width: w, height: h, 'data-key': key });
       e.getContext('2d').putImageData(previewData(key), 0, 0);
-    } else if (key === 'diff') {
-      // |B − A| per pixel on the heatmap's scale (the heatmap of the chosen metric).
+    } else if (key === 'diff' || ((key === 'heat' || key === 'mask') && imgs.reference && imgs.candidate)) {
+      // The heatmap of the chosen metric (also the 'diff' view), or the mask, from the float data.
       e = el('canvas', { width: w, height: h, 'data-key': key });
-      if (imgs.reference && imgs.candidate) {
-        const d = new ImageData(w, h);
-        for (let i = 0; i < w * h; i++) {
-          const [r, g, b] = heatColour(pixelError(i), HEAT[heatKey]);
-          d.data.set([r, g, b, 255], i * 4);
-        }
-        e.getContext('2d').putImageData(d, 0, 0);
-      }
+      if (imgs.reference && imgs.candidate) e.getContext('2d').putImageData(key === 'mask' ? maskData().data : heatData(), 0, 0);
     } else {
-      const file = key === 'heat' ? HEAT[heatKey].png : key + '.png';
-      e = el('img', { alt: labels[key], 'data-key': key });
-      e.src = imgBase + file;
+      // A picture of the case's PNG: the heatmap of the chosen metric, the mask, or a preview
+      // when there is no float data.
+      const r = meta.sprite && meta.sprite.panels[key === 'heat' ? HEAT[heatKey].panel : key];
+      e = el('canvas', { width: r ? r[2] : w, height: r ? r[3] : h, 'data-key': key, 'aria-label': labels[key], role: 'img' });
+      if (r && sprite) e.getContext('2d').drawImage(sprite, r[0], r[1], r[2], r[3], 0, 0, r[2], r[3]);
     }
     sizeView(e);
     attachProbe(e);

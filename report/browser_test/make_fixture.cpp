@@ -21,14 +21,19 @@
 //
 // Usage: report_fixture OUT_DIR. Also writes OUT_DIR/expect.json: what the fixture planted, for
 // the browser test to check the report against (independently of results.json).
+#include <OpenImageIO/imageio.h>
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <vector>
 
+#include "core/pipeline.h"
 #include "reference/reference_engine.h"
+#include "report/images.h"
 #include "runner/case_loader.h"
 #include "runner/results.h"
 #include "runner/run.h"
@@ -54,6 +59,42 @@ const std::map<std::string, Plant>& plants() {
 }
 
 const std::string kAcesId = "fixture/aces/log_ramp";
+
+// Writes the first `channels` channels of `img` (R, G, B[, A]) as an EXR with `compression`
+// (OpenImageIO's name) in `type`.
+bool write_exr_as(const std::string& path, const Image& img, int channels,
+                  const std::string& compression, OIIO::TypeDesc type) {
+  OIIO::ImageSpec spec(img.width, img.height, channels, type);
+  spec.attribute("compression", compression);
+  std::vector<float> px(img.pixel_count() * channels);
+  for (size_t i = 0; i < img.pixel_count(); ++i)
+    for (int c = 0; c < channels; ++c)
+      px[i * channels + c] = static_cast<float>(img.data[i * 4 + c]);
+  auto o = OIIO::ImageOutput::create(path);
+  return o && o->open(path, spec) && o->write_image(OIIO::TypeDesc::FLOAT, px.data()) && o->close();
+}
+
+// The EXR forms' values: smooth ramps with NaN, ±Inf, −0, negatives, values under half's
+// normal range and over its largest, and alpha varying per pixel.
+double form_value(size_t i, int c) {
+  switch ((i * 4 + c) % 97) {
+    case 5:
+      return std::nan("");
+    case 11:
+      return HUGE_VAL;
+    case 23:
+      return -HUGE_VAL;
+    case 31:
+      return -0.0;
+    case 43:
+      return 3e-6;  // a half subnormal
+    case 59:
+      return 70000.0;  // over half's largest (65504): +Inf in half
+    default:
+      return (c == 3 ? 0.25 : 1.0) * std::pow(1.37, static_cast<double>(i % 41) - 20.0) *
+             ((i + c) % 7 == 0 ? -1.0 : 1.0);
+  }
+}
 
 // The reference engine, its output rounded to float32 as a GPU would store it, plus the defects.
 class PlantedEngine final : public hdrc::Engine {
@@ -240,6 +281,97 @@ int main(int argc, char** argv) {
     }
     expect["planted"][c.spec.id] = px;
   }
+  // The heatmaps and mask report/images.cpp error_maps makes of the compared cases (C++, from the
+  // EXRs, the case's resolved encoding and tolerance): the case page's script draws its own from
+  // the float data, and the browser test compares the two (report.js mirrors error_maps).
+  for (const auto& c : report.cases) {
+    if (!c.has_params || !c.spec.stage) continue;
+    const std::string dir = out + "/cases/" + c.spec.id + "/";
+    auto ref = hdrc::read_image(dir + "reference.exr");
+    auto cand = hdrc::read_image(dir + "candidate.exr");
+    if (!ref || !cand) continue;
+    const hdrc::OutputEncoding enc = hdrc::output_encoding(*c.spec.stage, c.params);
+    const Image rn = hdrc::report::nits_image(*ref, enc);
+    const Image cn = hdrc::report::nits_image(*cand, enc);
+    const hdrc::ref::Mat3 to_display = hdrc::report::output_to_display(enc);
+    const auto prev = hdrc::report::preview_of_nits(*ref, rn, 0, &to_display);
+    const auto maps = hdrc::report::error_maps(*ref, *cand, rn, cn, enc, c.tolerance, prev);
+    auto bytes = [](const hdrc::report::Rgb8& m) {
+      return hdrc::report::base64_of(m.data.data(), m.data.size());
+    };
+    expect["maps"][c.spec.id] = {{"w", ref->width},           {"h", ref->height},
+                                 {"heat", bytes(maps.heat)},  {"heat_itp", bytes(maps.heat_itp)},
+                                 {"mask", bytes(maps.mask)},  {"over", maps.over},
+                                 {"mismatch", maps.mismatch}, {"encoding", enc.describe()}};
+  }
+  // OutputEncoding::to_nits of every transfer on sample values, for the script's toNits (the
+  // suites' SDR outputs decode through sRGB, Rec.709 and gamma; the fixture's cases do not).
+  {
+    using T = hdrc::OutputEncoding::Transfer;
+    const char* names[] = {"linear", "pq", "srgb", "rec709", "gamma"};
+    const T kinds[] = {T::kLinear, T::kPq, T::kSrgb, T::kRec709, T::kGamma};
+    for (int k = 0; k < 5; ++k)
+      for (double pre : {1.0, 1.05}) {
+        hdrc::OutputEncoding e;
+        e.transfer = kinds[k];
+        e.pre_scale = pre;
+        e.nits_scale = kinds[k] == T::kPq ? 1.0 : 100.0;
+        e.gamma = 2.4;
+        nlohmann::json v = nlohmann::json::array(), n = nlohmann::json::array();
+        for (double x : {-0.5, 0.0, 1e-6, 3e-5, 0.003, 0.0385, 0.04045, 0.05, 0.077, 0.081, 0.09,
+                         0.25, 0.5, 0.75, 0.95, 1.0, 1.3}) {
+          v.push_back(x);
+          const double nits = e.to_nits(x);
+          n.push_back(std::isnan(nits) ? nlohmann::json("NaN") : nlohmann::json(nits));
+        }
+        expect["to_nits"].push_back({{"enc",
+                                      {{"transfer", names[k]},
+                                       {"pre_scale", pre},
+                                       {"nits_scale", e.nits_scale},
+                                       {"gamma", e.gamma}}},
+                                     {"v", v},
+                                     {"nits", n}});
+      }
+  }
+  // The failing case's input rewritten with PIZ compression (same float32 values): an EXR the
+  // case page's script does not decode itself, so the report packs its values (the fallback path
+  // of report/html_report.cpp; the probe must show the same numbers either way).
+  {
+    const std::string p = out + "/cases/" + expect["failing"].get<std::string>() + "/input.exr";
+    auto img = hdrc::read_image(p);
+    if (!img || !write_exr_as(p, *img, 4, "piz", OIIO::TypeDesc::FLOAT)) {
+      std::fprintf(stderr, "error: cannot rewrite %s\n", p.c_str());
+      return 1;
+    }
+    expect["piz_input"] = expect["failing"];
+  }
+  // EXR files in every form report.js decodeExr reads, with the values OpenImageIO reads back
+  // (what the report's C++ shows): HALF and FLOAT, compression NONE, ZIPS and ZIP, RGB and RGBA,
+  // 37 x 19 (a last ZIP chunk of 3 lines), special values included.
+  fs::create_directories(out + "/exr-forms", ec);
+  for (const char* comp : {"none", "zips", "zip"})
+    for (const bool half : {false, true})
+      for (const int ch : {3, 4}) {
+        Image img(37, 19);
+        for (size_t i = 0; i < img.pixel_count(); ++i)
+          for (int c = 0; c < 4; ++c) img.data[i * 4 + c] = form_value(i, c);
+        const std::string name = std::string(comp) + (half ? "-half" : "-float") + "-" +
+                                 (ch == 3 ? "rgb" : "rgba") + ".exr";
+        const std::string p = out + "/exr-forms/" + name;
+        if (!write_exr_as(p, img, ch, comp, half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT)) {
+          std::fprintf(stderr, "error: cannot write %s\n", p.c_str());
+          return 1;
+        }
+        auto back = hdrc::read_image(p);
+        if (!back) return 1;
+        nlohmann::json v = nlohmann::json::array();
+        for (double x : back->data)  // non-finite values as strings (JSON has no NaN)
+          v.push_back(std::isnan(x)   ? nlohmann::json("NaN")
+                      : std::isinf(x) ? nlohmann::json(x > 0 ? "Infinity" : "-Infinity")
+                                      : nlohmann::json(x));
+        expect["exr_forms"].push_back(
+            {{"file", "exr-forms/" + name}, {"w", 37}, {"h", 19}, {"rgba", v}});
+      }
   std::ofstream(out + "/expect.json") << expect.dump(2) << "\n";
   std::printf("report fixture: %zu cases in %s\n", report.cases.size(), out.c_str());
   return 0;

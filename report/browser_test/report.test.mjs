@@ -142,11 +142,16 @@ async function fixtureTest(dir, artifacts) {
     check(meta.includes(results.candidate.device), 'run metadata names the candidate device');
     const hrefs = await page.$$eval('a[href], img[src], link[href], script[src]', (e) => e.map((x) => x.getAttribute('href') || x.getAttribute('src')));
     check(hrefs.every((h) => !h.startsWith('../') && !h.includes('://')), 'no link leaves report/ (self-contained)', hrefs.filter((h) => h.startsWith('../')));
-    // Thumbnails are the cases' own PNGs, drawn at the thumbnail size (width and height set).
-    const thumbs = await page.$$eval('#worst-cases img.thumb', (e) => Promise.all(e.map((x) => (x.complete ? Promise.resolve() :
-      new Promise((r) => { x.onload = x.onerror = r; })).then(() => [x.naturalWidth, Number(x.getAttribute('width')), Number(x.getAttribute('height')), x.getAttribute('src')]))));
-    check(thumbs.length > 0 && thumbs.every(([nw, w, h]) => nw > 0 && w > 0 && w <= 160 && h >= 12 && h <= 40),
-      'worst-case heatmap thumbnails load, at most 160 × [12, 40]', thumbs);
+    // Thumbnails are parts of atlas PNGs (t/<n>.png, the thumbnails of 64 cases stacked), offset
+    // in a box of the thumbnail's size: the PNG loads, the box is at most 160 × [12, 40], and the
+    // PNG covers the box (the pixels shown are checked with the failing case below).
+    const thumbs = await page.$$eval('#worst-cases .thumb img', (e) => Promise.all(e.map((x) => (x.complete ? Promise.resolve() :
+      new Promise((r) => { x.onload = x.onerror = r; })).then(() => {
+      const box = x.parentElement.getBoundingClientRect(), im = x.getBoundingClientRect();
+      return [x.naturalWidth, box.width - 2, box.height - 2, im.left <= box.left + 1 && im.top <= box.top + 1 && im.right >= box.right - 1 && im.bottom >= box.bottom - 1, x.getAttribute('src')];
+    }))));
+    check(thumbs.length > 0 && thumbs.every(([nw, w, h, covers]) => nw > 0 && w > 0 && w <= 160 && h >= 12 && h <= 40 && covers),
+      'worst-case heatmap thumbnails load, at most 160 × [12, 40], the atlas covering the box', thumbs);
     const golden = await page.$$eval('#golden-failures tbody tr code', (e) => e.map((x) => x.textContent));
     check(golden.length === 1 && golden[0] === expect.golden_regression, 'golden regression listed in the report', golden);
     await page.screenshot({ path: path.join(artifacts, 'summary.png'), fullPage: true });
@@ -265,8 +270,8 @@ async function fixtureTest(dir, artifacts) {
     const { page, dialogs: d } = await openPage(context, url('c/' + slug), 'failing case page');
     check((await page.textContent('#case-id')) === expect.failing, 'page names the case');
     check((await page.textContent('.verdict-line .badge')) === 'FAIL', 'verdict FAIL shown');
-    const heat = await page.$eval('figure.panel[data-key="heat"] img', (i) => [i.complete, i.naturalWidth, i.naturalHeight]);
-    check(heat[0] && heat[1] === 64 && heat[2] === 4, 'heatmap image loaded at the image size', heat);
+    const heat = await page.$eval('figure.panel[data-key="heat"] canvas', (c) => [c.width, c.height]);
+    check(heat[0] === 64 && heat[1] === 4, 'heatmap drawn at the image size', heat);
     const legend = await page.textContent('#legend-tol');
     check(legend.includes(String(failing.tolerance.pq_code10.max ?? failing.tolerance.pq_code10)), 'legend marks the PQ tolerance', legend);
     // Worst pixel row: the planted pixel, with the values results.json has.
@@ -278,6 +283,12 @@ async function fixtureTest(dir, artifacts) {
     check(close(Number(row[6]), planted.reference[1], 1e-7) && close(Number(row[7]), planted.candidate[1], 1e-7),
       'worst pixel values = the EXRs at the planted pixel', [row[6], row[7], planted.reference[1], planted.candidate[1]]);
     check(close(planted.candidate[1] / planted.reference[1], 1.01, 1e-6), 'planted defect is × 1.01 (fixture sanity)');
+    // The float data: the reference and candidate EXRs are carried as they are (decoded by the
+    // script), the PIZ-compressed input packed by the report (its fallback); the probe below shows
+    // the EXRs' values for both.
+    const pxKinds = await page.$eval('#case-px', (e) => Object.fromEntries(Object.entries(JSON.parse(e.textContent).images).map(([k, d]) => [k, d.exr ? 'exr' : d.v ? 'v' : '?'])));
+    check(expect.piz_input === expect.failing && pxKinds.reference === 'exr' && pxKinds.candidate === 'exr' && pxKinds.input === 'v',
+      'float data: reference and candidate as their EXR files, the PIZ input packed', pxKinds);
     // Pixel probe: hover the candidate canvas over pixel (13, 2).
     const box = await page.$eval('figure.panel[data-key="candidate"] canvas', (c) => {
       const r = c.getBoundingClientRect();
@@ -397,34 +408,127 @@ async function fixtureTest(dir, artifacts) {
     const slug = await caseSlug(ctx, url('cases.html'), expect.failing);
     const { page } = await openPage(ctx, url('c/' + slug), null);
     const wantPq = Math.abs(pq(planted.candidate[1] * 100) - pq(planted.reference[1] * 100)) * 1023;
-    const heat = await rgbAt(page, 'figure.panel[data-key="heat"] img', 13, 2);
+    const heat = await rgbAt(page, 'figure.panel[data-key="heat"] canvas', 13, 2);
     const want = heatRgb(wantPq);
     check(heat.every((v, i) => Math.abs(v - want[i]) <= 2), `heatmap at (13, 2) is Colorize(${wantPq.toPrecision(3)} codes) = ${want}`, heat);
-    const mask = await rgbAt(page, 'figure.panel[data-key="mask"] img', 13, 2);
+    const mask = await rgbAt(page, 'figure.panel[data-key="mask"] canvas', 13, 2);
     check(mask[0] === 255 && mask[1] === 0 && mask[2] === 0, 'over-tolerance mask marks (13, 2) red', mask);
-    const maskOther = await rgbAt(page, 'figure.panel[data-key="mask"] img', 12, 2);
+    const maskOther = await rgbAt(page, 'figure.panel[data-key="mask"] canvas', 12, 2);
     check(!(maskOther[0] === 255 && maskOther[1] === 0), 'mask leaves (12, 2) unmarked', maskOther);
-    // The script's rendering at 0 EV and the C++ PNG use the same documented mapping.
-    let maxDiff = 0;
-    for (const k of ['input', 'reference', 'candidate']) {
-      const png = await page.evaluate((k) => new Promise((resolve) => {
+    // The summary's heatmap thumbnail of this case shows its heatmap: the PNG pixel drawn at the
+    // thumbnail's point for (13, 2) of the 64 × 4 image has the heat colour.
+    const { page: summary } = await openPage(ctx, url('index.html'), null);
+    const thumbPx = await summary.evaluate((id) => new Promise((resolve) => {
+      const row = [...document.querySelectorAll('#worst-cases tbody tr')].find((tr) => tr.querySelector('code').textContent === id);
+      const im = row && row.querySelector('.thumb[data-key="heat"] img');
+      if (!im) return resolve(null);
+      const box = im.parentElement.getBoundingClientRect(), r = im.getBoundingClientRect();
+      const i = new Image();
+      i.onload = () => {
+        const c = document.createElement('canvas');
+        c.width = i.width;
+        c.height = i.height;
+        c.getContext('2d').drawImage(i, 0, 0);
+        const tx = box.left + 1 + (13.5 / 64) * (box.width - 2), ty = box.top + 1 + (2.5 / 4) * (box.height - 2);
+        const sx = Math.floor(((tx - r.left) * i.width) / r.width), sy = Math.floor(((ty - r.top) * i.height) / r.height);
+        resolve(Array.from(c.getContext('2d').getImageData(sx, sy, 1, 1).data.slice(0, 3)));
+      };
+      i.src = im.src;
+    }), expect.failing);
+    check(thumbPx && thumbPx.every((v, i) => Math.abs(v - want[i]) <= 2), `the summary's heatmap thumbnail shows (13, 2) as ${want}`, thumbPx);
+    // The script's previews at 0 EV and the C++ ones (the list pages' thumbnails, made by
+    // report/images.cpp preview_of_nits) use the same documented mapping: each thumbnail pixel
+    // equals the canvas pixel it samples (nearest neighbour, images.cpp nearest_source).
+    {
+      const js = await page.$eval('figure.panel[data-key="candidate"] canvas', (c) =>
+        ({ w: c.width, h: c.height, d: Array.from(c.getContext('2d').getImageData(0, 0, c.width, c.height).data) }));
+      const { page: list } = await openPage(ctx, url('cases.html'), null);
+      const thumb = await list.evaluate((id) => new Promise((resolve) => {
+        const row = [...document.querySelectorAll('#case-table tbody tr')].find((tr) => tr.querySelector('code').textContent === id);
+        const im = row && row.querySelector('.thumb[data-key="main"] img');
+        if (!im) return resolve(null);
+        const box = im.parentElement, tw = parseFloat(box.style.width), th = parseFloat(box.style.height), y0 = -parseFloat(im.style.marginTop);
         const i = new Image();
         i.onload = () => {
           const c = document.createElement('canvas');
           c.width = i.width;
           c.height = i.height;
           c.getContext('2d').drawImage(i, 0, 0);
-          resolve(Array.from(c.getContext('2d').getImageData(0, 0, i.width, i.height).data));
+          resolve({ tw, th, d: Array.from(c.getContext('2d').getImageData(0, y0, tw, th).data) });
         };
-        i.src = document.querySelector(`figure.panel[data-key="${k}"] canvas`) ?
-          location.href.replace(/\.html$/, '/') + k + '.png' : '';
-      }), k);
-      const js = await page.$eval(`figure.panel[data-key="${k}"] canvas`, (c) =>
-        Array.from(c.getContext('2d').getImageData(0, 0, c.width, c.height).data));
-      for (let i = 0; i < js.length; i++) if (i % 4 !== 3) maxDiff = Math.max(maxDiff, Math.abs(js[i] - png[i]));
+        i.onerror = () => resolve(null);
+        i.src = im.src;
+      }), expect.failing);
+      let maxDiff = thumb ? 0 : 999;
+      const near = (x, t, n) => Math.min(n - 1, Math.floor(((x + 0.5) * n) / t));
+      for (let y = 0; thumb && y < thumb.th; y++)
+        for (let x = 0; x < thumb.tw; x++)
+          for (let ch = 0; ch < 3; ch++)
+            maxDiff = Math.max(maxDiff, Math.abs(thumb.d[(y * thumb.tw + x) * 4 + ch] - js.d[(near(y, thumb.th, js.h) * js.w + near(x, thumb.tw, js.w)) * 4 + ch]));
+      check(maxDiff <= 1, `script's 0 EV candidate preview matches the C++ thumbnail (max difference ${maxDiff} codes)`);
     }
-    check(maxDiff <= 1, `script's 0 EV previews match the PNG previews (max difference ${maxDiff} codes)`);
+    // The script's heatmaps and mask = report/images.cpp error_maps of the same images (the
+    // fixture's expect.maps, made in C++): mask and its counts exact, heat within 2 codes.
+    for (const [id, want] of Object.entries(expect.maps)) {
+      const slugOf = await caseSlug(ctx, url('cases.html'), id);
+      const { page: cp } = await openPage(ctx, url('c/' + slugOf), null);
+      const canvas = (k) => cp.$eval(`figure.panel[data-key="${k}"] canvas`, (c) => Array.from(c.getContext('2d').getImageData(0, 0, c.width, c.height).data));
+      const rgb = (b64) => Buffer.from(b64, 'base64');
+      const cmp = (got, exp) => {
+        let worst = 0, diff = 0;
+        for (let i = 0; i < exp.length / 3; i++)
+          for (let ch = 0; ch < 3; ch++) {
+            const d = Math.abs(got[i * 4 + ch] - exp[i * 3 + ch]);
+            worst = Math.max(worst, d);
+            if (d) diff++;
+          }
+        return [worst, diff];
+      };
+      const [mw] = cmp(await canvas('mask'), rgb(want.mask));
+      const counts = [await cp.textContent('#mask-over'), await cp.textContent('#mask-mismatch')];
+      check(mw === 0 && counts[0] === String(want.over) && counts[1] === String(want.mismatch),
+        `${id} (${want.encoding}): the script's mask = C++ error_maps (${want.over} over, ${want.mismatch} mismatched)`, [mw, counts]);
+      const [hw] = cmp(await canvas('heat'), rgb(want.heat));
+      await cp.selectOption('#heat-metric', 'itp');
+      const [iw] = cmp(await canvas('heat'), rgb(want.heat_itp));
+      check(hw <= 2 && iw <= 2, `${id}: the script's PQ and ΔE_ITP heatmaps = C++ error_maps within 2 codes`, [hw, iw]);
+      await cp.close();
+    }
     await pixBrowser.close();
+  }
+
+  // ---- The script's OpenEXR decoder (report.js decodeExr) on every form it reads: each value
+  // equal to what OpenImageIO reads back from the same file (NaN as NaN, −0 as −0).
+  console.log('EXR decoding');
+  {
+    const { page } = await openPage(context, url('index.html'), null);
+    for (const f of expect.exr_forms) {
+      const b64 = fs.readFileSync(path.join(dir, f.file)).toString('base64');
+      const got = await page.evaluate(async ({ b64, w, h }) => Array.from(await decodeExr(b64, w, h)).map((v) => (Number.isNaN(v) ? 'NaN' : Object.is(v, -0) ? '-0' : v === Infinity ? 'Infinity' : v === -Infinity ? '-Infinity' : v)), { b64, w: f.w, h: f.h });
+      const want = f.rgba.map((v) => (typeof v === 'string' ? v : Object.is(v, -0) ? '-0' : Math.fround(v)));
+      const bad = want.findIndex((v, i) => v !== got[i]);
+      check(got.length === want.length && bad < 0, `decodeExr(${f.file}) = OpenImageIO's values`, bad < 0 ? got.length : [bad, got[bad], want[bad]]);
+    }
+    const bad = await page.evaluate(async (b64) => {
+      const out = [];
+      const b = Uint8Array.from(atob(b64), (c) => c.charCodeAt(0));
+      for (const n of [0, 7, 100, b.length >> 1, b.length - 1]) {
+        try {
+          await decodeExr(btoa(String.fromCharCode(...b.subarray(0, n))), 37, 19);
+          out.push(n);
+        } catch (e) { /* refused, as it must be */ }
+      }
+      try { await decodeExr(b64, 36, 19); out.push('size'); } catch (e) { /* refused */ }
+      return out;
+    }, fs.readFileSync(path.join(dir, expect.exr_forms[expect.exr_forms.length - 1].file)).toString('base64'));
+    check(bad.length === 0, 'decodeExr refuses truncated files and a wrong size', bad);
+    // toNits (how the script decodes values for its pictures and probe) = C++
+    // OutputEncoding::to_nits for every transfer, to 1e-12 relative (Math.pow vs libm's pow).
+    for (const t of expect.to_nits) {
+      const got = await page.evaluate(({ e, v }) => v.map((x) => toNits(e, x)), { e: t.enc, v: t.v });
+      const bad = t.nits.findIndex((n, i) => (n === 'NaN' ? !Number.isNaN(got[i]) : !(Math.abs(got[i] - n) <= 1e-12 * Math.abs(n))));
+      check(bad < 0, `toNits(${t.enc.transfer}, pre_scale ${t.enc.pre_scale}) = C++ to_nits`, bad < 0 ? '' : [t.v[bad], got[bad], t.nits[bad]]);
+    }
   }
 
   // ---- LUT page.

@@ -2,7 +2,9 @@
 // the heatmap colours (UE's Colorize ramp), the float data encoding, the error maps, and
 // write_report on hand-written results directories. The browser test (report/browser_test)
 // checks the pages themselves.
+#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
+#include <unistd.h>
 #include <zlib.h>
 
 #include <cmath>
@@ -374,25 +376,83 @@ TEST(ReportData, PackedFloatDataIsDeflatedBytePlanes) {
   ASSERT_EQ(n, 8u);
   const unsigned char want[8] = {0x00, 0x00, 0x00, 0x00, 0x80, 0x00, 0x3F, 0xC0};
   for (int i = 0; i < 8; ++i) EXPECT_EQ(out[i], want[i]) << i;
-  // Half floats (IEEE 754 binary16): 1.0 = 0x3C00, -2.0 = 0xC000; planes low bytes, high bytes.
-  const std::string h64 = float16_packed_base64(img, 1);
-  std::string hz;
-  acc = 0;
-  bits = 0;
-  for (char ch : h64) {
-    if (ch == '=') break;
-    acc = (acc << 6) | static_cast<uint32_t>(alphabet.find(ch));
-    bits += 6;
-    if (bits >= 8) {
-      bits -= 8;
-      hz += static_cast<char>((acc >> bits) & 0xFF);
-    }
-  }
-  n = sizeof out;
-  ASSERT_EQ(uncompress(out, &n, reinterpret_cast<const Bytef*>(hz.data()), hz.size()), Z_OK);
-  ASSERT_EQ(n, 4u);
-  const unsigned char want16[4] = {0x00, 0x00, 0x3C, 0xC0};
-  for (int i = 0; i < 4; ++i) EXPECT_EQ(out[i], want16[i]) << i;
 }
 
 }  // namespace
+
+// exr_embeddable: the EXR forms report.js decodeExr reads are accepted (the browser test checks
+// its values for each), anything else refused, and no prefix of a valid file passes.
+namespace {
+
+std::string exr_bytes(const std::filesystem::path& p, int w, int h, int channels,
+                      const std::string& compression, OIIO::TypeDesc type, int tile = 0,
+                      const char* fifth = "Z") {
+  OIIO::ImageSpec spec(w, h, channels, type);
+  if (channels > 4) spec.channelnames = {"R", "G", "B", "A", fifth};
+  if (channels == 1) spec.channelnames = {"Y"};
+  spec.attribute("compression", compression);
+  if (tile) spec.tile_width = spec.tile_height = tile;
+  std::vector<float> px(static_cast<size_t>(w) * h * channels);
+  for (size_t i = 0; i < px.size(); ++i) px[i] = static_cast<float>(std::sin(0.1 * i) * 10);
+  auto o = OIIO::ImageOutput::create(p.string());
+  EXPECT_TRUE(o && o->open(p.string(), spec) && o->write_image(OIIO::TypeDesc::FLOAT, px.data()) &&
+              o->close());
+  std::ifstream f(p, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(f), {});
+}
+
+}  // namespace
+
+TEST(ReportData, ExrEmbeddableAcceptsTheFormsTheScriptDecodesAndRefusesTheRest) {
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("hdrc_exr_embed_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const auto p = dir / "x.exr";
+  for (const char* comp : {"none", "zips", "zip"})
+    for (auto type : {OIIO::TypeDesc::HALF, OIIO::TypeDesc::FLOAT})
+      for (int ch : {3, 4})
+        EXPECT_TRUE(exr_embeddable(exr_bytes(p, 37, 19, ch, comp, type), 37, 19))
+            << comp << " " << OIIO::TypeDesc(type).c_str() << " " << ch;
+  // The run's own writer (core/image.h write_exr: FLOAT RGBA, ZIP at a level).
+  Image img(33, 17);
+  ASSERT_TRUE(hdrc::write_exr(p.string(), img, 1));
+  {
+    std::ifstream f(p, std::ios::binary);
+    EXPECT_TRUE(exr_embeddable(std::string(std::istreambuf_iterator<char>(f), {}), 33, 17));
+  }
+  const std::string good = exr_bytes(p, 37, 19, 4, "zip", OIIO::TypeDesc::FLOAT);
+  EXPECT_FALSE(exr_embeddable(good, 36, 19));  // not the case's size
+  EXPECT_FALSE(exr_embeddable(good, 37, 20));
+  EXPECT_FALSE(exr_embeddable(good, 0, 0));
+  EXPECT_FALSE(exr_embeddable(exr_bytes(p, 37, 19, 4, "piz", OIIO::TypeDesc::FLOAT), 37, 19));
+  EXPECT_FALSE(exr_embeddable(exr_bytes(p, 37, 19, 4, "rle", OIIO::TypeDesc::FLOAT), 37, 19));
+  EXPECT_FALSE(exr_embeddable(exr_bytes(p, 37, 19, 4, "zip", OIIO::TypeDesc::UINT), 37, 19));
+  EXPECT_FALSE(exr_embeddable(exr_bytes(p, 37, 19, 4, "zip", OIIO::TypeDesc::FLOAT, 16), 37, 19));
+  EXPECT_FALSE(exr_embeddable(exr_bytes(p, 37, 19, 5, "zip", OIIO::TypeDesc::FLOAT), 37, 19));
+  EXPECT_FALSE(exr_embeddable(exr_bytes(p, 37, 19, 1, "zip", OIIO::TypeDesc::FLOAT), 37, 19));
+  EXPECT_FALSE(exr_embeddable("", 37, 19));
+  EXPECT_FALSE(exr_embeddable("not an EXR file at all, but long enough to have a header", 37, 19));
+  // Every proper prefix is refused (the offset table or a chunk runs past the end), and no read
+  // goes past the end (ASan in the sanitizer stage).
+  for (size_t n = 0; n < good.size(); ++n)
+    ASSERT_FALSE(exr_embeddable(std::string_view(good).substr(0, n), 37, 19)) << n;
+  // A corrupted offset table entry (the last 8-byte entry before the first chunk) is refused.
+  {
+    std::string bad = good;
+    const size_t chunks = (19 + 15) / 16;
+    // The table ends where the first chunk begins: its entry 0 names that position.
+    size_t table = 0;
+    for (size_t at = 8; at + 8 * chunks < bad.size(); ++at) {
+      uint64_t first = 0;
+      std::memcpy(&first, bad.data() + at, 8);
+      if (first == at + 8 * chunks) {
+        table = at;
+        break;
+      }
+    }
+    ASSERT_NE(table, 0u);
+    bad[table + 8] = static_cast<char>(bad[table + 8] ^ 0x40);
+    EXPECT_FALSE(exr_embeddable(bad, 37, 19));
+  }
+  std::filesystem::remove_all(dir);
+}
