@@ -591,6 +591,23 @@ Result<std::shared_ptr<const std::vector<uint32_t>>> shared_spirv(const std::str
   return cache.emplace(key, std::move(code)).first->second;
 }
 
+// The specialisation constant ids (OpDecorate ... SpecId) a SPIR-V module declares, ascending.
+std::vector<uint32_t> spec_ids(const std::vector<uint32_t>& code) {
+  constexpr uint32_t kOpDecorate = 71, kDecorationSpecId = 1;
+  std::vector<uint32_t> ids;
+  for (size_t at = 5; at < code.size();) {  // after the 5-word header
+    const uint32_t words = code[at] >> 16;
+    if (words == 0) break;
+    if ((code[at] & 0xffffu) == kOpDecorate && words >= 4 && at + 3 < code.size() &&
+        code[at + 2] == kDecorationSpecId)
+      ids.push_back(code[at + 3]);
+    at += words;
+  }
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  return ids;
+}
+
 // Cold-cache compiles shared by the engines of one process (each worker has its own engine and
 // device, and llvmpipe keeps a pipeline's compiled variants per device): the first submission that
 // needs a shader variant compiles it and puts it in Mesa's disk cache (lp_state_cs.c,
@@ -728,6 +745,7 @@ struct VulkanEngine::State {
   double fence_timeout_s = 60;
   // SPIR-V per pass shader: compiled once for the whole run, kept across device re-creation.
   std::map<std::string, std::vector<uint32_t>> spirv;
+  std::map<std::string, std::vector<uint32_t>> spec_ids_of;  // per shader: spec_ids(spirv)
   std::unique_ptr<Gpu> gpu;
   std::vector<Abandoned> abandoned;
   int generation = 0;
@@ -789,7 +807,11 @@ struct VulkanEngine::State {
                      what + ":\n" + join_messages(m),
                  ""};
   }
-  Result<VkPipeline> pipeline(const std::string& shader_dir, const std::string& shader);
+  // The pipeline of `shader` with the values of `spec` for the specialisation constants it
+  // declares (core/shader_interface.h kSpec*); `*variant` is set to what names that
+  // specialisation ("" for a shader that declares none).
+  Result<VkPipeline> pipeline(const std::string& shader_dir, const std::string& shader,
+                              const std::array<uint32_t, kSpecCount>& spec, std::string* variant);
   Result<Image> run_passes(const ResolvedCase& c, const std::string& shader_dir, Gpu& g,
                            CaseWork& w, Fate* fate);
 };
@@ -937,15 +959,33 @@ Status VulkanEngine::State::create_gpu() {
 }
 
 Result<VkPipeline> VulkanEngine::State::pipeline(const std::string& shader_dir,
-                                                 const std::string& shader) {
-  if (auto it = gpu->pipelines.by_shader.find(shader); it != gpu->pipelines.by_shader.end())
-    return it->second;
+                                                 const std::string& shader,
+                                                 const std::array<uint32_t, kSpecCount>& spec,
+                                                 std::string* variant) {
   auto code = spirv.find(shader);
   if (code == spirv.end()) {
     auto compiled = shared_spirv(shader_dir, shader);
     if (!compiled) return compiled.error();
     code = spirv.emplace(shader, **compiled).first;
   }
+  // A shader that declares specialisation constants has a pipeline per combination of their
+  // values (by_shader's key: the shader and "spec id=value ..."); the others one pipeline.
+  auto ids = spec_ids_of.find(shader);
+  if (ids == spec_ids_of.end()) ids = spec_ids_of.emplace(shader, spec_ids(code->second)).first;
+  std::vector<VkSpecializationMapEntry> entries;
+  std::vector<uint32_t> values;
+  variant->clear();
+  for (uint32_t id : ids->second) {
+    if (id >= kSpecCount) continue;  // not one of the engine's: the shader's default
+    entries.push_back(
+        {id, static_cast<uint32_t>(values.size() * sizeof(uint32_t)), sizeof(uint32_t)});
+    values.push_back(spec[id]);
+    *variant +=
+        (variant->empty() ? " spec " : " ") + std::to_string(id) + '=' + std::to_string(spec[id]);
+  }
+  const std::string key = shader + *variant;
+  if (auto it = gpu->pipelines.by_shader.find(key); it != gpu->pipelines.by_shader.end())
+    return it->second;
   const VkDevice d = gpu->device.handle;
   VkShaderModuleCreateInfo mci{};
   mci.sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO;
@@ -962,6 +1002,12 @@ Result<VkPipeline> VulkanEngine::State::pipeline(const std::string& shader_dir,
   cpci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
   cpci.stage.module = module;
   cpci.stage.pName = "main";
+  VkSpecializationInfo si{};
+  si.mapEntryCount = static_cast<uint32_t>(entries.size());
+  si.pMapEntries = entries.data();
+  si.dataSize = values.size() * sizeof(uint32_t);
+  si.pData = values.data();
+  if (!entries.empty()) cpci.stage.pSpecializationInfo = &si;
   cpci.layout = gpu->pipeline_layout.handle;
   VkPipeline p = VK_NULL_HANDLE;
   const VkResult r = vkCreateComputePipelines(d, gpu->pipeline_cache.handle, 1, &cpci, nullptr, &p);
@@ -974,7 +1020,7 @@ Result<VkPipeline> VulkanEngine::State::pipeline(const std::string& shader_dir,
     vkDestroyPipeline(d, p, nullptr);
     return e;
   }
-  gpu->pipelines.by_shader.emplace(shader, p);
+  gpu->pipelines.by_shader.emplace(key, p);
   return p;
 }
 
@@ -1245,26 +1291,13 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
   // per LUT image.
   enum class Role { kPass, kBake, kStore };
   struct Run {
-    std::string shader;  // shader_dir/shader, naming its variants for the VariantGate
+    std::string shader;  // shader_dir/shader and its specialisation, naming its variants for the
+                         // VariantGate
     VkPipeline pipeline;
     Dispatch domain;
     bool output_to_scratch;
     Role role;
   };
-  std::vector<Run> runs;
-  for (const StagePass& pass : stage.passes) {
-    auto p = s.pipeline(shader_dir, std::string(pass.shader));
-    if (!p) return p.error();
-    const bool bake = pass.domain == Dispatch::kLutTexels;
-    runs.push_back({shader_dir + '/' + std::string(pass.shader), *p, pass.domain,
-                    pass.output_to_scratch, bake ? Role::kBake : Role::kPass});
-    if (!bake) continue;
-    auto store = s.pipeline(default_shader_dir(), kLutStoreShader);
-    if (!store) return store.error();
-    runs.push_back({default_shader_dir() + '/' + kLutStoreShader, *store, Dispatch::kLutTexels,
-                    false, Role::kStore});
-  }
-
   // Parameters: the case's block; only the aux image sizes are filled in here, from what is bound.
   ParamBlock params = c.params;
   const Image* aux0 = nullptr;
@@ -1285,6 +1318,23 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
   params.aux0_height = aux0 ? aux0->height : 0;
   params.aux1_width = aux1 ? aux1->width : 0;
   params.aux1_height = aux1 ? aux1->height : 0;
+
+  // The specialisation of each pass's shader: from the block as the shaders will read it.
+  const std::array<uint32_t, kSpecCount> spec = specialisation_constants(params);
+  std::vector<Run> runs;
+  for (const StagePass& pass : stage.passes) {
+    std::string variant;
+    auto p = s.pipeline(shader_dir, std::string(pass.shader), spec, &variant);
+    if (!p) return p.error();
+    const bool bake = pass.domain == Dispatch::kLutTexels;
+    runs.push_back({shader_dir + '/' + std::string(pass.shader) + variant, *p, pass.domain,
+                    pass.output_to_scratch, bake ? Role::kBake : Role::kPass});
+    if (!bake) continue;
+    auto store = s.pipeline(default_shader_dir(), kLutStoreShader, spec, &variant);
+    if (!store) return store.error();
+    runs.push_back({default_shader_dir() + '/' + kLutStoreShader + variant, *store,
+                    Dispatch::kLutTexels, false, Role::kStore});
+  }
 
   const size_t pixels = c.input.pixel_count();
   const int n = params.lut_size;
