@@ -608,6 +608,36 @@ std::vector<uint32_t> spec_ids(const std::vector<uint32_t>& code) {
   return ids;
 }
 
+// Whether a SPIR-V module uses the variable bound at `binding` (set 0): an instruction other than
+// a name, a decoration, the declaration or the entry point's interface list names its id. A
+// literal operand that happens to equal the id counts as a use (the answer errs towards true).
+bool uses_binding(const std::vector<uint32_t>& code, uint32_t binding) {
+  constexpr uint32_t kOpName = 5, kOpMemberName = 6, kOpEntryPoint = 15, kOpVariable = 59,
+                     kOpDecorate = 71, kOpMemberDecorate = 72, kDecorationBinding = 33;
+  std::vector<uint32_t> vars;
+  auto each = [&](auto f) {
+    for (size_t at = 5; at < code.size();) {
+      const uint32_t words = code[at] >> 16;
+      if (words == 0 || at + words > code.size()) return;
+      f(code[at] & 0xffffu, &code[at], words);
+      at += words;
+    }
+  };
+  each([&](uint32_t op, const uint32_t* w, uint32_t words) {
+    if (op == kOpDecorate && words >= 4 && w[2] == kDecorationBinding && w[3] == binding)
+      vars.push_back(w[1]);
+  });
+  bool used = false;
+  each([&](uint32_t op, const uint32_t* w, uint32_t words) {
+    if (used || op == kOpName || op == kOpMemberName || op == kOpEntryPoint || op == kOpVariable ||
+        op == kOpDecorate || op == kOpMemberDecorate)
+      return;
+    for (uint32_t k = 1; k < words && !used; ++k)
+      used = std::find(vars.begin(), vars.end(), w[k]) != vars.end();
+  });
+  return used;
+}
+
 // Cold-cache compiles shared by the engines of one process (each worker has its own engine and
 // device, and llvmpipe keeps a pipeline's compiled variants per device): the first submission that
 // needs a shader variant compiles it and puts it in Mesa's disk cache (lp_state_cs.c,
@@ -746,6 +776,7 @@ struct VulkanEngine::State {
   // SPIR-V per pass shader: compiled once for the whole run, kept across device re-creation.
   std::map<std::string, std::vector<uint32_t>> spirv;
   std::map<std::string, std::vector<uint32_t>> spec_ids_of;  // per shader: spec_ids(spirv)
+  std::map<std::string, bool> uses_scratch_of;  // per shader: uses_binding(kBindingScratch)
   std::unique_ptr<Gpu> gpu;
   std::vector<Abandoned> abandoned;
   int generation = 0;
@@ -972,6 +1003,8 @@ Result<VkPipeline> VulkanEngine::State::pipeline(const std::string& shader_dir,
   // values (by_shader's key: the shader and "spec id=value ..."); the others one pipeline.
   auto ids = spec_ids_of.find(shader);
   if (ids == spec_ids_of.end()) ids = spec_ids_of.emplace(shader, spec_ids(code->second)).first;
+  if (!uses_scratch_of.count(shader))
+    uses_scratch_of.emplace(shader, uses_binding(code->second, kBindingScratch));
   std::vector<VkSpecializationMapEntry> entries;
   std::vector<uint32_t> values;
   variant->clear();
@@ -1251,13 +1284,28 @@ Image widen_output(const float* src, int width, int height) {
   const size_t n = out.pixel_count() * Image::kChannels;
   out.data.reserve(n);
   constexpr size_t kHuge = size_t{2} << 20;
+  std::thread faulting;
   if (n * sizeof(double) >= 4 * kHuge) {
     const auto begin = reinterpret_cast<uintptr_t>(out.data.data());
     const uintptr_t first = (begin + kHuge - 1) & ~(kHuge - 1);
     const uintptr_t last = (begin + n * sizeof(double)) & ~(kHuge - 1);
     if (last > first) (void)madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
+#ifdef MADV_POPULATE_WRITE
+    // A large image's page faults (the kernel zeroing each page) are split over two threads: a
+    // second thread has the kernel populate the upper half (MADV_POPULATE_WRITE, Linux 5.14; an
+    // older kernel refuses it and the copy faults those pages itself) while the copy faults in
+    // the lower half. Only the kernel writes to the vector's capacity there.
+    if (out.pixel_count() >= kParallelHostPixels) {
+      const uintptr_t mid = (first + (last - first) / 2) & ~(kHuge - 1);
+      if (last > mid)
+        faulting = std::thread([mid, last] {
+          (void)madvise(reinterpret_cast<void*>(mid), last - mid, MADV_POPULATE_WRITE);
+        });
+    }
+#endif
   }
   out.data.assign(src, src + n);
+  if (faulting.joinable()) faulting.join();
   return out;
 }
 
@@ -1322,16 +1370,20 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
   // The specialisation of each pass's shader: from the block as the shaders will read it.
   const std::array<uint32_t, kSpecCount> spec = specialisation_constants(params);
   std::vector<Run> runs;
+  bool uses_scratch = false;  // whether a pass reads or writes the scratch buffer
   for (const StagePass& pass : stage.passes) {
     std::string variant;
     auto p = s.pipeline(shader_dir, std::string(pass.shader), spec, &variant);
     if (!p) return p.error();
+    uses_scratch =
+        uses_scratch || pass.output_to_scratch || s.uses_scratch_of[std::string(pass.shader)];
     const bool bake = pass.domain == Dispatch::kLutTexels;
     runs.push_back({shader_dir + '/' + std::string(pass.shader) + variant, *p, pass.domain,
                     pass.output_to_scratch, bake ? Role::kBake : Role::kPass});
     if (!bake) continue;
     auto store = s.pipeline(default_shader_dir(), kLutStoreShader, spec, &variant);
     if (!store) return store.error();
+    uses_scratch = uses_scratch || s.uses_scratch_of[kLutStoreShader];
     runs.push_back({default_shader_dir() + '/' + kLutStoreShader + variant, *store,
                     Dispatch::kLutTexels, false, Role::kStore});
   }
@@ -1465,10 +1517,11 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
   std::memcpy(w.params.mapped, packed.data(), packed.size());
   {
     // A large image's conversion and the two clears (hundreds of MB at 4K) run side by side: the
-    // device's threads are idle until the submission, and each part writes its own buffer.
+    // device's threads are idle until the submission, and each part writes its own buffer. The
+    // scratch buffer is cleared only for a stage that uses it: no pass of the others can see it.
     auto clear = [&] {
       std::memset(w.output.mapped, 0, image_bytes);
-      std::memset(w.scratch.mapped, 0, scratch_bytes);
+      if (uses_scratch) std::memset(w.scratch.mapped, 0, scratch_bytes);
     };
     if (pixels >= kParallelHostPixels) {
       std::thread clearing(clear);
