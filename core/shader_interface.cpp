@@ -105,6 +105,7 @@ std::array<uint32_t, kSpecCount> specialisation_constants(const ParamBlock& p) {
   v[kSpecTonemapBloom] = p.aux0_width > 0 && p.aux0_height > 0;
   v[kSpecTonemapBloomDirt] = p.aux1_width > 0 && p.aux1_height > 0;
   v[kSpecTonemapPost] = p.output_device == 5 || p.output_device == 6 || p.output_device == 7;
+  v[kSpecTonemapLutLayout] = static_cast<uint32_t>(p.lut_layout);
   return v;
 }
 
@@ -120,6 +121,7 @@ std::string glsl_param_block() {
   s << "#define HDRC_SPEC_TONEMAP_BLOOM " << kSpecTonemapBloom << "\n";
   s << "#define HDRC_SPEC_TONEMAP_BLOOM_DIRT " << kSpecTonemapBloomDirt << "\n";
   s << "#define HDRC_SPEC_TONEMAP_POST " << kSpecTonemapPost << "\n";
+  s << "#define HDRC_SPEC_TONEMAP_LUT_LAYOUT " << kSpecTonemapLutLayout << "\n";
   s << "layout(std430, set = 0, binding = HDRC_BINDING_PARAMS) readonly buffer HdrcParams {\n";
   const ParamBlock block;
   for_each_param(block, [&](FieldKind kind, const char* name, const auto&) {
