@@ -198,8 +198,29 @@ inline constexpr uint32_t kUserLutSlots = 4;  // elements of binding kBindingUse
                                               // Textures_1..4)
 inline constexpr uint32_t kLocalSizeX = 64;   // compute workgroup size (1-D over pixels/texels)
 
+// Specialisation constant ids (SPIR-V SpecId) of the Tonemap pass (gpu/shaders/lib/
+// tonemap_variant.glsl): each flag tells the compiler whether a branch of the pass that depends on
+// a uniform-level value can be taken at all in this case, so that code which cannot run is not
+// compiled (a software device such as llvmpipe runs both sides of every branch, masked). Each
+// is 1 (the default: the branch is compiled and the uniform decides, as without specialisation)
+// or 0 (the engine has seen from the case's ParamBlock that the uniform condition is false).
+// The engine passes these values to every shader that declares them (VulkanEngine::run).
+inline constexpr uint32_t kSpecTonemapFringe = 0;     // P.fringe.w != 0
+inline constexpr uint32_t kSpecTonemapSharpen = 1;    // P.sharpen_div6 > 0
+inline constexpr uint32_t kSpecTonemapBloom = 2;      // P.aux0_width > 0 && P.aux0_height > 0
+inline constexpr uint32_t kSpecTonemapBloomDirt = 3;  // P.aux1_width > 0 && P.aux1_height > 0
+inline constexpr uint32_t kSpecTonemapPost = 4;       // P.output_device is 5, 6 or 7
+// Not a flag: the value of P.lut_layout itself (the shader's default, -1, reads the uniform).
+inline constexpr uint32_t kSpecTonemapLutLayout = 5;
+inline constexpr uint32_t kSpecCount = 6;
+
 // The ParamBlock as the std430 bytes the shaders read.
 std::vector<uint8_t> pack_std430(const ParamBlock& p);
+
+// The specialisation constants for a block (index = SpecId, kSpecTonemap*): for a flag, 0 where
+// the uniform condition it stands for is false as the shader sees the block (the float32 and int32
+// values pack_std430 writes), else 1; kSpecTonemapLutLayout is P.lut_layout.
+std::array<uint32_t, kSpecCount> specialisation_constants(const ParamBlock& p);
 
 // GLSL text declaring the block, the bindings and the workgroup size.
 std::string glsl_param_block();

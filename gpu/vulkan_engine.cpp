@@ -591,6 +591,53 @@ Result<std::shared_ptr<const std::vector<uint32_t>>> shared_spirv(const std::str
   return cache.emplace(key, std::move(code)).first->second;
 }
 
+// The specialisation constant ids (OpDecorate ... SpecId) a SPIR-V module declares, ascending.
+std::vector<uint32_t> spec_ids(const std::vector<uint32_t>& code) {
+  constexpr uint32_t kOpDecorate = 71, kDecorationSpecId = 1;
+  std::vector<uint32_t> ids;
+  for (size_t at = 5; at < code.size();) {  // after the 5-word header
+    const uint32_t words = code[at] >> 16;
+    if (words == 0) break;
+    if ((code[at] & 0xffffu) == kOpDecorate && words >= 4 && at + 3 < code.size() &&
+        code[at + 2] == kDecorationSpecId)
+      ids.push_back(code[at + 3]);
+    at += words;
+  }
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  return ids;
+}
+
+// Whether a SPIR-V module uses the variable bound at `binding` (set 0): an instruction other than
+// a name, a decoration, the declaration or the entry point's interface list names its id. A
+// literal operand that happens to equal the id counts as a use (the answer errs towards true).
+bool uses_binding(const std::vector<uint32_t>& code, uint32_t binding) {
+  constexpr uint32_t kOpName = 5, kOpMemberName = 6, kOpEntryPoint = 15, kOpVariable = 59,
+                     kOpDecorate = 71, kOpMemberDecorate = 72, kDecorationBinding = 33;
+  std::vector<uint32_t> vars;
+  auto each = [&](auto f) {
+    for (size_t at = 5; at < code.size();) {
+      const uint32_t words = code[at] >> 16;
+      if (words == 0 || at + words > code.size()) return;
+      f(code[at] & 0xffffu, &code[at], words);
+      at += words;
+    }
+  };
+  each([&](uint32_t op, const uint32_t* w, uint32_t words) {
+    if (op == kOpDecorate && words >= 4 && w[2] == kDecorationBinding && w[3] == binding)
+      vars.push_back(w[1]);
+  });
+  bool used = false;
+  each([&](uint32_t op, const uint32_t* w, uint32_t words) {
+    if (used || op == kOpName || op == kOpMemberName || op == kOpEntryPoint || op == kOpVariable ||
+        op == kOpDecorate || op == kOpMemberDecorate)
+      return;
+    for (uint32_t k = 1; k < words && !used; ++k)
+      used = std::find(vars.begin(), vars.end(), w[k]) != vars.end();
+  });
+  return used;
+}
+
 // Cold-cache compiles shared by the engines of one process (each worker has its own engine and
 // device, and llvmpipe keeps a pipeline's compiled variants per device): the first submission that
 // needs a shader variant compiles it and puts it in Mesa's disk cache (lp_state_cs.c,
@@ -728,6 +775,8 @@ struct VulkanEngine::State {
   double fence_timeout_s = 60;
   // SPIR-V per pass shader: compiled once for the whole run, kept across device re-creation.
   std::map<std::string, std::vector<uint32_t>> spirv;
+  std::map<std::string, std::vector<uint32_t>> spec_ids_of;  // per shader: spec_ids(spirv)
+  std::map<std::string, bool> uses_scratch_of;  // per shader: uses_binding(kBindingScratch)
   std::unique_ptr<Gpu> gpu;
   std::vector<Abandoned> abandoned;
   int generation = 0;
@@ -789,7 +838,11 @@ struct VulkanEngine::State {
                      what + ":\n" + join_messages(m),
                  ""};
   }
-  Result<VkPipeline> pipeline(const std::string& shader_dir, const std::string& shader);
+  // The pipeline of `shader` with the values of `spec` for the specialisation constants it
+  // declares (core/shader_interface.h kSpec*); `*variant` is set to what names that
+  // specialisation ("" for a shader that declares none).
+  Result<VkPipeline> pipeline(const std::string& shader_dir, const std::string& shader,
+                              const std::array<uint32_t, kSpecCount>& spec, std::string* variant);
   Result<Image> run_passes(const ResolvedCase& c, const std::string& shader_dir, Gpu& g,
                            CaseWork& w, Fate* fate);
 };
@@ -937,15 +990,35 @@ Status VulkanEngine::State::create_gpu() {
 }
 
 Result<VkPipeline> VulkanEngine::State::pipeline(const std::string& shader_dir,
-                                                 const std::string& shader) {
-  if (auto it = gpu->pipelines.by_shader.find(shader); it != gpu->pipelines.by_shader.end())
-    return it->second;
+                                                 const std::string& shader,
+                                                 const std::array<uint32_t, kSpecCount>& spec,
+                                                 std::string* variant) {
   auto code = spirv.find(shader);
   if (code == spirv.end()) {
     auto compiled = shared_spirv(shader_dir, shader);
     if (!compiled) return compiled.error();
     code = spirv.emplace(shader, **compiled).first;
   }
+  // A shader that declares specialisation constants has a pipeline per combination of their
+  // values (by_shader's key: the shader and "spec id=value ..."); the others one pipeline.
+  auto ids = spec_ids_of.find(shader);
+  if (ids == spec_ids_of.end()) ids = spec_ids_of.emplace(shader, spec_ids(code->second)).first;
+  if (!uses_scratch_of.count(shader))
+    uses_scratch_of.emplace(shader, uses_binding(code->second, kBindingScratch));
+  std::vector<VkSpecializationMapEntry> entries;
+  std::vector<uint32_t> values;
+  variant->clear();
+  for (uint32_t id : ids->second) {
+    if (id >= kSpecCount) continue;  // not one of the engine's: the shader's default
+    entries.push_back(
+        {id, static_cast<uint32_t>(values.size() * sizeof(uint32_t)), sizeof(uint32_t)});
+    values.push_back(spec[id]);
+    *variant +=
+        (variant->empty() ? " spec " : " ") + std::to_string(id) + '=' + std::to_string(spec[id]);
+  }
+  const std::string key = shader + *variant;
+  if (auto it = gpu->pipelines.by_shader.find(key); it != gpu->pipelines.by_shader.end())
+    return it->second;
   const VkDevice d = gpu->device.handle;
   VkShaderModuleCreateInfo mci{};
   mci.sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO;
@@ -962,6 +1035,12 @@ Result<VkPipeline> VulkanEngine::State::pipeline(const std::string& shader_dir,
   cpci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
   cpci.stage.module = module;
   cpci.stage.pName = "main";
+  VkSpecializationInfo si{};
+  si.mapEntryCount = static_cast<uint32_t>(entries.size());
+  si.pMapEntries = entries.data();
+  si.dataSize = values.size() * sizeof(uint32_t);
+  si.pData = values.data();
+  if (!entries.empty()) cpci.stage.pSpecializationInfo = &si;
   cpci.layout = gpu->pipeline_layout.handle;
   VkPipeline p = VK_NULL_HANDLE;
   const VkResult r = vkCreateComputePipelines(d, gpu->pipeline_cache.handle, 1, &cpci, nullptr, &p);
@@ -974,7 +1053,7 @@ Result<VkPipeline> VulkanEngine::State::pipeline(const std::string& shader_dir,
     vkDestroyPipeline(d, p, nullptr);
     return e;
   }
-  gpu->pipelines.by_shader.emplace(shader, p);
+  gpu->pipelines.by_shader.emplace(key, p);
   return p;
 }
 
@@ -1205,13 +1284,28 @@ Image widen_output(const float* src, int width, int height) {
   const size_t n = out.pixel_count() * Image::kChannels;
   out.data.reserve(n);
   constexpr size_t kHuge = size_t{2} << 20;
+  std::thread faulting;
   if (n * sizeof(double) >= 4 * kHuge) {
     const auto begin = reinterpret_cast<uintptr_t>(out.data.data());
     const uintptr_t first = (begin + kHuge - 1) & ~(kHuge - 1);
     const uintptr_t last = (begin + n * sizeof(double)) & ~(kHuge - 1);
     if (last > first) (void)madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
+#ifdef MADV_POPULATE_WRITE
+    // A large image's page faults (the kernel zeroing each page) are split over two threads: a
+    // second thread has the kernel populate the upper half (MADV_POPULATE_WRITE, Linux 5.14; an
+    // older kernel refuses it and the copy faults those pages itself) while the copy faults in
+    // the lower half. Only the kernel writes to the vector's capacity there.
+    if (out.pixel_count() >= kParallelHostPixels) {
+      const uintptr_t mid = (first + (last - first) / 2) & ~(kHuge - 1);
+      if (last > mid)
+        faulting = std::thread([mid, last] {
+          (void)madvise(reinterpret_cast<void*>(mid), last - mid, MADV_POPULATE_WRITE);
+        });
+    }
+#endif
   }
   out.data.assign(src, src + n);
+  if (faulting.joinable()) faulting.join();
   return out;
 }
 
@@ -1245,26 +1339,13 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
   // per LUT image.
   enum class Role { kPass, kBake, kStore };
   struct Run {
-    std::string shader;  // shader_dir/shader, naming its variants for the VariantGate
+    std::string shader;  // shader_dir/shader and its specialisation, naming its variants for the
+                         // VariantGate
     VkPipeline pipeline;
     Dispatch domain;
     bool output_to_scratch;
     Role role;
   };
-  std::vector<Run> runs;
-  for (const StagePass& pass : stage.passes) {
-    auto p = s.pipeline(shader_dir, std::string(pass.shader));
-    if (!p) return p.error();
-    const bool bake = pass.domain == Dispatch::kLutTexels;
-    runs.push_back({shader_dir + '/' + std::string(pass.shader), *p, pass.domain,
-                    pass.output_to_scratch, bake ? Role::kBake : Role::kPass});
-    if (!bake) continue;
-    auto store = s.pipeline(default_shader_dir(), kLutStoreShader);
-    if (!store) return store.error();
-    runs.push_back({default_shader_dir() + '/' + kLutStoreShader, *store, Dispatch::kLutTexels,
-                    false, Role::kStore});
-  }
-
   // Parameters: the case's block; only the aux image sizes are filled in here, from what is bound.
   ParamBlock params = c.params;
   const Image* aux0 = nullptr;
@@ -1285,6 +1366,27 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
   params.aux0_height = aux0 ? aux0->height : 0;
   params.aux1_width = aux1 ? aux1->width : 0;
   params.aux1_height = aux1 ? aux1->height : 0;
+
+  // The specialisation of each pass's shader: from the block as the shaders will read it.
+  const std::array<uint32_t, kSpecCount> spec = specialisation_constants(params);
+  std::vector<Run> runs;
+  bool uses_scratch = false;  // whether a pass reads or writes the scratch buffer
+  for (const StagePass& pass : stage.passes) {
+    std::string variant;
+    auto p = s.pipeline(shader_dir, std::string(pass.shader), spec, &variant);
+    if (!p) return p.error();
+    uses_scratch =
+        uses_scratch || pass.output_to_scratch || s.uses_scratch_of[std::string(pass.shader)];
+    const bool bake = pass.domain == Dispatch::kLutTexels;
+    runs.push_back({shader_dir + '/' + std::string(pass.shader) + variant, *p, pass.domain,
+                    pass.output_to_scratch, bake ? Role::kBake : Role::kPass});
+    if (!bake) continue;
+    auto store = s.pipeline(default_shader_dir(), kLutStoreShader, spec, &variant);
+    if (!store) return store.error();
+    uses_scratch = uses_scratch || s.uses_scratch_of[kLutStoreShader];
+    runs.push_back({default_shader_dir() + '/' + kLutStoreShader + variant, *store,
+                    Dispatch::kLutTexels, false, Role::kStore});
+  }
 
   const size_t pixels = c.input.pixel_count();
   const int n = params.lut_size;
@@ -1415,10 +1517,11 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
   std::memcpy(w.params.mapped, packed.data(), packed.size());
   {
     // A large image's conversion and the two clears (hundreds of MB at 4K) run side by side: the
-    // device's threads are idle until the submission, and each part writes its own buffer.
+    // device's threads are idle until the submission, and each part writes its own buffer. The
+    // scratch buffer is cleared only for a stage that uses it: no pass of the others can see it.
     auto clear = [&] {
       std::memset(w.output.mapped, 0, image_bytes);
-      std::memset(w.scratch.mapped, 0, scratch_bytes);
+      if (uses_scratch) std::memset(w.scratch.mapped, 0, scratch_bytes);
     };
     if (pixels >= kParallelHostPixels) {
       std::thread clearing(clear);

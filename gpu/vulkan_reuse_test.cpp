@@ -9,7 +9,11 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <regex>
+#include <sstream>
+#include <string>
 
+#include "gpu/shader_probe.h"
 #include "gpu/vulkan_engine.h"
 #include "reference/ue_cpp/resolve.h"
 
@@ -84,17 +88,68 @@ TEST(VulkanReuse, OutputDoesNotDependOnTheCasesBefore) {
   }
 }
 
-// One pipeline per pass shader per device, whatever the number of cases.
+// One pipeline per pass shader and specialisation per device, whatever the number of cases.
 TEST(VulkanReuse, PipelinesAreCreatedOncePerShader) {
   hdrc::gpu::VulkanEngine engine(no_disk_cache());
   ASSERT_TRUE(engine.init().ok());
-  for (int format : {0, 1, 2})
-    for (int device : {0, 3, 8})
-      ASSERT_TRUE(
-          engine.run(make_case("tonemap", device, 16, format, format % 2, ramp(8, 2, 9))).ok());
-  // combine_luts.comp, the engine's store pass (engine/lut_store.comp) and tonemap.comp
-  EXPECT_EQ(engine.pipeline_creations(), 3);
-  EXPECT_EQ(engine.compiled_pipeline_count(), 3);
+  for (int round = 0; round < 2; ++round) {
+    for (int format : {0, 1, 2})
+      for (int device : {0, 3, 8})
+        ASSERT_TRUE(
+            engine.run(make_case("tonemap", device, 16, format, format % 2, ramp(8, 2, 9))).ok());
+    // combine_luts.comp, the engine's store pass (engine/lut_store.comp) and tonemap.comp once
+    // per LUT layout (kSpecTonemapLutLayout; the other specialisation constants are the same for
+    // these cases: no fringe, sharpen, bloom or post conversion); the second round adds none.
+    EXPECT_EQ(engine.pipeline_creations(), 4) << "round " << round;
+    EXPECT_EQ(engine.compiled_pipeline_count(), 4) << "round " << round;
+  }
+}
+
+// The Tonemap pass specialised on the case (kSpecTonemap*: fringe, sharpen, bloom, bloom dirt,
+// post conversion, LUT layout) gives the same bits as the pass with every branch compiled and
+// decided by the uniforms (the suite's shaders with the constants made plain constants at their
+// defaults, which the engine then cannot specialise), for each effect on and off, each LUT layout
+// and devices with each shaper and post conversion.
+TEST(VulkanReuse, SpecialisedTonemapEqualsTheUnspecialisedPass) {
+  hdrc::gpu::testing::ShaderDirCopy plain("unspecialised");
+  {
+    std::ifstream in(fs::path(hdrc::gpu::default_shader_dir()) / "lib/tonemap_variant.glsl");
+    std::stringstream text;
+    text << in.rdbuf();
+    const std::string plain_text =
+        std::regex_replace(text.str(), std::regex(R"(layout\(constant_id = \w+\) )"), "");
+    ASSERT_NE(plain_text, text.str());
+    plain.write("lib/tonemap_variant.glsl", plain_text);
+  }
+  hdrc::gpu::VulkanOptions plain_options = no_disk_cache();
+  plain_options.shader_dir = plain.path();
+  hdrc::gpu::VulkanEngine specialised(no_disk_cache()), unspecialised(plain_options);
+  ASSERT_TRUE(specialised.init().ok());
+  ASSERT_TRUE(unspecialised.init().ok());
+  int cases = 0;
+  for (int device : {0, 3, 5, 7})
+    for (int layout : {0, 1})
+      for (bool effects : {false, true}) {
+        hdrc::ResolvedCase c = make_case("tonemap", device, 16, 1, layout, ramp(24, 10, 11));
+        if (effects) {
+          c.spec.settings.set("SceneFringeIntensity", {3, 0, 0, 0}, 1);
+          c.spec.settings.set("Sharpen", {2, 0, 0, 0}, 1);
+          c.spec.settings.set("BloomDirtMaskIntensity", {1, 0, 0, 0}, 1);
+          c.params = *hdrc::ref::resolve_params(c.spec, c.input.width, c.input.height);
+          c.bloom = ramp(12, 5, 12);
+          c.bloom_dirt = ramp(6, 3, 13);
+        }
+        auto a = specialised.run(c);
+        auto b = unspecialised.run(c);
+        ASSERT_TRUE(a.ok()) << a.error().to_string();
+        ASSERT_TRUE(b.ok()) << b.error().to_string();
+        EXPECT_TRUE(same(*a, *b)) << "device " << device << " layout " << layout << " effects "
+                                  << effects;
+        ++cases;
+      }
+  EXPECT_EQ(cases, 16);
+  // The specialised engine made a pipeline per specialisation, the other one for every case.
+  EXPECT_GT(specialised.compiled_pipeline_count(), unspecialised.compiled_pipeline_count());
 }
 
 // The pipeline cache is written to the path given when the engine ends, with Vulkan's header

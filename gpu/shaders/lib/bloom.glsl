@@ -8,13 +8,14 @@
 #define HDRC_BLOOM_GLSL
 
 #include "buffer_image.glsl"
+#include "tonemap_variant.glsl"
 
 bool has_bloom() { return P.aux0_width > 0 && P.aux0_height > 0; }
 bool has_bloom_dirt() { return P.aux1_width > 0 && P.aux1_height > 0; }
 
 vec3 bloom(vec2 bloom_uv, vec2 lens_pos) {
   vec3 raw_bloom = sample_aux0(bloom_uv).rgb;
-  if (!has_bloom_dirt()) return raw_bloom;
+  if (!(TONEMAP_MAY_BLOOM_DIRT && has_bloom_dirt())) return raw_bloom;
   vec2 dirt_lens_uv = lens_pos * vec2(1.0, -1.0);
   vec3 raw_dirt = sample_aux1(dirt_lens_uv * 0.5 + 0.5).rgb;
   return raw_bloom * (1.0 + raw_dirt * P.bloom_dirt_tint.rgb);

@@ -9,6 +9,7 @@
 
 #include "d3d_math.glsl"
 #include "lut_shaper.glsl"
+#include "tonemap_variant.glsl"
 
 // LUTScale = (N − 1)/N and LUTOffset = 0.5/N, which UE's C++ computes in float
 // (PostProcessTonemap.cpp); both are exact in float32 for N a power of two.
@@ -40,7 +41,7 @@ vec3 color_lookup_table(vec3 final_linear) {
   if (any(isnan(encoded))) return vec3(hdrc_nan());
   float size = float(P.lut_size);
   vec3 uvw = lut_uvw(encoded, size);
-  vec3 s = P.lut_layout == 0 ? sample_lut_volume(uvw) : sample_lut_unwrapped(uvw, size);
+  vec3 s = tonemap_lut_layout() == 0 ? sample_lut_volume(uvw) : sample_lut_unwrapped(uvw, size);
   return s * 1.05;
 }
 

@@ -21,9 +21,8 @@ vec3 nits_from_pq3(vec3 pq) { return vec3(nits_from_pq(pq.r), nits_from_pq(pq.g)
 
 // nits = clamp(ST2084ToLinear(pq), Y_MIN, MaxODTNits); linCV = (nits − Y_MIN)/(Max − Y_MIN);
 // scRGB = AP1_2_sRGB · linCV · (MaxODTNits / 80). The input is PQ-coded AP1 (the LUT skips the
-// output-gamut matrix for devices 5/6).
-vec3 st2084_to_scrgb(vec3 pq, float max_odt_nits) {
-  vec3 nits = nits_from_pq3(pq);
+// output-gamut matrix for devices 5/6); `nits` = nits_from_pq3(pq), which the caller has.
+vec3 st2084_to_scrgb(vec3 pq, vec3 nits, float max_odt_nits) {
   vec3 lin_cv = (clamp_d3d(nits, ACES_HDR_Y_MIN, max_odt_nits) - ACES_HDR_Y_MIN) /
                 (max_odt_nits - ACES_HDR_Y_MIN);
   // D3D's clamp would turn a NaN signal into Y_MIN; a NaN here only comes from the LUT sample of
@@ -37,9 +36,11 @@ vec3 st2084_to_scrgb(vec3 pq, float max_odt_nits) {
 }
 
 vec3 post_device(int output_device, vec3 out_device, float max_luminance) {
-  if (output_device == 5 || output_device == 6) return st2084_to_scrgb(out_device, max_luminance);
-  if (output_device == 7) return nits_from_pq3(out_device);
-  return out_device;
+  if (output_device != 5 && output_device != 6 && output_device != 7) return out_device;
+  // ST2084ToLinear of the signal is the first step of both conversions: evaluated once (the same
+  // float32 operations; a device that runs both sides of a branch no longer pays it twice).
+  vec3 nits = nits_from_pq3(out_device);
+  return output_device == 7 ? nits : st2084_to_scrgb(out_device, nits, max_luminance);
 }
 
 #endif

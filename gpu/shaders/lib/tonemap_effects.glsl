@@ -10,15 +10,16 @@
 #include "color_fringe.glsl"
 #include "screen_pass.glsl"
 #include "sharpen.glsl"
+#include "tonemap_variant.glsl"
 #include "vignette.glsl"
 
 // Steps 1–2: the scene colour of pixel `px` after the fringe (USE_COLOR_FRINGE, P.fringe.w) and
 // the sharpen (USE_SHARPEN when Sharpen > 0). Alpha is the fringe's R sample's alpha.
 vec4 tonemap_scene_color(ivec2 px, vec2 lens_pos, vec2 extent) {
   vec4 s = scene_texel(px);
-  if (P.fringe.w != 0.0) s = color_fringe(s, lens_pos, P.fringe, extent);
+  if (TONEMAP_MAY_FRINGE && P.fringe.w != 0.0) s = color_fringe(s, lens_pos, P.fringe, extent);
   // OneOverPreExposure · LocalExposure · GlobalExposure, LocalExposure = 1.
-  if (P.sharpen_div6 > 0.0) s.rgb = sharpen(s.rgb, px, P.exposure, P.sharpen_div6);
+  if (TONEMAP_MAY_SHARPEN && P.sharpen_div6 > 0.0) s.rgb = sharpen(s.rgb, px, P.exposure, P.sharpen_div6);
   return s;
 }
 
@@ -37,7 +38,7 @@ float tonemap_vignette(vec2 lens_pos, vec2 extent) {
 vec3 tonemap_final_linear(vec3 scene, vec2 uv, vec2 lens_pos, vec2 extent) {
   float vignette = tonemap_vignette(lens_pos, extent);
   vec3 final_linear = scene * P.scene_color_tint.rgb * (P.exposure * vignette);
-  if (has_bloom()) final_linear += bloom(uv, lens_pos) * (P.exposure * vignette);
+  if (TONEMAP_MAY_BLOOM && has_bloom()) final_linear += bloom(uv, lens_pos) * (P.exposure * vignette);
   return final_linear;
 }
 

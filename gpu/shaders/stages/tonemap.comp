@@ -10,6 +10,7 @@
 #include "../lib/post_device.glsl"
 #include "../lib/screen_pass.glsl"
 #include "../lib/tonemap_effects.glsl"
+#include "../lib/tonemap_variant.glsl"
 
 layout(local_size_x = HDRC_LOCAL_SIZE_X) in;
 
@@ -25,6 +26,9 @@ void main() {
   vec3 final_linear = tonemap_final_linear(scene.rgb, uv, lens_pos, extent);  // steps 3–5
   vec3 out_device = color_lookup_table(final_linear);                // step 7
   float out_luminance = dot(out_device, vec3(0.299, 0.587, 0.114));  // step 8
-  out_px[i] = vec4(post_device(P.output_device, out_device, P.output_max_luminance),  // step 9
-                   out_luminance);
+  // Step 9; TONEMAP_MAY_POST is false only for a device without a post conversion, for which
+  // post_device returns its input.
+  vec3 post = TONEMAP_MAY_POST ? post_device(P.output_device, out_device, P.output_max_luminance)
+                               : out_device;
+  out_px[i] = vec4(post, out_luminance);
 }
