@@ -279,24 +279,12 @@ Result<OutputEncoding> encoding_of(const json& c, int width, int height) {
 // OutputEncoding::to_nits as data for the page's script (assets/report.js toNits): nits =
 // transfer(pre_scale · v) · nits_scale.
 json encoding_json(const OutputEncoding& e) {
+  using T = OutputEncoding::Transfer;
+  const T kinds[] = {T::kLinear, T::kPq, T::kSrgb, T::kRec709, T::kGamma};
+  const char* const names[] = {"linear", "pq", "srgb", "rec709", "gamma"};
   const char* t = "linear";
-  switch (e.transfer) {
-    case OutputEncoding::Transfer::kLinear:
-      t = "linear";
-      break;
-    case OutputEncoding::Transfer::kPq:
-      t = "pq";
-      break;
-    case OutputEncoding::Transfer::kSrgb:
-      t = "srgb";
-      break;
-    case OutputEncoding::Transfer::kRec709:
-      t = "rec709";
-      break;
-    case OutputEncoding::Transfer::kGamma:
-      t = "gamma";
-      break;
-  }
+  for (int k = 0; k < 5; ++k)
+    if (e.transfer == kinds[k]) t = names[k];
   return {{"transfer", t},
           {"pre_scale", e.pre_scale},
           {"nits_scale", e.nits_scale},

@@ -93,6 +93,26 @@ async function openPage(context, url, log) {
   return { page, errors, dialogs, foreign, tti };
 }
 
+// The pixels of the image at `src` (a URL the page may load and read: the pixel-reading browser
+// has --allow-file-access-from-files), read back through a canvas: { width, height, data RGBA }.
+async function imagePixels(page, src) {
+  return page.evaluate((src) => new Promise((resolve) => {
+    const i = new Image();
+    i.onload = () => {
+      const c = document.createElement('canvas');
+      c.width = i.width;
+      c.height = i.height;
+      c.getContext('2d').drawImage(i, 0, 0);
+      resolve({ width: i.width, height: i.height, data: Array.from(c.getContext('2d').getImageData(0, 0, i.width, i.height).data) });
+    };
+    i.onerror = () => resolve(null);
+    i.src = src;
+  }), src);
+}
+function pixelOf(img, x, y) {
+  return img.data.slice((y * img.width + x) * 4, (y * img.width + x) * 4 + 3);
+}
+
 async function rgbAt(page, selector, x, y) {
   // Pixel (x, y) of an <img> or <canvas>, read back through a canvas (for <img> on file:// this
   // needs --allow-file-access-from-files: only the pixel-reading browser has it).
@@ -418,23 +438,17 @@ async function fixtureTest(dir, artifacts) {
     // The summary's heatmap thumbnail of this case shows its heatmap: the PNG pixel drawn at the
     // thumbnail's point for (13, 2) of the 64 × 4 image has the heat colour.
     const { page: summary } = await openPage(ctx, url('index.html'), null);
-    const thumbPx = await summary.evaluate((id) => new Promise((resolve) => {
+    const geo = await summary.evaluate((id) => {
       const row = [...document.querySelectorAll('#worst-cases tbody tr')].find((tr) => tr.querySelector('code').textContent === id);
       const im = row && row.querySelector('.thumb[data-key="heat"] img');
-      if (!im) return resolve(null);
+      if (!im) return null;
       const box = im.parentElement.getBoundingClientRect(), r = im.getBoundingClientRect();
-      const i = new Image();
-      i.onload = () => {
-        const c = document.createElement('canvas');
-        c.width = i.width;
-        c.height = i.height;
-        c.getContext('2d').drawImage(i, 0, 0);
-        const tx = box.left + 1 + (13.5 / 64) * (box.width - 2), ty = box.top + 1 + (2.5 / 4) * (box.height - 2);
-        const sx = Math.floor(((tx - r.left) * i.width) / r.width), sy = Math.floor(((ty - r.top) * i.height) / r.height);
-        resolve(Array.from(c.getContext('2d').getImageData(sx, sy, 1, 1).data.slice(0, 3)));
-      };
-      i.src = im.src;
-    }), expect.failing);
+      // The page point of (13.5, 2.5) in the 64 × 4 image, inside the box's 1-pixel border.
+      const tx = box.left + 1 + (13.5 / 64) * (box.width - 2), ty = box.top + 1 + (2.5 / 4) * (box.height - 2);
+      return { src: im.src, fx: (tx - r.left) / r.width, fy: (ty - r.top) / r.height };
+    }, expect.failing);
+    const atlas = geo && (await imagePixels(summary, geo.src));
+    const thumbPx = atlas && pixelOf(atlas, Math.floor(geo.fx * atlas.width), Math.floor(geo.fy * atlas.height));
     check(thumbPx && thumbPx.every((v, i) => Math.abs(v - want[i]) <= 2), `the summary's heatmap thumbnail shows (13, 2) as ${want}`, thumbPx);
     // The script's previews at 0 EV and the C++ ones (the list pages' thumbnails, made by
     // report/images.cpp preview_of_nits) use the same documented mapping: each thumbnail pixel
@@ -443,28 +457,21 @@ async function fixtureTest(dir, artifacts) {
       const js = await page.$eval('figure.panel[data-key="candidate"] canvas', (c) =>
         ({ w: c.width, h: c.height, d: Array.from(c.getContext('2d').getImageData(0, 0, c.width, c.height).data) }));
       const { page: list } = await openPage(ctx, url('cases.html'), null);
-      const thumb = await list.evaluate((id) => new Promise((resolve) => {
+      const geo = await list.evaluate((id) => {
         const row = [...document.querySelectorAll('#case-table tbody tr')].find((tr) => tr.querySelector('code').textContent === id);
         const im = row && row.querySelector('.thumb[data-key="main"] img');
-        if (!im) return resolve(null);
-        const box = im.parentElement, tw = parseFloat(box.style.width), th = parseFloat(box.style.height), y0 = -parseFloat(im.style.marginTop);
-        const i = new Image();
-        i.onload = () => {
-          const c = document.createElement('canvas');
-          c.width = i.width;
-          c.height = i.height;
-          c.getContext('2d').drawImage(i, 0, 0);
-          resolve({ tw, th, d: Array.from(c.getContext('2d').getImageData(0, y0, tw, th).data) });
-        };
-        i.onerror = () => resolve(null);
-        i.src = im.src;
-      }), expect.failing);
+        if (!im) return null;
+        const box = im.parentElement;
+        return { src: im.src, tw: parseFloat(box.style.width), th: parseFloat(box.style.height), y0: -parseFloat(im.style.marginTop) };
+      }, expect.failing);
+      const atlas = geo && (await imagePixels(list, geo.src));
+      const thumb = atlas && { tw: geo.tw, th: geo.th, d: atlas.data.slice(geo.y0 * atlas.width * 4, (geo.y0 + geo.th) * atlas.width * 4) };
       let maxDiff = thumb ? 0 : 999;
       const near = (x, t, n) => Math.min(n - 1, Math.floor(((x + 0.5) * n) / t));
       for (let y = 0; thumb && y < thumb.th; y++)
         for (let x = 0; x < thumb.tw; x++)
           for (let ch = 0; ch < 3; ch++)
-            maxDiff = Math.max(maxDiff, Math.abs(thumb.d[(y * thumb.tw + x) * 4 + ch] - js.d[(near(y, thumb.th, js.h) * js.w + near(x, thumb.tw, js.w)) * 4 + ch]));
+            maxDiff = Math.max(maxDiff, Math.abs(thumb.d[(y * atlas.width + x) * 4 + ch] - js.d[(near(y, thumb.th, js.h) * js.w + near(x, thumb.tw, js.w)) * 4 + ch]));
       check(maxDiff <= 1, `script's 0 EV candidate preview matches the C++ thumbnail (max difference ${maxDiff} codes)`);
     }
     // The script's heatmaps and mask = report/images.cpp error_maps of the same images (the
