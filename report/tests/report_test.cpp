@@ -299,6 +299,36 @@ TEST_F(WriteReport, SparseResultsAndHostileTextAreShownEscaped) {
   EXPECT_FALSE(std::filesystem::exists(dir_ / "report" / "stale.html"));
 }
 
+// An image over 4 Mpixel gets no float data in its page: its pictures (previews, heatmaps, mask)
+// are made in C++, stacked in one PNG the page carries (a data: URL), with the mask's counts.
+TEST_F(WriteReport, ImagesOverFourMegapixelsArePicturedHereWithoutFloatData) {
+  const int w = 2049, h = 2048;  // 4 196 352 pixels > 2^22
+  Image ref(w, h);
+  for (size_t i = 0; i < ref.pixel_count(); ++i)
+    for (int c = 0; c < 4; ++c) ref.data[i * 4 + c] = c == 3 ? 1.0 : 0.5;
+  Image cand = ref;
+  cand.px(7, 3)[1] = 0.75;  // one pixel over the tolerance
+  const auto cdir = dir_ / "cases" / "big" / "x";
+  std::filesystem::create_directories(cdir);
+  ASSERT_TRUE(hdrc::write_exr((cdir / "reference.exr").string(), ref, 1));
+  ASSERT_TRUE(hdrc::write_exr((cdir / "candidate.exr").string(), cand, 1));
+  std::ofstream(dir_ / "results.json") << R"({"cases": [{"id": "big/x", "verdict": "FAIL",
+      "stage": "shaper", "tolerance": {"linear_abs": {"max": 1e-06}}}]})";
+  auto r = hdrc::write_report(dir_.string());
+  ASSERT_TRUE(r) << r.error().to_string();
+  const std::string page = read_file(dir_ / "report" / "c" / "big__x.html");
+  EXPECT_EQ(page.find("id=\"case-px\""), std::string::npos);  // no float data
+  EXPECT_NE(page.find("<style id=\"case-sprite\">#images .sprite { background-image: "
+                      "url(\"data:image/png;base64,iVBORw0KGgo"),
+            std::string::npos);  // the PNG signature, base64
+  // Reference, candidate, heatmaps and mask stacked: the mask is the fifth picture down.
+  EXPECT_NE(page.find("\"mask\":[0," + std::to_string(4 * h) + "," + std::to_string(w) + "," +
+                      std::to_string(h) + "]"),
+            std::string::npos);
+  EXPECT_NE(page.find("id=\"mask-over\">1<"), std::string::npos);
+  EXPECT_NE(page.find("id=\"mask-mismatch\">0<"), std::string::npos);
+}
+
 // Issue 14: the budget is the runner's figure (results.json budget_used), never recomputed from
 // max/limit: a passing dither case with an allowed fraction has max 1.91 over a 1e-6 limit but
 // uses 1.99 % of its budget, and the report must say 1.99 %, not 1.91e+08 %.
