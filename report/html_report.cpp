@@ -300,17 +300,6 @@ Status write_text(const fs::path& p, const std::string& s) {
   return {};
 }
 
-// The bytes of `p`, or "" if it cannot be read or is larger than `max_bytes`.
-std::string read_small_file(const fs::path& p, size_t max_bytes) {
-  std::error_code ec;
-  const auto size = fs::file_size(p, ec);
-  if (ec || size > max_bytes) return {};
-  std::ifstream f(p, std::ios::binary);
-  std::string s(static_cast<size_t>(size), '\0');
-  if (!f.read(s.data(), static_cast<std::streamsize>(s.size()))) return {};
-  return s;
-}
-
 // ---------------------------------------------------------------------------------------------
 // HTML pieces.
 
@@ -760,7 +749,8 @@ struct Builder {
         // wrote, no repacking; else its float32 values packed.
         std::string file;
         if (img[i].width == c.width && img[i].height == c.height)
-          file = read_small_file(path[i], kMaxPxData * 16 + (size_t{1} << 20));
+          if (auto f = read_bounded_file(path[i].string(), kMaxImageFileBytes, "case image"))
+            file = std::move(*f);
         if (!file.empty() && exr_embeddable(file, c.width, c.height)) {
           px += "\"exr\":\"" +
                 base64_of(reinterpret_cast<const uint8_t*>(file.data()), file.size()) + "\"";

@@ -343,51 +343,7 @@ std::string png_bytes(const Rgb8& img) {
   return std::string(buf.begin(), buf.end());
 }
 
-std::string float32_base64(const Image& img, int channels) {
-  static const char* kAlphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::vector<uint8_t> bytes;
-  bytes.reserve(img.pixel_count() * channels * 4);
-  for (size_t i = 0; i < img.pixel_count(); ++i)
-    for (int c = 0; c < channels; ++c) {
-      const float f = static_cast<float>(img.data[i * Image::kChannels + c]);
-      uint32_t u;
-      std::memcpy(&u, &f, 4);
-      for (int b = 0; b < 4; ++b) bytes.push_back(static_cast<uint8_t>(u >> (8 * b)));  // LE
-    }
-  std::string out;
-  out.reserve((bytes.size() + 2) / 3 * 4);
-  size_t i = 0;
-  for (; i + 2 < bytes.size(); i += 3) {
-    const uint32_t v = (bytes[i] << 16) | (bytes[i + 1] << 8) | bytes[i + 2];
-    out += kAlphabet[v >> 18];
-    out += kAlphabet[(v >> 12) & 63];
-    out += kAlphabet[(v >> 6) & 63];
-    out += kAlphabet[v & 63];
-  }
-  if (i < bytes.size()) {
-    const uint32_t v = (bytes[i] << 16) | (i + 1 < bytes.size() ? bytes[i + 1] << 8 : 0);
-    out += kAlphabet[v >> 18];
-    out += kAlphabet[(v >> 12) & 63];
-    out += i + 1 < bytes.size() ? kAlphabet[(v >> 6) & 63] : '=';
-    out += '=';
-  }
-  return out;
-}
-
-bool constant_alpha(const Image& img, double* value) {
-  if (img.pixel_count() == 0) return false;
-  const double a = img.data[3];
-  for (size_t i = 0; i < img.pixel_count(); ++i) {
-    const double v = img.data[i * Image::kChannels + 3];
-    if (!(v == a)) return false;  // NaN alpha is never constant
-  }
-  *value = a;
-  return true;
-}
-
-namespace {
-
-std::string base64(const uint8_t* bytes, size_t n) {
+std::string base64_of(const uint8_t* bytes, size_t n) {
   static const char* kAlphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
   std::string out;
   out.reserve((n + 2) / 3 * 4);
@@ -406,7 +362,29 @@ std::string base64(const uint8_t* bytes, size_t n) {
   return out;
 }
 
-}  // namespace
+std::string float32_base64(const Image& img, int channels) {
+  std::vector<uint8_t> bytes;
+  bytes.reserve(img.pixel_count() * channels * 4);
+  for (size_t i = 0; i < img.pixel_count(); ++i)
+    for (int c = 0; c < channels; ++c) {
+      const float f = static_cast<float>(img.data[i * Image::kChannels + c]);
+      uint32_t u;
+      std::memcpy(&u, &f, 4);
+      for (int b = 0; b < 4; ++b) bytes.push_back(static_cast<uint8_t>(u >> (8 * b)));  // LE
+    }
+  return base64_of(bytes.data(), bytes.size());
+}
+
+bool constant_alpha(const Image& img, double* value) {
+  if (img.pixel_count() == 0) return false;
+  const double a = img.data[3];
+  for (size_t i = 0; i < img.pixel_count(); ++i) {
+    const double v = img.data[i * Image::kChannels + 3];
+    if (!(v == a)) return false;  // NaN alpha is never constant
+  }
+  *value = a;
+  return true;
+}
 
 std::string float32_packed_base64(const Image& img, int channels) {
   const size_t count = img.pixel_count() * static_cast<size_t>(channels);
@@ -427,11 +405,7 @@ std::string float32_packed_base64(const Image& img, int channels) {
   // is built at the end of every run).
   if (compress2(z.data(), &size, planes.data(), static_cast<uLong>(planes.size()), 1) != Z_OK)
     return "";
-  return base64(z.data(), size);
-}
-
-std::string base64_of(const uint8_t* bytes, size_t n) {
-  return base64(bytes, n);
+  return base64_of(z.data(), size);
 }
 
 namespace {

@@ -253,9 +253,7 @@ function pngChunk(type, data) {
 
 // Float data of one image: values (3 or 4 channels) and nits (3 channels, or values · scale).
 function decodeF32(b64) {
-  const bin = atob(b64);
-  const bytes = new Uint8Array(bin.length);
-  for (let i = 0; i < bin.length; i++) bytes[i] = bin.charCodeAt(i);
+  const bytes = bytesOf(b64);
   const dv = new DataView(bytes.buffer);
   const out = new Float32Array(bytes.length / 4);
   for (let i = 0; i < out.length; i++) out[i] = dv.getFloat32(i * 4, true);
@@ -264,9 +262,7 @@ function decodeF32(b64) {
 // Packed data (report/images.h: float32_packed_base64): base64 → inflate (the browser's own
 // DecompressionStream) → byte planes → float32. Lossless, so the probe shows the EXR's values.
 async function decodePacked(b64) {
-  const bin = atob(b64);
-  const z = new Uint8Array(bin.length);
-  for (let i = 0; i < bin.length; i++) z[i] = bin.charCodeAt(i);
+  const z = bytesOf(b64);
   const stream = new Blob([z]).stream().pipeThrough(new DecompressionStream('deflate'));
   const planes = new Uint8Array(await new Response(stream).arrayBuffer());
   const n = planes.length / 4;
