@@ -14,6 +14,7 @@
 #include <string>
 
 #include "core/case.h"
+#include "core/device_precision.h"
 #include "core/image.h"
 #include "core/result.h"
 
@@ -24,6 +25,9 @@ struct DeviceInfo {
   std::string device;       // "cpu (double)", "llvmpipe (LLVM 15.0.6, 256 bits)"
   std::string driver;       // "Mesa 22.3.6 (LLVM 15.0.6)"
   std::string api_version;  // "1.3.230"
+  // The device's precision properties (the Vulkan engine; the reference leaves the defaults, and
+  // the worst-case model reports its own). docs/precision.md.
+  DevicePrecision precision;
 };
 
 class Engine {

@@ -109,7 +109,8 @@ std::string format_log(const std::string& log, const fs::path& root) {
 }  // namespace
 
 Result<std::vector<uint32_t>> compile_compute(const std::string& shader_dir,
-                                              const std::string& relative_path) {
+                                              const std::string& relative_path, DeviceModel model) {
+  (void)model;  // TODO(device model): in-shader filter, perturbation, fusion
   GlslangProcess::ensure();
   const fs::path root(shader_dir);
   // An HLSL port: stages/X.hlsl in place of stages/X.comp (docs/gpu-interface.md, "HLSL").

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "core/device_precision.h"
 #include "core/result.h"
 
 namespace hdrc::gpu {
@@ -27,7 +28,9 @@ std::string generated_interface_glsl();
 
 // Compiles `shader_dir/relative_path` as a compute shader for Vulkan 1.1 / SPIR-V 1.3.
 // Errors are "shader_dir/file:line: message" for every diagnostic glslang reports.
+// `model` kWorst: the worst-case conformant device's shader (core/device_precision.h).
 Result<std::vector<uint32_t>> compile_compute(const std::string& shader_dir,
-                                              const std::string& relative_path);
+                                              const std::string& relative_path,
+                                              DeviceModel model = DeviceModel::kNone);
 
 }  // namespace hdrc::gpu

@@ -576,15 +576,16 @@ enum class Fate { kOk, kTimeout, kLost };
 // SPIR-V per (shader directory, pass shader), compiled once per process and shared by every
 // engine (each worker has its own engine).
 Result<std::shared_ptr<const std::vector<uint32_t>>> shared_spirv(const std::string& shader_dir,
-                                                                  const std::string& shader) {
+                                                                  const std::string& shader,
+                                                                  DeviceModel model) {
   static std::mutex mu;
   static std::map<std::string, std::shared_ptr<const std::vector<uint32_t>>> cache;
-  const std::string key = shader_dir + '\n' + shader;
+  const std::string key = shader_dir + '\n' + shader + '\n' + device_model_name(model);
   {
     std::lock_guard<std::mutex> lock(mu);
     if (auto it = cache.find(key); it != cache.end()) return it->second;
   }
-  auto compiled = compile_compute(shader_dir, shader);
+  auto compiled = compile_compute(shader_dir, shader, model);
   if (!compiled) return compiled.error();
   auto code = std::make_shared<const std::vector<uint32_t>>(std::move(*compiled));
   std::lock_guard<std::mutex> lock(mu);
@@ -773,6 +774,7 @@ struct VulkanEngine::State {
   uint32_t queue_family = 0;
   DeviceInfo info;
   double fence_timeout_s = 60;
+  DeviceModel device_model = DeviceModel::kNone;
   // SPIR-V per pass shader: compiled once for the whole run, kept across device re-creation.
   std::map<std::string, std::vector<uint32_t>> spirv;
   std::map<std::string, std::vector<uint32_t>> spec_ids_of;  // per shader: spec_ids(spirv)
@@ -995,7 +997,7 @@ Result<VkPipeline> VulkanEngine::State::pipeline(const std::string& shader_dir,
                                                  std::string* variant) {
   auto code = spirv.find(shader);
   if (code == spirv.end()) {
-    auto compiled = shared_spirv(shader_dir, shader);
+    auto compiled = shared_spirv(shader_dir, shader, device_model);
     if (!compiled) return compiled.error();
     code = spirv.emplace(shader, **compiled).first;
   }
@@ -1081,6 +1083,7 @@ int VulkanEngine::device_generation() const {
 Status VulkanEngine::init() {
   auto s = std::make_unique<State>();
   s->fence_timeout_s = options_.fence_timeout_s;
+  s->device_model = options_.device_model;
   s->pipeline_cache_path = options_.pipeline_cache_path.empty()     ? default_pipeline_cache_path()
                            : options_.pipeline_cache_path == "none" ? ""
                                                                     : options_.pipeline_cache_path;

@@ -10,6 +10,7 @@
 #include <memory>
 #include <string>
 
+#include "core/device_precision.h"
 #include "core/engine.h"
 
 namespace hdrc::gpu {
@@ -31,6 +32,9 @@ struct VulkanOptions {
   // Default: vk_pipeline_cache.bin in the build folder; "" = default_pipeline_cache_path();
   // "none" = no disk cache.
   std::string pipeline_cache_path;
+  // The worst-case conformant device model (core/device_precision.h): shaders compiled with every
+  // freedom the Vulkan specification allows taken to its edge, images and buffers poisoned.
+  DeviceModel device_model = DeviceModel::kNone;
 };
 
 // The default on-disk VkPipelineCache: <build folder>/vk_pipeline_cache.bin.

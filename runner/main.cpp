@@ -158,6 +158,12 @@ int main(int argc, char** argv) {
                   "Vulkan device: index or name substring (default: lavapipe)");
   run->add_option("--shader-dir", vk.shader_dir, "GLSL shader directory (default: gpu/shaders)");
   run->add_flag("--vk-validation", vk.validation, "enable the Khronos validation layer");
+  run->add_option("--device-model", vk.device_model,
+                  "none, or worst: the Vulkan device run as the worst-case conformant device "
+                  "(docs/precision.md, \"The worst-case device\")")
+      ->transform(CLI::CheckedTransformer(std::map<std::string, hdrc::DeviceModel>{
+          {"none", hdrc::DeviceModel::kNone}, {"worst", hdrc::DeviceModel::kWorst}}))
+      ->default_str("none");
 
   // Goldens (runner/goldens.h): `run` checks the reference against them; `goldens update` is the
   // only command that writes them. Default: goldens/ beside the default cases/ directory.
