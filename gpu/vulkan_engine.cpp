@@ -1135,7 +1135,7 @@ Status VulkanEngine::init() {
   }
   const VkPhysicalDevice physical = chosen->handle;
   s->physical_index = static_cast<size_t>(chosen - devices->data());
-  s->info = {"vulkan", chosen->name, chosen->driver, version_string(chosen->api_version)};
+  s->info = {"vulkan", chosen->name, chosen->driver, version_string(chosen->api_version), {}};
   VkPhysicalDeviceFeatures features;
   vkGetPhysicalDeviceFeatures(physical, &features);
   if (!features.shaderStorageImageWriteWithoutFormat)
@@ -1170,7 +1170,7 @@ Status VulkanEngine::init() {
 }
 
 DeviceInfo VulkanEngine::device() const {
-  return state_ ? state_->info : DeviceInfo{"vulkan", "(not initialised)", "", ""};
+  return state_ ? state_->info : DeviceInfo{"vulkan", "(not initialised)", "", "", {}};
 }
 
 namespace {

@@ -167,8 +167,11 @@ Result<Image> visualize_hdr_stage(const ParamBlock& p, const Image& hdr_scene, b
 }
 
 DeviceInfo ReferenceEngine::device() const {
-  return {"reference", analytic_lut_ ? "cpu (IEEE double), analytic LUT" : "cpu (IEEE double)",
-          "hdrconform reference", "-"};
+  return {"reference",
+          analytic_lut_ ? "cpu (IEEE double), analytic LUT" : "cpu (IEEE double)",
+          "hdrconform reference",
+          "-",
+          {}};
 }
 
 Result<Image> ReferenceEngine::run(const ResolvedCase& c) {

@@ -51,7 +51,7 @@ Status CandidateDirEngine::init() {
 
 DeviceInfo CandidateDirEngine::device() const {
   std::error_code ec;
-  return {"candidate-dir", fs::absolute(dir_, ec).lexically_normal().string(), "images", ""};
+  return {"candidate-dir", fs::absolute(dir_, ec).lexically_normal().string(), "images", "", {}};
 }
 
 std::string CandidateDirEngine::missing(const std::string& case_id) const {
@@ -305,7 +305,7 @@ Status CandidateCommandEngine::init() {
 DeviceInfo CandidateCommandEngine::device() const {
   std::string cmd;
   for (const auto& a : argv_) cmd += (cmd.empty() ? "" : " ") + a;
-  return {"candidate-cmd", cmd, "command", ""};
+  return {"candidate-cmd", cmd, "command", "", {}};
 }
 
 namespace {

@@ -107,7 +107,8 @@ class PlantedEngine final : public hdrc::Engine {
     return ref_.init();
   }
   hdrc::DeviceInfo device() const override {
-    return {"planted", "reference rounded to float32, defects planted (report fixture)", "—", "—"};
+    return {
+        "planted", "reference rounded to float32, defects planted (report fixture)", "—", "—", {}};
   }
   hdrc::Result<Image> run(const hdrc::ResolvedCase& c) override {
     auto img = ref_.run(c);
