@@ -56,17 +56,21 @@ vec3 combine_luts_texel(vec3 lattice) { return combine_luts_device_color(lattice
 //  volume (layout 0): (r, g, b) / (N − 1)  (the compute shader's DispatchThreadId / (N − 1));
 //  2-D unwrapped (layout 1, N² × N): the pixel shader's UV = ((x, y) + 0.5) / (N², N), x = r + N·b,
 //  y = g, minus (0.49999/N², 0.49999/N) "to avoid getting into negative values"; r = frac(UV.x·N),
-//  b = UV.x − r/N, g = UV.y, all × N/(N − 1). The 0.49999 leaves UE's +1e-5/(N − 1) bias on r
-//  and g (b's bias cancels).
+//  b = UV.x − r/N, g = UV.y, all × N/(N − 1) (PostProcessCombineLUTs.usf, MainPS). In exact
+//  arithmetic that is r = (r + ε)/(N − 1), g = (g + ε)/(N − 1), b = b/(N − 1) with ε = 0.5 − 0.49999
+//  = 1e-5: UE's bias on r and g (b's cancels), which the reference evaluates as UE writes it
+//  (reference/combine_luts.cpp lattice_coordinate).
+//  The port evaluates the closed form (docs/ue55-decisions.md D-UV). UE's own form is ill-conditioned
+//  at r = 0: UV.x·N = b + ε/N lies within one float ulp of the integer b (ε/N = 3e-7 at N = 33, the
+//  ulp of 8 is 9.5e-7), so the 2.5-ULP division Vulkan allows can round it to just under b, whose
+//  frac is ≈ 1: texel (0, g, b) then holds the colour of (1, g, b − 1). An NVIDIA H200 did exactly
+//  that (lut/storage/lut33_dev0_fmt2_layout1, texel (0, 0, 8)); the worst-case device model
+//  (--device-model worst) shows it on lavapipe.
 vec3 lut_lattice_coordinate(int lut_layout, int n, ivec3 texel) {
-  float size = float(n);
-  if (lut_layout == 0) return vec3(texel) / (size - 1.0);
-  float w = size * size;
-  vec2 uv = (vec2(float(texel.r + n * texel.b), float(texel.g)) + 0.5) / vec2(w, size);
-  uv -= vec2(0.49999 / w, 0.49999 / size);
-  float r = fract(uv.x * size);
-  float b = uv.x - r / size;
-  return vec3(r, uv.y, b) * (size / (size - 1.0));
+  float n1 = float(n) - 1.0;
+  if (lut_layout == 0) return vec3(texel) / n1;
+  const float kBias = 1.0e-5;  // 0.5 − 0.49999
+  return vec3(float(texel.r) + kBias, float(texel.g) + kBias, float(texel.b)) / n1;
 }
 
 #endif
