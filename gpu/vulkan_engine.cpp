@@ -228,6 +228,34 @@ Result<VkInstance> create_instance(Messages* messages) {
   return instance;
 }
 
+// The precision properties the device allowances are derived from (core/device_precision.h):
+// the device's own, or those of the worst-case model when it is on (which runs on this device but
+// filters with kWorstModelSubTexelBits and rounds float16 toward zero).
+DevicePrecision device_precision(VkPhysicalDevice physical, uint32_t api_version,
+                                 DeviceModel model) {
+  DevicePrecision p;
+  VkPhysicalDeviceProperties props;
+  vkGetPhysicalDeviceProperties(physical, &props);
+  p.sub_texel_bits = static_cast<int>(props.limits.subTexelPrecisionBits);
+  p.mipmap_bits = static_cast<int>(props.limits.mipmapPrecisionBits);
+  if (api_version >= VK_API_VERSION_1_2) {  // VkPhysicalDeviceFloatControlsProperties is 1.2 core
+    VkPhysicalDeviceFloatControlsProperties fc{};
+    fc.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FLOAT_CONTROLS_PROPERTIES;
+    VkPhysicalDeviceProperties2 p2{};
+    p2.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2;
+    p2.pNext = &fc;
+    vkGetPhysicalDeviceProperties2(physical, &p2);
+    p.fp16_rte = fc.shaderRoundingModeRTEFloat16 == VK_TRUE;
+    p.fp32_denorm = fc.shaderDenormPreserveFloat32 == VK_TRUE;
+  }
+  if (model == DeviceModel::kWorst) {
+    p.sub_texel_bits = kWorstModelSubTexelBits;
+    p.fp16_rte = false;
+    p.model = device_model_name(model);
+  }
+  return p;
+}
+
 Result<std::vector<DeviceDescription>> describe_devices(VkInstance instance) {
   uint32_t count = 0;
   HDRC_VK(vkEnumeratePhysicalDevices(instance, &count, nullptr));
@@ -1135,7 +1163,8 @@ Status VulkanEngine::init() {
   }
   const VkPhysicalDevice physical = chosen->handle;
   s->physical_index = static_cast<size_t>(chosen - devices->data());
-  s->info = {"vulkan", chosen->name, chosen->driver, version_string(chosen->api_version), {}};
+  s->info = {"vulkan", chosen->name, chosen->driver, version_string(chosen->api_version),
+             device_precision(physical, chosen->api_version, options_.device_model)};
   VkPhysicalDeviceFeatures features;
   vkGetPhysicalDeviceFeatures(physical, &features);
   if (!features.shaderStorageImageWriteWithoutFormat)

@@ -524,6 +524,11 @@ std::string metadata_table(const json& doc) {
   row("candidate device", text(get(doc, {"candidate", "device"})));
   row("driver", text(get(doc, {"candidate", "driver"})));
   row("Vulkan", text(get(doc, {"candidate", "api_version"})));
+  if (const json* pr = get(doc, {"candidate", "precision"}); pr && pr->is_object())
+    row("device precision", "sub-texel " + text(get(*pr, {"sub_texel_precision_bits"})) +
+                                " bits, mipmap " + text(get(*pr, {"mipmap_precision_bits"})) +
+                                " bits, float16 RTE " + text(get(*pr, {"rounding_rte_float16"})) +
+                                ", device model " + text(get(*pr, {"device_model"})));
   row("reference", text(get(doc, {"reference", "device"})));
   row("started (UTC)", text(get(doc, {"started_utc"})));
   row("duration (s)", fmt(num(get(doc, {"wall_seconds"})), "%.2f"));

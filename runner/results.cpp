@@ -44,10 +44,19 @@ json pixel(const PixelRef& p) {
 }
 
 json device(const DeviceInfo& d) {
-  return {{"engine", d.engine},
-          {"device", d.device},
-          {"driver", d.driver},
-          {"api_version", d.api_version}};
+  json j = {{"engine", d.engine},
+            {"device", d.device},
+            {"driver", d.driver},
+            {"api_version", d.api_version}};
+  // The precision properties the device allowances are derived from (docs/precision.md). The
+  // reference engine has none: it is exact by definition.
+  if (d.engine != "reference")
+    j["precision"] = {{"sub_texel_precision_bits", d.precision.sub_texel_bits},
+                      {"mipmap_precision_bits", d.precision.mipmap_bits},
+                      {"rounding_rte_float16", d.precision.fp16_rte},
+                      {"denorm_preserve_float32", d.precision.fp32_denorm},
+                      {"device_model", d.precision.model.empty() ? "none" : d.precision.model}};
+  return j;
 }
 
 // A descriptive statistic (mean, rms, percentiles, a fraction) to 7 significant digits: more
