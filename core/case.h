@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/cvars.h"
+#include "core/device_precision.h"
 #include "core/image.h"
 #include "core/settings.h"
 #include "core/shader_interface.h"
@@ -160,6 +161,11 @@ struct ResolvedCase {
   // while MaxLuminance resolves to 0): the case is reported as DEGENERATE, never evaluated as a
   // pass.
   std::string degenerate;
+  // The precision properties of the device the candidate runs on, from which the reference derives
+  // the device allowances (Image::device_admissible) when `device_allowances` is set (runner: by
+  // default; `--no-device-allowance` turns them off). docs/precision.md, "Device allowances".
+  DevicePrecision device;
+  bool device_allowances = false;
 };
 
 }  // namespace hdrc

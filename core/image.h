@@ -40,6 +40,14 @@ struct Image {
   // Reference images only: the pixels with an admissible range, in increasing pixel order (empty
   // for almost every image). Not written to image files.
   std::vector<AdmissibleRange> admissible;
+  // Reference images only, where the case asked for device allowances (ResolvedCase::device):
+  // the ranges a conformant Vulkan device with those precision properties may produce
+  // (docs/precision.md, "Device allowances"), each a superset of the pixel's tight range; and the
+  // names of the allowance classes they take in. A candidate outside `admissible` but inside
+  // these passes with a named device allowance. Empty for almost every stage. Not written to
+  // image files.
+  std::vector<AdmissibleRange> device_admissible;
+  std::vector<std::string> device_allowances;
 
   Image() = default;
   Image(int w, int h) : width(w), height(h), data(static_cast<size_t>(w) * h * kChannels, 0.0) {}

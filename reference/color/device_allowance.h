@@ -1,0 +1,92 @@
+// Device allowances: what a conformant Vulkan device may store and filter differently from a
+// float32-exact one, as intervals the reference carries (core/image.h, Image::device_admissible;
+// docs/precision.md, "Device allowances"). Pipeline-agnostic; each pipeline's reference applies
+// them at its own LUT stores and lookups.
+//
+//  * Storage: a float → UNORM conversion returns "one of the two unsigned binary integer values
+//    ... closest to" the value ("Implementations should round to nearest": a recommendation;
+//    Vulkan spec, fundamentals-fpfixedconv), and a float → float16 conversion rounds with the
+//    implementation's rounding mode unless the device's float controls guarantee RTE
+//    (shaderRoundingModeRTEFloat16). store_either_way admits both neighbours.
+//  * Filtering: the fraction of a linear filter's texel-space coordinate keeps
+//    subTexelPrecisionBits fraction bits (Vulkan spec, textures-texel-filtering; the rounding is
+//    not specified), so a weight α may be either grid value around the exact one: the box
+//    [floor(α·2^b), ceil(α·2^b)]/2^b. The filtered value is linear in each weight, so its extremes
+//    lie at the box's corners (VK-GL-CTS vktSampleVerifier.cpp checks the same way).
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+
+#include "reference/color/linear_tap.h"
+#include "reference/color/noise_range.h"
+#include "reference/color/spirv_precision.h"
+#include "reference/color/st2084.h"
+
+namespace hdrc::ref {
+
+// The two neighbours a UNORM store of `v` (levels = 2^b − 1) may give, for a range: [floor, ceil]
+// of the clamped ends. NaN: what a UNORM store makes of NaN is undefined in Vulkan; the callers
+// decide (UE's D3D gives 0).
+inline double unorm_floor(double v, double levels) {
+  return std::floor(std::clamp(v, 0.0, 1.0) * levels) / levels;
+}
+inline double unorm_ceil(double v, double levels) {
+  return std::ceil(std::clamp(v, 0.0, 1.0) * levels) / levels;
+}
+
+// The float16 values either side of `v` (v itself where a half holds it), by the same rounding
+// as Imath::half's conversion: toward −inf and toward +inf. Overflow gives ±Inf (the RTE
+// neighbour beyond 65504).
+double half_round_down(double v);
+double half_round_up(double v);
+
+// float32 neighbours (the value a float32 store keeps: exact for a float already, else either).
+inline double float_round_down(double v) {
+  const float f = static_cast<float>(v);
+  return static_cast<double>(f) <= v ? f : std::nextafter(f, -HUGE_VALF);
+}
+inline double float_round_up(double v) {
+  const float f = static_cast<float>(v);
+  return static_cast<double>(f) >= v ? f : std::nextafter(f, HUGE_VALF);
+}
+
+// One axis of a linear filter with the weight's box: the taps of linear_tap, and the range of the
+// weight of i1 a device with `bits` sub-texel bits may use. `coord_noise` (texel units) widens the
+// exact fraction first for the shader's own float32 error in the coordinate it passes.
+struct TapBox {
+  int i0 = 0, i1 = 0;
+  double f_lo = 0, f_hi = 0;
+};
+inline TapBox linear_tap_box(double t, int size, int bits, double coord_noise) {
+  const LinearTap tap = linear_tap(t, size);
+  const double grid = std::ldexp(1.0, bits);
+  TapBox b;
+  b.i0 = tap.i0;
+  b.i1 = tap.i1;
+  b.f_lo = std::max(0.0, std::floor((tap.f - coord_noise) * grid) / grid);
+  b.f_hi = std::min(1.0, std::ceil((tap.f + coord_noise) * grid) / grid);
+  return b;
+}
+
+// UE's LinearToST2084 (GammaCorrectionCommon.ush) of `nits` as a conformant device may evaluate
+// it in float32: Y = nits · 1e-4 (a multiply), P = pow(Y, m1), pow((c1 + c2·P) / (1 + c3·P), m2),
+// each step within its bound (spirv_precision.h). nits ≤ 0 enters as P = 0 (exp2(−inf)).
+inline spirv::Interval pq_encode_on_device(double nits) {
+  using namespace spirv;
+  Interval p = Interval::point(0.0);  // pow(0, m1) = exp2(m1 · −inf) = 0
+  if (nits > 0) {
+    const Interval y = mul(Interval::point(nits), Interval::point(1.0 / st2084::kPeakNits));
+    p = pow(Interval{std::max(y.lo, 0x1p-149), y.hi}, st2084::kM1);
+  }
+  const Interval num = mul_add(Interval::point(st2084::kC2), p, Interval::point(st2084::kC1));
+  const Interval den = mul_add(Interval::point(st2084::kC3), p, Interval::point(1.0));
+  return pow(div(num, den), st2084::kM2);
+}
+
+// The same over a range of nits (PQ is increasing): [device low end of lo, device high end of hi].
+inline spirv::Interval pq_encode_on_device(double lo_nits, double hi_nits) {
+  return {pq_encode_on_device(lo_nits).lo, pq_encode_on_device(hi_nits).hi};
+}
+
+}  // namespace hdrc::ref

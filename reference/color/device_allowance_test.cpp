@@ -1,0 +1,122 @@
+// The derived device intervals against hand-computed examples (issue 24): a 2-texel lookup at 4
+// and 8 sub-texel bits, a PQ encode with the specification's transcendental bounds, an fma pair,
+// and the storage neighbours.
+#include "reference/color/device_allowance.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace hdrc::ref {
+namespace {
+
+// Two texels 0 and 1 of a 2-texel row, sampled at u = 0.4: t = u·2 − 0.5 = 0.3, taps (0, 1),
+// exact weight 0.3. 8 bits: 0.3·256 = 76.8, so the weight is 76/256 = 0.296875 or
+// 77/256 = 0.30078125. 4 bits: 0.3·16 = 4.8, so 4/16 = 0.25 or 5/16 = 0.3125. The filtered value
+// of texels (0, 1) is the weight itself.
+TEST(DeviceAllowance, TwoTexelLookupAtFourAndEightBits) {
+  const TapBox b8 = linear_tap_box(0.4 * 2 - 0.5, 2, 8, 0.0);
+  EXPECT_EQ(b8.i0, 0);
+  EXPECT_EQ(b8.i1, 1);
+  EXPECT_DOUBLE_EQ(b8.f_lo, 0.296875);
+  EXPECT_DOUBLE_EQ(b8.f_hi, 0.30078125);
+  const TapBox b4 = linear_tap_box(0.4 * 2 - 0.5, 2, 4, 0.0);
+  EXPECT_DOUBLE_EQ(b4.f_lo, 0.25);
+  EXPECT_DOUBLE_EQ(b4.f_hi, 0.3125);
+  // On the grid (t = 0.25 at 4 bits) the weight is exact; the coordinate's own noise opens it.
+  const TapBox exact = linear_tap_box(0.25, 2, 4, 0.0);
+  EXPECT_DOUBLE_EQ(exact.f_lo, 0.25);
+  EXPECT_DOUBLE_EQ(exact.f_hi, 0.25);
+  const TapBox noisy = linear_tap_box(0.25, 2, 4, 1e-6);
+  EXPECT_DOUBLE_EQ(noisy.f_lo, 0.1875);
+  EXPECT_DOUBLE_EQ(noisy.f_hi, 0.3125);
+  // Clamp to edge: past the last texel both taps are the last one.
+  const TapBox edge = linear_tap_box(1.7, 2, 8, 0.0);
+  EXPECT_EQ(edge.i0, 1);
+  EXPECT_EQ(edge.i1, 1);
+}
+
+// ulp as the specification defines it.
+TEST(DeviceAllowance, UlpOfFloat32) {
+  EXPECT_EQ(spirv::ulp32(1.0), 0x1p-23);
+  EXPECT_EQ(spirv::ulp32(1.5), 0x1p-23);
+  EXPECT_EQ(spirv::ulp32(0.75), 0x1p-24);
+  EXPECT_EQ(spirv::ulp32(-8.0), 0x1p-20);
+  EXPECT_EQ(spirv::ulp32(1e-40), 0x1p-149);
+}
+
+// a·b + c with a = b = 1 + 2^-12, c = −1. Exactly a·b = 1 + 2^-11 + 2^-24: a tie between the
+// floats 1 + 2^-11 and 1 + 2^-11 + 2^-23, which round-to-nearest-even resolves to 1 + 2^-11, so
+// the unfused result is 2^-11; fused, one rounding of 2^-11 + 2^-24 (exact in float32) gives
+// 2^-11 + 2^-24. A conformant device may return either: the interval holds both.
+TEST(DeviceAllowance, FusedAndUnfusedMultiplyAddAreBothAdmitted) {
+  const float a = 1.0f + 0x1p-12f, c = -1.0f;
+  const volatile float product = a * a;  // rounded to float32 before the add
+  const float unfused = product + c;
+  const float fused = std::fma(a, a, c);
+  EXPECT_EQ(unfused, 0x1p-11f);
+  EXPECT_EQ(fused, 0x1p-11f + 0x1p-24f);
+  const spirv::Interval r = spirv::mul_add(spirv::Interval::point(a), spirv::Interval::point(a),
+                                           spirv::Interval::point(c));
+  EXPECT_TRUE(r.contains(unfused));
+  EXPECT_TRUE(r.contains(fused));
+  // And no wider than the two roundings: 0.5 ulp(1) of the product plus 0.5 ulp(2^-11) of the sum.
+  EXPECT_LE(r.width(), 2 * (0.5 * 0x1p-23 + 0.5 * 0x1p-34) + 1e-18);
+}
+
+// PQ encode of 100 nits with the specification's bounds (by hand, first order):
+//   Y = 0.01; log2 Y = −6.6439, outside [0.5, 2]: 3 ulp(6.64) = 3·2^-21 = 1.43e-6;
+//   x = m1·log2 Y = −1.05838, error m1·1.43e-6 + 0.5 ulp(1.06) = 2.28e-7 + 5.96e-8 = 2.88e-7;
+//   P = 2^x = 0.48037, error ln2·P·2.88e-7 + (3 + 2·1.06)·ulp(0.48) = 9.6e-8 + 1.53e-7 = 2.49e-7
+//       (the multiply Y = nits·1e-4 adds 0.5 ulp(0.01): 4.7e-10 · m1/Y·P ≈ 3.6e-9, negligible);
+//   num = c1 + c2·P = 9.89169, error c2·2.49e-7 + two half-ulps (0.5 ulp(9.06) + 0.5 ulp(9.89)) =
+//       4.69e-6 + 9.5e-7 = 5.64e-6; den = 1 + c3·P = 9.97692, error c3·2.49e-7 + 9.5e-7 = 5.6e-6;
+//   ratio = 0.991457, relative error 5.64e-6/9.89 + 5.6e-6/9.98 + 2.5 ulp(0.99)/0.99 =
+//       5.70e-7 + 5.61e-7 + 1.50e-7 = 1.28e-6;
+//   log2 ratio = −0.012378 inside [0.5, 2]: 2^-21 + 1.28e-6/ln2 = 4.77e-7 + 1.85e-6 = 2.32e-6;
+//   z = m2·log2 ratio = −0.97593, error 78.84·2.32e-6 + 0.5 ulp(0.98) = 1.830e-4 + 3e-8;
+//   PQ = 2^z = 0.508078, error ln2·PQ·1.830e-4 + (3 + 2·0.976)·ulp(0.508) = 6.446e-5 + 2.95e-7.
+// Half-width ≈ 6.48e-5 (0.066 10-bit codes): the amplification by m2 of the ratio's few roundings
+// dominates, not exp2's own ULPs.
+TEST(DeviceAllowance, PqEncodeWithinTheSpecificationsBounds) {
+  const spirv::Interval r = pq_encode_on_device(100.0);
+  const double exact = st2084::pq_from_nits(100.0);
+  EXPECT_NEAR(exact, 0.508078, 1e-6);
+  EXPECT_TRUE(r.contains(exact));
+  const double half_width = 0.5 * r.width();
+  EXPECT_NEAR(half_width, 6.48e-5, 0.04 * 6.48e-5);
+  EXPECT_NEAR(r.hi - exact, exact - r.lo, 1e-6);
+  // A float32 evaluation with the host's libm lies inside, by a wide margin.
+  const float y = 100.0f * 1e-4f;
+  const float p = std::pow(y, float(st2084::kM1));
+  const float ratio =
+      (float(st2084::kC1) + float(st2084::kC2) * p) / (1.0f + float(st2084::kC3) * p);
+  EXPECT_TRUE(r.contains(std::pow(ratio, float(st2084::kM2))));
+  // Black: P = 0 exactly, then c1^m2 = 7.3e-7 with pow's bound; the interval is increasing.
+  EXPECT_TRUE(pq_encode_on_device(0.0).contains(st2084::pq_from_nits(0.0)));
+  EXPECT_LT(pq_encode_on_device(99.0).hi, pq_encode_on_device(101.0).lo);
+}
+
+// Storage neighbours: 10-bit UNORM (0.6 of a code: code 0 or 1), float16 (between 1 and its next
+// half 1 + 2^-10), float32.
+TEST(DeviceAllowance, StorageMayRoundEitherWay) {
+  EXPECT_EQ(unorm_floor(0.6 / 1023, 1023), 0.0);
+  EXPECT_EQ(unorm_ceil(0.6 / 1023, 1023), 1.0 / 1023);
+  EXPECT_EQ(unorm_floor(5.0 / 1023, 1023), 5.0 / 1023);
+  EXPECT_EQ(unorm_ceil(5.0 / 1023, 1023), 5.0 / 1023);
+  EXPECT_EQ(unorm_ceil(1.7, 1023), 1.0);
+  EXPECT_EQ(half_round_down(1.0 + 0x1p-12), 1.0);
+  EXPECT_EQ(half_round_up(1.0 + 0x1p-12), 1.0 + 0x1p-10);
+  EXPECT_EQ(half_round_down(-1.0 - 0x1p-12), -1.0 - 0x1p-10);
+  EXPECT_EQ(half_round_up(-1.0 - 0x1p-12), -1.0);
+  EXPECT_EQ(half_round_down(0.25), 0.25);
+  EXPECT_EQ(half_round_up(0x1p-30), 0x1p-24);  // under the smallest subnormal
+  EXPECT_EQ(half_round_down(0x1p-30), 0.0);
+  EXPECT_EQ(half_round_down(70000.0), 65504.0);
+  EXPECT_TRUE(std::isinf(half_round_up(70000.0)));
+  EXPECT_EQ(float_round_down(0.1), double(std::nextafter(0.1f, 0.0f)));
+  EXPECT_EQ(float_round_up(0.1), double(0.1f));
+}
+
+}  // namespace
+}  // namespace hdrc::ref
