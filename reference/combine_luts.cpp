@@ -7,6 +7,7 @@
 
 #include "reference/aces/aces_output.h"
 #include "reference/color/d3d_math.h"
+#include "reference/color/device_allowance.h"
 #include "reference/color/fast_paths.h"
 #include "reference/color/gamma_correction.h"
 #include "reference/color/linear_tap.h"
@@ -435,6 +436,148 @@ BakedLut bake_lut(const ParamBlock& p, const UeLutSet* luts) {
   return lut;
 }
 
+namespace {
+
+// The relative error of the device encodes' own pow (sRGB / Rec.709 / explicit gamma: pow(x, g)
+// with g ≤ 1/1.8 and |log2 x| ≤ 24 over the LUT's range): inherited from exp2(g·log2 x), log2
+// 3 ulp(24) = 5.7e-6 absolute, times g and ln 2: 2.2e-6; exp2 of |g·log2 x| ≤ 13: 29 ulp = 3.5e-6
+// relative. Together under 2^-17 (7.6e-6), the figure applied.
+constexpr double kEncodePowNoise = 1.0 / 131072.0;
+
+Range3 widen_relative(Range3 r, double k) {
+  for (int c = 0; c < 3; ++c) {
+    r.lo[c] -= std::fabs(r.lo[c]) * k;
+    r.hi[c] += std::fabs(r.hi[c]) * k;
+  }
+  return r;
+}
+
+// What a conformant device may compute for the stored value (before storage), from the texel's
+// trace: the shader arithmetic's noise, kShaderNoise · max|channel| (the derivation of
+// reference/color/noise_range.h, from the same table), on the value the device's encode takes,
+// carried through the encode: PQ (devices 3-7) with the specification's bounds on its own steps
+// (pq_encode_on_device), the SDR encodes as nondecreasing maps plus their pow's own error.
+Range3 device_texel_range(const ParamBlock& p, const grading::InverseGamma& inverse_gamma,
+                          const CombineLutsTrace& t) {
+  const int device = p.output_device;
+  const Mat3& to_output = p.ap1_to_output;
+  Range3 r;
+  if (device <= 2 || device == 9) {
+    r = Range3::point(t.film);
+    widen_noise(t.film, kShaderNoise, &r);
+    if (device == 9) return apply_matrix(to_output, apply_matrix(p.wcs_to_ap1, r));
+    r = map_nondecreasing(r, [&](double v) {
+      return grading::apply_film_gamma({v, v, v}, inverse_gamma)[0];
+    });
+    if (device != 0 || !p.wcs_is_srgb) r = apply_matrix(to_output, apply_matrix(p.wcs_to_ap1, r));
+    if (device == 0) {
+      r = map_nondecreasing(r, [](double v) { return linear_to_srgb(v); });
+    } else if (device == 1) {
+      r = map_nondecreasing(r, [](double v) { return linear_to_rec709_branchless(v); });
+    } else {
+      const double g = p.inverse_gamma[2];
+      r = map_nonnegative(r, [g](double v) { return d3d::pow(v, g); });
+    }
+    return widen_relative(r, kEncodePowNoise);
+  }
+  if (device == 8) {
+    r = Range3::point(t.graded);
+    widen_noise(t.graded, kShaderNoise, &r);
+    return r;
+  }
+  const Vec3 pq_in = device == 7   ? to_output * (p.wcs_to_ap1 * t.graded)
+                     : device <= 4 ? to_output * t.aces_nits
+                                   : t.aces_nits;
+  double scale = 0;
+  for (int c = 0; c < 3; ++c)
+    if (std::isfinite(pq_in[c])) scale = std::fmax(scale, std::fabs(pq_in[c]));
+  const double e = kShaderNoise * scale;
+  for (int c = 0; c < 3; ++c) {
+    if (!std::isfinite(pq_in[c])) {
+      r.lo[c] = r.hi[c] = st2084::pq_from_nits(pq_in[c]);
+      r.nan[c] = std::isnan(r.lo[c]);
+      continue;
+    }
+    double lo = pq_in[c] - e, hi = pq_in[c] + e;
+    if (lo < 0) r.nan[c] = true;  // PQ (pow) of a negative value: NaN
+    if (hi < 0) {
+      r.lo[c] = r.hi[c] = d3d::kNaN;
+      continue;
+    }
+    lo = std::fmax(lo, 0.0);
+    const spirv::Interval pq = pq_encode_on_device(lo, hi);
+    r.lo[c] = pq.lo;
+    r.hi[c] = pq.hi;
+  }
+  return r;
+}
+
+// The storage format's either-way rounding of a range (the format's treatment of NaN as
+// quantize_lut_value's: 10-bit UNORM stores 0, the float formats keep NaN).
+void store_either_way(int lut_format, bool fp16_rte, const Range3& r, Vec3* lo, Vec3* hi,
+                      uint8_t* nan_flags) {
+  for (int c = 0; c < 3; ++c) {
+    double l = r.lo[c], h = r.hi[c];
+    const bool nan = r.nan[c] || std::isnan(l) || std::isnan(h);
+    switch (lut_format) {
+      case 0:
+        l = std::isnan(l) ? 0.0 : unorm_floor(l, 1023.0);
+        h = std::isnan(h) ? 0.0 : unorm_ceil(h, 1023.0);
+        if (nan) l = 0.0;  // D3D's NaN → 0 (the port zeroes NaN before the store)
+        break;
+      case 1:
+        l = fp16_rte ? quantize_lut_value(1, l) : half_round_down(l);
+        h = fp16_rte ? quantize_lut_value(1, h) : half_round_up(h);
+        if (nan) *nan_flags |= uint8_t(1u << c);
+        break;
+      default:
+        l = float_round_down(l);
+        h = float_round_up(h);
+        if (nan) *nan_flags |= uint8_t(1u << c);
+        break;
+    }
+    (*lo)[c] = l;
+    (*hi)[c] = h;
+  }
+}
+
+}  // namespace
+
+BakedLut bake_lut_device(const ParamBlock& p, const DevicePrecision& device, const UeLutSet* luts) {
+  BakedLut lut = bake_lut(p, luts);
+  const int n = p.lut_size;
+  const grading::InverseGamma inverse_gamma{p.inverse_gamma[0], p.inverse_gamma[1],
+                                            p.inverse_gamma[2]};
+  std::vector<Vec3> lo(lut.texels.size()), hi(lut.texels.size());
+  std::vector<uint8_t> flags(lut.texels.size(), BakedLut::kAmbiguous);
+  for (int b = 0; b < n; ++b)
+    for (int g = 0; g < n; ++g)
+      for (int r = 0; r < n; ++r) {
+        const size_t i = lut.index(r, g, b);
+        CombineLutsTrace t;
+        const Vec3 v =
+            combine_luts_texel(p, lattice_coordinate(p.lut_layout, n, r, g, b), &t, luts);
+        Range3 range = scale(device_texel_range(p, inverse_gamma, t), 1.0 / kLutScale);
+        range.include(v);
+        store_either_way(p.lut_format, device.fp16_rte, range, &lo[i], &hi[i], &flags[i]);
+        // The tight range (and the stored point) stay admissible.
+        const Vec3& tl = lut.has_ranges() ? lut.lo[i] : lut.texels[i];
+        const Vec3& th = lut.has_ranges() ? lut.hi[i] : lut.texels[i];
+        for (int c = 0; c < 3; ++c) {
+          if (!std::isnan(tl[c]))
+            lo[i][c] = std::isnan(lo[i][c]) ? tl[c] : std::fmin(lo[i][c], tl[c]);
+          if (!std::isnan(th[c]))
+            hi[i][c] = std::isnan(hi[i][c]) ? th[c] : std::fmax(hi[i][c], th[c]);
+          if (std::isnan(lut.texels[i][c]) || (lut.has_ranges() && (lut.flags[i] & (1u << c))))
+            flags[i] |= uint8_t(1u << c);
+        }
+      }
+  lut.lo = std::move(lo);
+  lut.hi = std::move(hi);
+  lut.flags = std::move(flags);
+  return lut;
+}
+
 LazyBakedLut::LazyBakedLut(const ParamBlock& p) : p_(p), texel_(p_) {
   const size_t n = static_cast<size_t>(p.lut_size);
   lut_.size = p.lut_size;
@@ -536,6 +679,93 @@ bool sample_lut_range(const BakedLut& lut, const Vec3& encoded, Range3* out) {
     r.lo[c] = lo[c] * kLutScale;
     r.hi[c] = hi[c] * kLutScale;
     r.nan[c] = (flags & (1u << c)) != 0 || std::isnan(lo[c]) || std::isnan(hi[c]);
+  }
+  *out = r;
+  return true;
+}
+
+bool sample_lut_device_range(const BakedLut& lut, const Vec3& encoded, int bits, Range3* out) {
+  Vec3 uvw;
+  if (!lut.has_ranges() || !lookup_uvw(lut, encoded, &uvw)) return false;
+  const int n = lut.size;
+  // The shader's coordinate (its encode and the scale/offset) carries its own float32 error: the
+  // derived arithmetic noise of the encode, kShaderNoise of the coordinate, in texel units.
+  const double coord_noise = kShaderNoise * n;
+  Range3 r;
+  for (int c = 0; c < 3; ++c) {
+    r.lo[c] = HUGE_VAL;
+    r.hi[c] = -HUGE_VAL;
+  }
+  uint8_t nan = 0;
+  auto lo_at = [&](size_t i) -> const Vec3& { return lut.lo[i]; };
+  auto hi_at = [&](size_t i) -> const Vec3& { return lut.hi[i]; };
+  // One bilinear/trilinear filter over `taps` (2 or 3 axes) at every corner of the weight box:
+  // the per-channel extremes of the lower and upper texel bounds.
+  auto filter_extremes = [&](const TapBox* taps, int axes, auto index_of, Vec3* mins, Vec3* maxs) {
+    for (int c = 0; c < 3; ++c) {
+      (*mins)[c] = HUGE_VAL;
+      (*maxs)[c] = -HUGE_VAL;
+    }
+    for (int corner = 0; corner < (1 << axes); ++corner) {
+      Vec3 slo{}, shi{};
+      for (int k = 0; k < (1 << axes); ++k) {
+        double w = 1;
+        int idx[3] = {0, 0, 0};
+        for (int a = 0; a < axes; ++a) {
+          const double f = (corner >> a) & 1 ? taps[a].f_hi : taps[a].f_lo;
+          const bool second = (k >> a) & 1;
+          w *= second ? f : 1 - f;
+          idx[a] = second ? taps[a].i1 : taps[a].i0;
+        }
+        if (w == 0) continue;
+        const size_t i = index_of(idx);
+        nan |= lut.flags[i] & 0x7;
+        for (int c = 0; c < 3; ++c) {
+          slo[c] += w * lo_at(i)[c];
+          shi[c] += w * hi_at(i)[c];
+        }
+      }
+      for (int c = 0; c < 3; ++c) {
+        (*mins)[c] = std::fmin((*mins)[c], slo[c]);
+        (*maxs)[c] = std::fmax((*maxs)[c], shi[c]);
+      }
+    }
+  };
+  if (lut.layout == 0) {
+    const TapBox taps[3] = {linear_tap_box(uvw[0] * n - 0.5, n, bits, coord_noise),
+                            linear_tap_box(uvw[1] * n - 0.5, n, bits, coord_noise),
+                            linear_tap_box(uvw[2] * n - 0.5, n, bits, coord_noise)};
+    filter_extremes(
+        taps, 3, [&](const int* i) { return lut.index(i[0], i[1], i[2]); }, &r.lo, &r.hi);
+  } else {
+    // UnwrappedTexture3DSample: the shader's lerp by frac(w) (exact up to float32: the slice
+    // coordinate's noise opens it like a weight) between two hardware bilinear samples.
+    const double w = uvw[2] * n - 0.5;
+    const double int_w = std::floor(w);
+    const double frac_w = w - int_w;
+    const double u0 = (uvw[0] + int_w) / n;
+    Vec3 s_lo[2], s_hi[2];
+    for (int s = 0; s < 2; ++s) {
+      const double u = u0 + s * (1.0 / n);
+      const TapBox taps[2] = {linear_tap_box(u * n * n - 0.5, n * n, bits, coord_noise * n),
+                              linear_tap_box(uvw[1] * n - 0.5, n, bits, coord_noise)};
+      filter_extremes(
+          taps, 2, [&](const int* i) { return lut.index(i[0] % n, i[1], i[0] / n); }, &s_lo[s],
+          &s_hi[s]);
+    }
+    const double f_lo = std::max(0.0, frac_w - coord_noise),
+                 f_hi = std::min(1.0, frac_w + coord_noise);
+    for (int c = 0; c < 3; ++c) {
+      r.lo[c] = std::fmin(s_lo[0][c] + (s_lo[1][c] - s_lo[0][c]) * f_lo,
+                          s_lo[0][c] + (s_lo[1][c] - s_lo[0][c]) * f_hi);
+      r.hi[c] = std::fmax(s_hi[0][c] + (s_hi[1][c] - s_hi[0][c]) * f_lo,
+                          s_hi[0][c] + (s_hi[1][c] - s_hi[0][c]) * f_hi);
+    }
+  }
+  for (int c = 0; c < 3; ++c) {
+    r.lo[c] *= kLutScale;
+    r.hi[c] *= kLutScale;
+    r.nan[c] = (nan & (1u << c)) != 0 || std::isnan(r.lo[c]) || std::isnan(r.hi[c]);
   }
   *out = r;
   return true;

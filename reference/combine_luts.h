@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/device_precision.h"
 #include "core/shader_interface.h"
 #include "reference/aces/aces_output.h"
 #include "reference/color/noise_range.h"
@@ -107,6 +108,24 @@ struct BakedLut {
 // +1e-5/(N−1) bias on r and g from the 0.49999 half-texel trick (spec §4.2).
 // `luts`: the user LUTs of the blend (combine_luts_texel).
 BakedLut bake_lut(const ParamBlock& p, const UeLutSet* luts = nullptr);
+
+// The LUT as a conformant Vulkan device with precision `device` may store it (docs/precision.md,
+// "Device allowances"): the same texels as bake_lut, and for every texel the range of what such a
+// device may store there (kAmbiguous on all): the shader arithmetic's derived noise carried
+// through the device's encode (PQ with the specification's transcendental bounds), then the
+// storage format's either-way rounding (10-bit UNORM: either neighbouring code; RGBA16F: either
+// neighbouring half unless float16 rounds to nearest; RGBA32F: either float). Every range holds
+// the tight one of bake_lut.
+BakedLut bake_lut_device(const ParamBlock& p, const DevicePrecision& device,
+                         const UeLutSet* luts = nullptr);
+
+// The range a conformant device's hardware filter may return for a lookup of a device LUT: the
+// weight box of `sub_texel_bits` around each axis's weight (device_allowance.h linear_tap_box),
+// the lower texel bounds at the box corner that minimises, the upper at the one that maximises,
+// per channel; the 2-D layout's shader lerp between its two bilinear samples is exact. Output
+// scaled by 1.05 as sample_lut's. False for a NaN coordinate.
+bool sample_lut_device_range(const BakedLut& device_lut, const Vec3& encoded, int sub_texel_bits,
+                             Range3* out);
 
 // The bake of only the texels that lookups read, each once, for a pass over fewer pixels than the
 // LUT has texels (a Tonemap case of a few hundred pixels reads a few thousand of a 32³ LUT's

@@ -1,5 +1,7 @@
 #include "reference/reference_engine.h"
 
+#include <optional>
+
 #include "reference/color/ue_matrices.h"
 #include "reference/grading/film_tonemap.h"
 #include "reference/lut_cache.h"
@@ -183,15 +185,28 @@ Result<Image> run_ue55(const ResolvedCase& c, bool analytic_lut) {
     case StageId::kCombineLuts: {
       // With user LUTs blended the bake depends on their texels, which the cache's key (the
       // parameter block) does not hold: baked directly.
-      if (c.params.lut_blend_count > 1) {
-        const UeLutSet luts = ue_lut_set(c.user_luts);
-        return lut_image(bake_lut(c.params, &luts));
+      std::optional<UeLutSet> luts;
+      if (c.params.lut_blend_count > 1) luts = ue_lut_set(c.user_luts);
+      Image out =
+          luts ? lut_image(bake_lut(c.params, &*luts)) : lut_image(*cached_bake_lut(c.params));
+      if (c.device_allowances) {
+        const BakedLut device = bake_lut_device(c.params, c.device, luts ? &*luts : nullptr);
+        out.device_admissible = lut_image(device).admissible;
+        out.device_allowances = {"LUT storage rounding (either neighbour)",
+                                 "shader arithmetic (the Vulkan precision table's bounds)"};
       }
-      return lut_image(*cached_bake_lut(c.params));
+      return out;
     }
-    case StageId::kTonemap:
-      return baked_tonemap_image(c.params, c.input, c.bloom.data.empty() ? nullptr : &c.bloom,
-                                 c.bloom_dirt.data.empty() ? nullptr : &c.bloom_dirt, analytic_lut);
+    case StageId::kTonemap: {
+      const Image* bloom = c.bloom.data.empty() ? nullptr : &c.bloom;
+      const Image* dirt = c.bloom_dirt.data.empty() ? nullptr : &c.bloom_dirt;
+      if (c.device_allowances && !analytic_lut) {
+        const BakedLut device = bake_lut_device(c.params, c.device);
+        return tonemap_image(c.params, c.input, bloom, dirt, &device, nullptr, &device,
+                             c.device.sub_texel_bits);
+      }
+      return baked_tonemap_image(c.params, c.input, bloom, dirt, analytic_lut);
+    }
     case StageId::kDither:
       return dither_image(c.params, c.input);
     case StageId::kUiComposite:

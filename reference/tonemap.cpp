@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "reference/color/d3d_math.h"
+#include "reference/color/device_allowance.h"
 #include "reference/color/st2084.h"
 #include "reference/color/ue_matrices.h"
 #include "reference/lut_shaper.h"
@@ -78,6 +79,34 @@ Range3 post_convert_range(const ParamBlock& p, const Range3& r) {
   }
 }
 
+// post_convert_range with the decode's own error on a conformant device (pq_decode_on_device) and
+// the scRGB matrix's rounding (kFloat32Noise of the largest channel).
+Range3 post_convert_device_range(const ParamBlock& p, const Range3& r) {
+  if (p.output_device < 5 || p.output_device > 7) return r;
+  Range3 nits = r;
+  for (int c = 0; c < 3; ++c) {
+    if (std::isnan(r.lo[c]) || std::isnan(r.hi[c])) continue;
+    nits.lo[c] = pq_decode_on_device(r.lo[c]).lo;
+    nits.hi[c] = pq_decode_on_device(r.hi[c]).hi;
+  }
+  if (p.output_device == 7) return nits;
+  const double max_nits = p.output_max_luminance;
+  const Range3 lin = map_nondecreasing(nits, [max_nits](double v) {
+    if (std::isnan(v)) return v;
+    return (std::clamp(v, kAcesHdrYMin, max_nits) - kAcesHdrYMin) / (max_nits - kAcesHdrYMin);
+  });
+  Range3 out = scale(apply_matrix(ap1_to_output_gamut(0), lin), max_nits / 80.0);
+  double scale = 0;
+  for (int c = 0; c < 3; ++c)
+    for (double v : {out.lo[c], out.hi[c]})
+      if (std::isfinite(v)) scale = std::fmax(scale, std::fabs(v));
+  for (int c = 0; c < 3; ++c) {
+    out.lo[c] -= kFloat32Noise * scale;
+    out.hi[c] += kFloat32Noise * scale;
+  }
+  return out;
+}
+
 // Bilinear sample of `img` at buffer UV with clamp-to-edge addressing.
 Vec3 sample_bilinear(const Image& img, double u, double v, double* alpha = nullptr) {
   const double x = u * img.width - 0.5, y = v * img.height - 0.5;
@@ -144,6 +173,12 @@ Image tonemap_image(const ParamBlock& p, const Image& scene, const Image* bloom,
 
 Image tonemap_image(const ParamBlock& p, const Image& scene, const Image* bloom, const Image* dirt,
                     const BakedLut* lut, LazyBakedLut* lazy) {
+  return tonemap_image(p, scene, bloom, dirt, lut, lazy, nullptr, 0);
+}
+
+Image tonemap_image(const ParamBlock& p, const Image& scene, const Image* bloom, const Image* dirt,
+                    const BakedLut* lut, LazyBakedLut* lazy, const BakedLut* device_lut,
+                    int sub_texel_bits) {
   Image out(scene.width, scene.height);
   std::optional<TexelEvaluator> texel;  // the analytic lookup's parameters, unpacked once
   if (!lut && !lazy) texel.emplace(p);
@@ -208,7 +243,8 @@ Image tonemap_image(const ParamBlock& p, const Image& scene, const Image* bloom,
       // 7–9. LUT, luminance, per-device post conversion.
       Range3 range;
       bool ambiguous = false;
-      const Vec3 lut_out = lookup(p, final_linear, lut, nullptr, texel ? &*texel : nullptr, &range,
+      Vec3 encoded;
+      const Vec3 lut_out = lookup(p, final_linear, lut, &encoded, texel ? &*texel : nullptr, &range,
                                   &ambiguous, lazy);
       const Vec3 o = post_convert(p, lut_out);
       double* dst = out.px(x, y);
@@ -233,8 +269,38 @@ Image tonemap_image(const ParamBlock& p, const Image& scene, const Image* bloom,
         if (range.nan[0] || range.nan[1] || range.nan[2]) a.nan_ok |= uint8_t(1u << 3);
         out.admissible.push_back(a);
       }
+      Range3 device;
+      if (device_lut && sample_lut_device_range(*device_lut, encoded, sub_texel_bits, &device)) {
+        Range3 post = post_convert_device_range(p, device);
+        post.include(o);
+        if (ambiguous) {  // the tight range stays admissible
+          const AdmissibleRange& t = out.admissible.back();
+          for (int c = 0; c < 3; ++c) {
+            post.lo[c] = std::fmin(post.lo[c], t.lo[c]);
+            post.hi[c] = std::fmax(post.hi[c], t.hi[c]);
+          }
+        }
+        AdmissibleRange a;
+        a.pixel = static_cast<size_t>(y) * scene.width + x;
+        for (int c = 0; c < 3; ++c) {
+          a.lo[c] = post.lo[c];
+          a.hi[c] = post.hi[c];
+          if (post.nan[c]) a.nan_ok |= uint8_t(1u << c);
+        }
+        a.lo[3] = device.lo[0] * 0.299 + device.lo[1] * 0.587 + device.lo[2] * 0.114;
+        a.hi[3] = device.hi[0] * 0.299 + device.hi[1] * 0.587 + device.hi[2] * 0.114;
+        a.lo[3] = std::fmin(a.lo[3], dst[3]);
+        a.hi[3] = std::fmax(a.hi[3], dst[3]);
+        if (device.nan[0] || device.nan[1] || device.nan[2]) a.nan_ok |= uint8_t(1u << 3);
+        out.device_admissible.push_back(a);
+      }
     }
   }
+  if (device_lut)
+    out.device_allowances = {
+        "filter weights (" + std::to_string(sub_texel_bits) + " sub-texel bits)",
+        "LUT storage rounding (either neighbour)",
+        "shader arithmetic (the Vulkan precision table's bounds)"};
   return out;
 }
 

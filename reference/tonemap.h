@@ -39,6 +39,11 @@ Image tonemap_image(const ParamBlock& p, const Image& scene, const Image* bloom,
 // ignored when it is set): bit for bit the output of the whole LUT's bake.
 Image tonemap_image(const ParamBlock& p, const Image& scene, const Image* bloom, const Image* dirt,
                     const BakedLut* lut, LazyBakedLut* lazy);
+// The same, and with `device_lut` (bake_lut_device of `p`) the device allowances too: every
+// pixel's range on a conformant device with `sub_texel_bits` (Image::device_admissible).
+Image tonemap_image(const ParamBlock& p, const Image& scene, const Image* bloom, const Image* dirt,
+                    const BakedLut* lut, LazyBakedLut* lazy, const BakedLut* device_lut,
+                    int sub_texel_bits);
 
 // The baked pass's LUT for `p` over an image of `pixels` pixels: true when baking only the texels
 // read (at most 8 per pixel) costs less than the whole LUT's bake (which the process-wide cache

@@ -141,7 +141,7 @@ json case_json(const CaseResult& c, const RunReport& r) {
   }
   json images = json::object();
   for (const auto& [k, v] : c.images) images[k] = v;
-  return {
+  json out = {
       {"id", c.spec.id},
       {"file", c.spec.file},
       {"pipeline", c.spec.stage ? std::string(c.spec.stage->pipeline) : std::string()},
@@ -172,6 +172,13 @@ json case_json(const CaseResult& c, const RunReport& r) {
                      ? params_json(c.params, c.spec.stage ? c.spec.stage->pipeline : "ue55")
                      : json(nullptr)},
   };
+  // A PASS within a device allowance only (docs/precision.md, "Device allowances").
+  if (!c.device_allowances.empty())
+    out["device_allowance"] = {{"classes", c.device_allowances},
+                               {"values", c.allowance_values},
+                               {"first", pixel(c.first_allowance)},
+                               {"without_it", c.tight_reason}};
+  return out;
 }
 
 // verify's candidate protocol (runner/verify.h): which reference the candidate was judged

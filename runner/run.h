@@ -66,6 +66,13 @@ struct CaseResult {
   std::map<std::string, double> reference_values;  // named numbers the reference stage output
   std::map<std::string, std::string> images;  // "input"/"reference"/"candidate" → path relative
                                               // to the output directory, for those written
+  // A PASS within a device allowance only (RunOptions::device_allowances): the classes the
+  // reference's device ranges take in, how many values lay outside the tight bounds but inside
+  // those ranges, and the tight verdict's reason. Empty for a tight PASS.
+  std::vector<std::string> device_allowances;
+  size_t allowance_values = 0;
+  PixelRef first_allowance;
+  std::string tight_reason;
   double reference_seconds = 0, candidate_seconds = 0, diff_seconds = 0;
   double seconds() const { return reference_seconds + candidate_seconds + diff_seconds; }
 };
@@ -124,6 +131,11 @@ struct RunOptions {
   // verify --candidate-dir: a non-empty answer marks the case MISSING with that reason before
   // the candidate engine is asked.
   std::function<std::string(const Case&)> missing_candidate;
+  // A case that fails the tight bounds (a float32-exact device) is judged again against the
+  // device allowances its reference derives from the candidate's precision properties
+  // (docs/precision.md, "Device allowances"); within them it passes with a named allowance.
+  // false (`--no-device-allowance`): such a case fails, for reference-grade results.
+  bool device_allowances = true;
 };
 
 // Runs `cases` with a candidate engine against the reference engine. Each worker creates its own

@@ -89,4 +89,26 @@ inline spirv::Interval pq_encode_on_device(double lo_nits, double hi_nits) {
   return {pq_encode_on_device(lo_nits).lo, pq_encode_on_device(hi_nits).hi};
 }
 
+// UE's ST2084ToLinear (GammaCorrectionCommon.ush) of a PQ signal as a conformant device may
+// evaluate it: Np = pow(pq, 1/m2), L = pow(max(Np − c1, 0) / (c2 − c3·Np), 1/m1) · 10 000.
+// Increasing in pq; the subtraction near black (Np ≈ c1) is where its absolute error lives.
+inline spirv::Interval pq_decode_on_device(double pq) {
+  using namespace spirv;
+  if (!(pq > 0)) return Interval::point(0.0);
+  const Interval np = pow(Interval::point(pq), 1.0 / st2084::kM2);
+  Interval num = sub(np, Interval::point(st2084::kC1));
+  num.lo = std::max(num.lo, 0.0);
+  num.hi = std::max(num.hi, 0.0);
+  if (num.hi == 0) return Interval::point(0.0);
+  const Interval den = sub(Interval::point(st2084::kC2), mul(Interval::point(st2084::kC3), np));
+  Interval ratio = div(num, den);
+  Interval out{0.0, 0.0};
+  if (ratio.hi > 0) {
+    const Interval pos{std::max(ratio.lo, 0x1p-149), ratio.hi};
+    out = pow(pos, 1.0 / st2084::kM1);
+    if (ratio.lo <= 0) out.lo = 0.0;
+  }
+  return mul(out, Interval::point(st2084::kPeakNits));
+}
+
 }  // namespace hdrc::ref
