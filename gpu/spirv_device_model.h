@@ -19,7 +19,7 @@ namespace hdrc::gpu {
 
 // What apply_worst_device_model changed in a module (tests and docs read these counts).
 struct DeviceModelRewrite {
-  int fused = 0;      // OpFAdd/OpFSub of an OpFMul rewritten to GLSL.std.450 Fma
+  int fused = 0;      // OpFAdd/OpFSub of an OpFMul evaluated with one rounding
   int divisions = 0;  // OpFDiv results moved ±2 ULP
   int exp2 = 0;       // Exp2 results moved floor(2.5 + 2|x|) ULP
   int exp = 0;        // Exp results moved floor(2.5 + 2|x|) ULP
@@ -60,15 +60,18 @@ inline constexpr int kMaxPowSteps = 4000;
 // Rewrites a SPIR-V module (as glslang emits it: one module, functions after the globals) for the
 // worst-case device, in place:
 //  * FMA fusion: every float32 (scalar or vector) OpFAdd/OpFSub with an operand that is an OpFMul
-//    of the same type becomes GLSL.std.450 Fma (through OpFNegate for a subtraction), unless the
+//    of the same type becomes fma(a, b, ±c) (through OpFNegate for a subtraction), unless the
 //    add/sub or the mul is decorated NoContraction (GLSL `precise`); the mul stays for other uses.
+//    The fma is emulated exactly with float operations (Boldo–Melquiond; see the .cpp), not
+//    GLSL.std.450 Fma: Mesa lowers that to a multiply and an add, so lavapipe would not fuse it.
 //  * Every float32 OpFDiv, Exp2, Exp, Log2, Log and Pow result moved to the edge of its bound
 //    (the constants above), in the direction perturb_away_from_zero picks; a move away from zero
 //    that would leave the result's binade, or start at a power of two, goes toward zero instead
 //    (so the move is at most the steps times the smaller ulp either side of the result, which is
 //    ≤ ulp of the exact value). Results that are NaN, ±Inf, 0 or below 2^-125 are left alone.
-// Types and constants it needs are reused where the module declares them, else added; the id
-// bound grows. An error names what in the module it could not parse.
+// The model's own arithmetic is decorated NoContraction. Types and constants it needs are reused
+// where the module declares them, else added; the id bound grows. An error names what in the module
+// it could not parse.
 Result<DeviceModelRewrite> apply_worst_device_model(std::vector<uint32_t>* spirv);
 
 // The GLSL preamble of the worst-case device (glslang TShader::setPreamble, GLSL only):

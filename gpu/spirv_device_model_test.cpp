@@ -276,9 +276,10 @@ TEST(DeviceModelProbe, TranscendentalsMoveToTheirBounds) {
   EXPECT_GT(inside, 500);
   EXPECT_GT(pow_checked, 2500);
   std::printf(
-      "lavapipe's own error, max over %zu inputs: log2 %.3f ULP, exp2 %.3f ULP, pow %.3f "
-      "ULP\n",
-      in.size(), driver_ulp[0], driver_ulp[1], driver_ulp[2]);
+      "lavapipe's own error, max over %zu inputs: log2 %.3f ULP outside [0.5, 2], %.3g (2^%.2f) "
+      "absolute inside, exp2 %.3f ULP, pow %.3f ULP\n",
+      in.size(), driver_ulp[0], driver_log2_inside, std::log2(driver_log2_inside), driver_ulp[1],
+      driver_ulp[2]);
 }
 
 // FMA fusion: a·b + c, a·b − c and c − a·b equal std::fma in float under the model and the two
