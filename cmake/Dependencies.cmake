@@ -17,6 +17,7 @@ hdrc_require(nlohmann_json nlohmann-json3-dev CONFIG)
 hdrc_require(CLI11 libcli11-dev CONFIG)
 hdrc_require(Vulkan libvulkan-dev)
 hdrc_require(glslang glslang-dev CONFIG)
+hdrc_require(SPIRV-Tools spirv-tools CONFIG)  # test-only: spirv-val of rewritten modules
 # Debian 12 installs its config file directly in /usr/share/cmake.
 hdrc_require(OpenColorIO libopencolorio-dev CONFIG PATHS /usr/share/cmake)  # test-only oracle
 

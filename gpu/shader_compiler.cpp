@@ -13,6 +13,7 @@
 #include "core/stage.h"
 #include "gpu/hlsl_interface.h"
 #include "gpu/shader_constants.h"
+#include "gpu/spirv_device_model.h"
 
 namespace hdrc::gpu {
 
@@ -110,7 +111,6 @@ std::string format_log(const std::string& log, const fs::path& root) {
 
 Result<std::vector<uint32_t>> compile_compute(const std::string& shader_dir,
                                               const std::string& relative_path, DeviceModel model) {
-  (void)model;  // TODO(device model): in-shader filter, perturbation, fusion
   GlslangProcess::ensure();
   const fs::path root(shader_dir);
   // An HLSL port: stages/X.hlsl in place of stages/X.comp (docs/gpu-interface.md, "HLSL").
@@ -136,6 +136,15 @@ Result<std::vector<uint32_t>> compile_compute(const std::string& shader_dir,
     // Texture + SamplerState pairs become the interface's combined image samplers.
     shader.setTextureSamplerTransformMode(EShTexSampTransUpgradeTextureRemoveSampler);
   }
+  // The worst-case device (gpu/spirv_device_model.h): GLSL gets the in-shader filter in place of
+  // textureLod and HDRC_DEVICE_MODEL_WORST (engine/lut_store.comp's toward-zero stores); an HLSL
+  // port gets only the define (its SampleLevel keeps the hardware filter). Both get the SPIR-V
+  // rewrite below.
+  const bool worst = model == DeviceModel::kWorst;
+  const std::string preamble = !worst ? std::string()
+                               : hlsl ? "#define HDRC_DEVICE_MODEL_WORST 1\n"
+                                      : worst_device_glsl_preamble();
+  if (worst) shader.setPreamble(preamble.c_str());
   Includer includer(root);
   const int hlsl_rules = hlsl ? static_cast<int>(EShMsgReadHlsl) : 0;
   const auto messages = static_cast<EShMessages>(EShMsgSpvRules | EShMsgVulkanRules | hlsl_rules);
@@ -155,6 +164,15 @@ Result<std::vector<uint32_t>> compile_compute(const std::string& shader_dir,
   glslang::SpvOptions options;
   options.validate = true;
   glslang::GlslangToSpv(*program.getIntermediate(EShLangCompute), spirv, &options);
+  if (worst) {
+    auto rewritten = apply_worst_device_model(&spirv);
+    if (!rewritten) {
+      Error e = rewritten.error();
+      e.file = (root / path).generic_string();
+      e.message = "device model rewrite failed: " + e.message;
+      return e;
+    }
+  }
   return spirv;
 }
 

@@ -74,13 +74,15 @@ inline ResolvedCase make_case(const char* stage, int device, Image input) {
 }
 
 // A probe shader installed as the shaper stage of a shader-directory copy, with one engine (so the
-// probe compiles once however many cases run through it).
+// probe compiles once however many cases run through it), compiled for `model`.
 class Probe {
  public:
-  explicit Probe(const std::string& probe_source) : dir_("probe") {
+  explicit Probe(const std::string& probe_source, DeviceModel model = DeviceModel::kNone)
+      : dir_("probe") {
     dir_.write("stages/shaper.comp", probe_source);
     VulkanOptions o;
     o.shader_dir = dir_.path();
+    o.device_model = model;
     engine_ = std::make_unique<VulkanEngine>(o);
     init_ = engine_->init();
   }
