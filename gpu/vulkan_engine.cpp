@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "core/atomic_file.h"
+#include "core/install_paths.h"
 #include "core/shader_interface.h"
 #include "gpu/shader_compiler.h"
 
@@ -34,15 +35,17 @@
 
 namespace hdrc::gpu {
 
+// A relocated binary (a bundle) reads <exe dir>/../share/hdrconform/shaders and keeps its cache in
+// the user's cache folder: core/install_paths.h.
 std::string default_shader_dir() {
-  return HDRC_SOURCE_SHADER_DIR;
+  return data_dir(HDRC_SOURCE_SHADER_DIR, "shaders");
 }
 
 std::string default_pipeline_cache_path() {
 #ifdef HDRC_PIPELINE_CACHE_FILE
-  return HDRC_PIPELINE_CACHE_FILE;
+  return pipeline_cache_file(HDRC_PIPELINE_CACHE_FILE);
 #else
-  return "";
+  return pipeline_cache_file("");
 #endif
 }
 

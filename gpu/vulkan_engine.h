@@ -37,10 +37,12 @@ struct VulkanOptions {
   DeviceModel device_model = DeviceModel::kNone;
 };
 
-// The default on-disk VkPipelineCache: <build folder>/vk_pipeline_cache.bin.
+// The default on-disk VkPipelineCache: <build folder>/vk_pipeline_cache.bin; for a relocated binary
+// (a bundle) $XDG_CACHE_HOME/hdrconform/vk_pipeline_cache.bin (core/install_paths.h).
 std::string default_pipeline_cache_path();
 
-// The shader directory of this build (the source tree's gpu/shaders).
+// The shader directory of this build (the source tree's gpu/shaders); for a relocated binary
+// <exe dir>/../share/hdrconform/shaders (core/install_paths.h).
 std::string default_shader_dir();
 
 // "index: name (type, driver)" for every physical device, or the reason there are none.

@@ -1,4 +1,5 @@
 // hdrconform — golden-image conformance suite for Unreal Engine 5.5's HDR output pipeline.
+#include <OpenImageIO/imageio.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -8,6 +9,7 @@
 #include <filesystem>
 #include <iostream>
 
+#include "core/install_paths.h"
 #include "core/pipeline.h"
 #include "gpu/vulkan_engine.h"
 #include "reference/reference_engine.h"
@@ -79,6 +81,12 @@ int load_or_report(const std::string& dir, const hdrc::CaseSelection& filter,
 }  // namespace
 
 int main(int argc, char** argv) {
+  hdrc::restore_library_path();  // a bundle's launcher: its lib/ is for this process only
+  // A bundle (scripts/bundle.sh) replaces OpenImageIO's format libraries other than OpenEXR's and
+  // PNG's by stubs that abort when called. OpenImageIO tries every other reader when the one its
+  // extension names cannot open a file (a damaged PNG would reach libtiff's stub): there, only
+  // that one reader (OpenImageIO imageio.h, attribute "try_all_readers").
+  if (!hdrc::installed_data_dir().empty()) OIIO::attribute("try_all_readers", 0);
   CLI::App app{
       "hdrconform: conformance suite for HDR output pipelines (Unreal Engine 5.5, Unity URP\n"
       "colour grading, the classic tone-mapping operators: hdrconform pipelines).\n"
@@ -87,7 +95,9 @@ int main(int argc, char** argv) {
   app.footer(kExitCodes);
   app.require_subcommand(1);
 
-  std::string cases_dir = HDRC_SOURCE_CASES_DIR, filter, engine = "vulkan", out_dir = "out";
+  // The source tree's cases/, or a bundle's share/hdrconform/cases (core/install_paths.h).
+  const std::string default_cases_dir = hdrc::data_dir(HDRC_SOURCE_CASES_DIR, "cases");
+  std::string cases_dir = default_cases_dir, filter, engine = "vulkan", out_dir = "out";
   hdrc::gpu::VulkanOptions vk;
 
   // --filter: repeatable, comma-separated patterns (runner/selection.h); CLI11 joins repeats.
@@ -471,14 +481,14 @@ int main(int argc, char** argv) {
   namespace fs = std::filesystem;
   std::error_code gec;
   const bool default_cases =
-      fs::weakly_canonical(cases_dir, gec) == fs::weakly_canonical(HDRC_SOURCE_CASES_DIR, gec);
+      fs::weakly_canonical(cases_dir, gec) == fs::weakly_canonical(default_cases_dir, gec);
   std::string golden_extra;
   if (!default_cases) golden_extra += "--cases " + cases_dir;
   if (!goldens_dir.empty())
     golden_extra += std::string(golden_extra.empty() ? "" : " ") + "--goldens " + goldens_dir;
   if (goldens_dir.empty() && default_cases)
-    goldens_dir = fs::weakly_canonical(fs::path(HDRC_SOURCE_CASES_DIR) / ".." / "goldens", gec)
-                      .generic_string();
+    goldens_dir =
+        fs::weakly_canonical(fs::path(default_cases_dir) / ".." / "goldens", gec).generic_string();
 
   // Folders this command writes are checked before any work (runner/output_set.h); run and
   // verify write a staging folder inside --out and publish it at the end (finish).

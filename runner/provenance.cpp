@@ -9,6 +9,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "core/install_paths.h"
 #include "runner/goldens.h"
 
 #ifndef HDRC_SOURCE_DIR
@@ -40,6 +41,13 @@ std::string first_line_of(const std::string& cmd) {
 }
 
 std::string source_commit() {
+  // A bundle (scripts/bundle.sh) records the commit it was made from: its source tree may be
+  // absent, or have moved on, where it runs.
+  if (const std::string share = installed_data_dir(); !share.empty()) {
+    std::ifstream f(fs::path(share) / "source_commit");
+    std::string line;
+    return std::getline(f, line) && !line.empty() ? line : "unknown";
+  }
   const std::string dir = HDRC_SOURCE_DIR;
   if (dir.empty() || !fs::exists(fs::path(dir) / ".git")) return "unknown";
   const std::string q = shell_quote(dir);
