@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <random>
 #include <string>
@@ -83,9 +84,8 @@ std::vector<hdrc::ResolvedCase> lut_cases() {
 // (a) The barrier between the bake pass and the engine's store pass left out. lavapipe runs one
 // dispatch after the other, as recorded, so the output is that of the correct engine: it hides the
 // hazard. Under the worst-case model the two dispatches, no longer ordered, run last to first: the
-// store pass copies the poisoned bake image into the LUT, and the output differs. The
-// synchronisation validation layer names the hazard, model or not.
-TEST(Hygiene, MissingBarrierHiddenByLavapipeExposedByTheModelAndValidation) {
+// store pass copies the poisoned bake image into the LUT, and the output differs.
+TEST(Hygiene, MissingBarrierHiddenByLavapipeExposedByTheModel) {
   int cases = 0;
   for (const auto& c : lut_cases()) {
     const std::string what = std::string(c.spec.stage->name) + " format " +
@@ -102,7 +102,12 @@ TEST(Hygiene, MissingBarrierHiddenByLavapipeExposedByTheModelAndValidation) {
     ++cases;
   }
   EXPECT_EQ(cases, 4);
+}
 
+// The same planted defect under the validation layer: synchronisation validation names the
+// hazard (the store pass samples the bake image the bake pass wrote, with no barrier between),
+// model or not; the correct engine is clean.
+TEST(Hygiene, MissingBarrierIsReportedByValidation) {
   VulkanOptions validated = options(DeviceModel::kNone, Planted::kNoBarrierBeforeStore);
   validated.validation = true;
   VulkanEngine engine(validated);
@@ -349,6 +354,46 @@ void main() {
     auto after = engine.run(make_case("tonemap", 3, 16, 0, 0, input));
     EXPECT_TRUE(after.ok()) << after.error().to_string();
   }
+}
+
+// A store far past the guard (lavapipe discards it: the case would pass on its output alone) is
+// what GPU-assisted validation catches: Debian 12's layer instruments the shader on lavapipe and
+// reports the access, which makes the case an ERROR (docs/gpu-interface.md, "Guards"). Turned on
+// for this engine's instance through the layer's environment variable.
+TEST(Hygiene, GpuAssistedValidationCatchesAStoreBeyondTheGuard) {
+  hdrc::gpu::testing::ShaderDirCopy dir("hygiene_gpuav");
+  dir.write("stages/linear_device.comp", R"(#version 450
+#extension GL_GOOGLE_include_directive : require
+#include "hdrc/interface.glsl"
+layout(local_size_x = HDRC_LOCAL_SIZE_X) in;
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  if (i >= uint(P.width * P.height)) return;
+  out_px[i] = in_px[i];
+  out_px[i + 100000u] = vec4(1.0);
+}
+)");
+  VulkanOptions o = options(DeviceModel::kNone);
+  o.shader_dir = dir.path();
+  const hdrc::ResolvedCase c = make_case("linear_device", 8, 16, 0, 0, ramp(30, 5, 7));
+  {
+    VulkanEngine plain(o);
+    ASSERT_TRUE(plain.init().ok());
+    auto out = plain.run(c);
+    EXPECT_TRUE(out.ok()) << "discarded, past the guard: " << out.error().to_string();
+  }
+  o.validation = true;
+  ASSERT_EQ(setenv("VK_LAYER_ENABLES", "VK_VALIDATION_FEATURE_ENABLE_GPU_ASSISTED_EXT", 1), 0);
+  struct Unset {
+    ~Unset() { unsetenv("VK_LAYER_ENABLES"); }
+  } unset;
+  VulkanEngine engine(o);
+  const hdrc::Status st = engine.init();
+  ASSERT_TRUE(st.ok()) << st.error().to_string();
+  auto out = engine.run(c);
+  ASSERT_FALSE(out.ok());
+  EXPECT_NE(out.error().message.find("access out of bounds"), std::string::npos)
+      << out.error().message;
 }
 
 }  // namespace
