@@ -401,9 +401,46 @@ Status make_texture(VkDevice device, const VkPhysicalDeviceMemoryProperties& mem
   return {};
 }
 
-// Records: UNDEFINED → GENERAL, cleared to 0 (so a texel a shader fails to write reads back as 0,
-// never as stale memory), visible to compute shaders.
-void record_clear_to_general(VkCommandBuffer cmd, VkImage image) {
+// The worst-case device model's poison (DeviceModel::kWorst; docs/gpu-interface.md, "Poisoning"):
+// what a buffer holds before a pass writes it on a device that hands out memory as it finds it
+// (lavapipe's fresh memory is zeroed, and it reuses nothing between cases unless told to). A quiet
+// NaN as float32, so that a value read before it is written spreads to the output.
+constexpr uint32_t kPoisonWord = 0x7fc0deadu;
+// The guard after every storage buffer's data (canaries, always on): kGuardBytes of this word, a
+// quiet NaN told apart from the poison, inside the binding's range (lavapipe discards a store past
+// the range, llvmpipe's bounds check, so a guard outside it would never change), checked after
+// each case: a changed word is an out-of-bounds write, and a read of the guard returns NaN.
+constexpr uint32_t kCanaryWord = 0x7fc0c0deu;
+constexpr VkDeviceSize kGuardBytes = 4096;
+
+// The clear value that poisons an image (or the bake image of a LUT) of `format`: NaN for a float
+// format; for a UNORM format, where a NaN stores as 0 (Vulkan spec, "Conversion from
+// Floating-Point to Normalized Fixed-Point": NaN → 0) and would look like a zeroed image, a
+// pattern of codes in the middle of the range.
+VkClearColorValue poison_color(VkFormat format) {
+  VkClearColorValue v{};
+  if (format == VK_FORMAT_A2B10G10R10_UNORM_PACK32 || format == VK_FORMAT_R8G8B8A8_UNORM) {
+    v.float32[0] = 0.71f;
+    v.float32[1] = 0.29f;
+    v.float32[2] = 0.53f;
+    v.float32[3] = 0.67f;
+  } else {
+    for (float& c : v.float32) c = std::numeric_limits<float>::quiet_NaN();
+  }
+  return v;
+}
+
+// `bytes` bytes of `word`, repeated, from `at` (byte-wise: `at` need not be word-aligned).
+void fill_words(void* at, VkDeviceSize bytes, uint32_t word) {
+  auto* p = static_cast<uint8_t*>(at);
+  for (VkDeviceSize i = 0; i < bytes; ++i) p[i] = static_cast<uint8_t>(word >> (8 * (i % 4)));
+}
+
+// Records: UNDEFINED → GENERAL, cleared to `value` (0 by default, so a texel a shader fails to
+// write reads back as 0, never as stale memory; the poison under the worst-case model), visible to
+// compute shaders.
+void record_clear_to_general(VkCommandBuffer cmd, VkImage image,
+                             const VkClearColorValue& value = {}) {
   VkImageMemoryBarrier to_general{};
   to_general.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER;
   to_general.srcAccessMask = 0;
@@ -416,9 +453,8 @@ void record_clear_to_general(VkCommandBuffer cmd, VkImage image) {
   to_general.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
   vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0,
                        nullptr, 0, nullptr, 1, &to_general);
-  const VkClearColorValue zero{};
   const VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-  vkCmdClearColorImage(cmd, image, VK_IMAGE_LAYOUT_GENERAL, &zero, 1, &range);
+  vkCmdClearColorImage(cmd, image, VK_IMAGE_LAYOUT_GENERAL, &value, 1, &range);
   VkImageMemoryBarrier to_shader = to_general;
   to_shader.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
   to_shader.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
@@ -740,8 +776,10 @@ void release(Texture* t) {
   t->memory = VK_NULL_HANDLE;
 }
 
-// Clears `images` to 0 and moves them to GENERAL in a submission of their own, waited for.
-Status clear_images_now(Gpu& g, std::initializer_list<VkImage> images) {
+// Clears `images` to `value` (0 by default) and moves them to GENERAL in a submission of their own,
+// waited for.
+Status clear_images_now(Gpu& g, std::initializer_list<VkImage> images,
+                        const VkClearColorValue& value = {}) {
   const VkDevice d = g.device.handle;
   VkCommandBufferAllocateInfo cbai{};
   cbai.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO;
@@ -756,7 +794,7 @@ Status clear_images_now(Gpu& g, std::initializer_list<VkImage> images) {
   bi.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
   bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   HDRC_VK(vkBeginCommandBuffer(cmds.cmd, &bi));
-  for (VkImage image : images) record_clear_to_general(cmds.cmd, image);
+  for (VkImage image : images) record_clear_to_general(cmds.cmd, image, value);
   HDRC_VK(vkEndCommandBuffer(cmds.cmd));
   VkSubmitInfo si{};
   si.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
@@ -806,6 +844,7 @@ struct VulkanEngine::State {
   DeviceInfo info;
   double fence_timeout_s = 60;
   DeviceModel device_model = DeviceModel::kNone;
+  VulkanOptions::Planted planted = VulkanOptions::Planted::kNone;  // tests only
   // SPIR-V per pass shader: compiled once for the whole run, kept across device re-creation.
   std::map<std::string, std::vector<uint32_t>> spirv;
   std::map<std::string, std::vector<uint32_t>> spec_ids_of;  // per shader: spec_ids(spirv)
@@ -1014,8 +1053,16 @@ Status VulkanEngine::State::create_gpu() {
       !st)
     return st;
 
-  // The dummies go to GENERAL, cleared, once per device.
-  if (Status st = clear_images_now(*g, {g->dummy_3d.image, g->dummy_2d.image}); !st) return st;
+  // The dummies go to GENERAL, cleared, once per device: to 0, or under the worst-case model
+  // poisoned (no pass may depend on what a dummy holds: a stage reads an aux image only when its
+  // size in the block is not 0 × 0, a user LUT only when P.user_lut_size is not 0, and the LUT of
+  // the layout the case does not use not at all).
+  const bool worst = device_model == DeviceModel::kWorst;
+  if (worst) fill_words(g->dummy_buffer.mapped, g->dummy_buffer.size, kPoisonWord);
+  if (Status st = clear_images_now(*g, {g->dummy_3d.image, g->dummy_2d.image},
+                                   worst ? poison_color(dummy_format) : VkClearColorValue{});
+      !st)
+    return st;
 
   gpu = std::move(g);
   ++generation;
@@ -1115,6 +1162,7 @@ Status VulkanEngine::init() {
   auto s = std::make_unique<State>();
   s->fence_timeout_s = options_.fence_timeout_s;
   s->device_model = options_.device_model;
+  s->planted = options_.planted;
   s->pipeline_cache_path = options_.pipeline_cache_path.empty()     ? default_pipeline_cache_path()
                            : options_.pipeline_cache_path == "none" ? ""
                                                                     : options_.pipeline_cache_path;
@@ -1429,6 +1477,7 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
       std::any_of(stage.passes.begin(), stage.passes.end(),
                   [](const StagePass& p) { return p.domain == Dispatch::kLutTexels; });
   const LutFormat* fmt = nullptr;
+  bool lut_reused = false;  // the LUT image is the case before's (for Planted::kStaleLutOnReuse)
   if (bakes_lut) {
     if (params.lut_format < 0 || params.lut_format > 3)
       return Error{"", "", "LUT format " + std::to_string(params.lut_format) + " is not supported",
@@ -1448,6 +1497,7 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
     if (w.lut.image &&
         (w.lut_format != params.lut_format || w.lut_layout != params.lut_layout || w.lut_size != n))
       release(&w.lut);
+    lut_reused = w.lut.image != VK_NULL_HANDLE;
     if (!w.lut.image) {
       w.lut_format = w.lut_layout = w.lut_size = -1;
       if (Status st = make_texture(d, g.memory, type, fmt->format, extent, &w.lut); !st)
@@ -1531,23 +1581,27 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
     for (size_t i = 0; i < strip.data.size(); ++i) dst[i] = static_cast<float>(strip.data[i]);
   }
 
-  // Buffers. Sizes are at least 16 bytes (a zero-sized buffer is invalid).
+  // Buffers. Sizes are at least 16 bytes (a zero-sized buffer is invalid). Every storage buffer
+  // holds its data and then kGuardBytes of canary words (kCanaryWord), both in the range bound.
   const std::vector<uint8_t> packed = pack_std430(params);
-  const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+  const VkBufferUsageFlags storage =
+      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
   const VkDeviceSize image_bytes = std::max<VkDeviceSize>(pixels * 16, 16);
+  const bool worst = s.device_model == DeviceModel::kWorst;
   // Buffers are reused across cases (grown when too small). What a shader may read before
   // writing is cleared to zero in the range this case uses, as a fresh buffer would be, so the
-  // output never depends on the case before.
-  if (Status st = ensure_buffer(d, g.memory, packed.size(), storage, &w.params); !st)
+  // output never depends on the case before (under the worst-case model: poisoned instead, on the
+  // device, below).
+  if (Status st = ensure_buffer(d, g.memory, packed.size() + kGuardBytes, storage, &w.params); !st)
     return st.error();
-  if (Status st = ensure_buffer(d, g.memory, image_bytes, storage, &w.input); !st)
+  if (Status st = ensure_buffer(d, g.memory, image_bytes + kGuardBytes, storage, &w.input); !st)
     return st.error();
-  if (Status st = ensure_buffer(d, g.memory, image_bytes, storage, &w.output); !st)
+  if (Status st = ensure_buffer(d, g.memory, image_bytes + kGuardBytes, storage, &w.output); !st)
     return st.error();
   // Scratch: an image of the case's size for a pass with output_to_scratch, then 1024 vec4 of
   // free space (e.g. VisualizeHDR's histogram) at scratch_px[width·height ...].
   const VkDeviceSize scratch_bytes = (pixels + 1024) * 16;
-  if (Status st = ensure_buffer(d, g.memory, scratch_bytes, storage, &w.scratch); !st)
+  if (Status st = ensure_buffer(d, g.memory, scratch_bytes + kGuardBytes, storage, &w.scratch); !st)
     return st.error();
   std::memcpy(w.params.mapped, packed.data(), packed.size());
   {
@@ -1555,6 +1609,7 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
     // device's threads are idle until the submission, and each part writes its own buffer. The
     // scratch buffer is cleared only for a stage that uses it: no pass of the others can see it.
     auto clear = [&] {
+      if (worst) return;  // poisoned by the device instead
       std::memset(w.output.mapped, 0, image_bytes);
       if (uses_scratch) std::memset(w.scratch.mapped, 0, scratch_bytes);
     };
@@ -1570,8 +1625,26 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
   for (auto [img, buf] : {std::pair{aux0, &w.aux0}, std::pair{aux1, &w.aux1}}) {
     if (!img) continue;
     const VkDeviceSize bytes = std::max<VkDeviceSize>(img->pixel_count() * 16, 16);
-    if (Status st = ensure_buffer(d, g.memory, bytes, storage, buf); !st) return st.error();
+    if (Status st = ensure_buffer(d, g.memory, bytes + kGuardBytes, storage, buf); !st)
+      return st.error();
     upload(*img, buf);
+  }
+  // The guarded buffers of this case and how much data each binding's range holds before its
+  // guard. The canaries are written now and checked after the submission.
+  struct Guarded {
+    const char* name;  // the GLSL name and binding
+    Buffer* buffer;
+    VkDeviceSize data_bytes;
+  };
+  std::vector<Guarded> guarded = {{"P (binding 0)", &w.params, packed.size()},
+                                  {"in_px (binding 1)", &w.input, image_bytes},
+                                  {"out_px (binding 2)", &w.output, image_bytes},
+                                  {"scratch_px (binding 9)", &w.scratch, scratch_bytes}};
+  if (aux0) guarded.push_back({"aux0_px (binding 7)", &w.aux0, aux0->pixel_count() * 16});
+  if (aux1) guarded.push_back({"aux1_px (binding 8)", &w.aux1, aux1->pixel_count() * 16});
+  for (Guarded& b : guarded) {
+    b.data_bytes = std::max<VkDeviceSize>(b.data_bytes, 16);
+    fill_words(static_cast<uint8_t*>(b.buffer->mapped) + b.data_bytes, kGuardBytes, kCanaryWord);
   }
   // A stage whose last pass bakes the LUT outputs the LUT itself (read back as N² × N).
   const bool reads_back = bakes_lut && stage.passes.back().domain == Dispatch::kLutTexels;
@@ -1626,7 +1699,10 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
     Texture& d2 = g.format_dummy_2d[params.lut_format];
     Status st = make_texture(d, g.memory, VK_IMAGE_TYPE_3D, fmt->format, {1, 1, 1}, &d3);
     if (st) st = make_texture(d, g.memory, VK_IMAGE_TYPE_2D, fmt->format, {1, 1, 1}, &d2);
-    if (st) st = clear_images_now(g, {d3.image, d2.image});
+    if (st)
+      st = clear_images_now(
+          g, {d3.image, d2.image},
+          s.device_model == DeviceModel::kWorst ? poison_color(fmt->format) : VkClearColorValue{});
     if (!st) {
       release(&d3);
       release(&d2);
@@ -1641,27 +1717,30 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
                                         : g.dummy_2d.view;
   const VkImageView bake_3d = volume ? w.bake[0].view : g.dummy_3d.view;
   const VkImageView bake_2d = unwrapped ? w.bake[1].view : g.dummy_2d.view;
-  // Each binding sees exactly this case's range (a reused buffer may be larger).
+  // Each binding sees exactly this case's range and its guard (a reused buffer may be larger).
   auto aux_of = [&](const Image* img, const Buffer& b) -> VkDescriptorBufferInfo {
     if (!img) return {g.dummy_buffer.buffer, 0, VK_WHOLE_SIZE};
-    return {b.buffer, 0, std::max<VkDeviceSize>(img->pixel_count() * 16, 16)};
+    return {b.buffer, 0, std::max<VkDeviceSize>(img->pixel_count() * 16, 16) + kGuardBytes};
   };
   for (uint32_t i = 0; i < sets; ++i) {
     const Role role = runs[i].role;
+    const VkDeviceSize guard = kGuardBytes;
     const VkDescriptorBufferInfo out =
-        runs[i].output_to_scratch ? VkDescriptorBufferInfo{w.scratch.buffer, 0, scratch_bytes}
-                                  : VkDescriptorBufferInfo{w.output.buffer, 0, image_bytes};
-    const VkDescriptorBufferInfo buffers[kBindingCount] = {{w.params.buffer, 0, packed.size()},
-                                                           {w.input.buffer, 0, image_bytes},
-                                                           out,
-                                                           {},
-                                                           {},
-                                                           {},
-                                                           {},
-                                                           aux_of(aux0, w.aux0),
-                                                           aux_of(aux1, w.aux1),
-                                                           {w.scratch.buffer, 0, scratch_bytes},
-                                                           {}};
+        runs[i].output_to_scratch
+            ? VkDescriptorBufferInfo{w.scratch.buffer, 0, scratch_bytes + guard}
+            : VkDescriptorBufferInfo{w.output.buffer, 0, image_bytes + guard};
+    const VkDescriptorBufferInfo buffers[kBindingCount] = {
+        {w.params.buffer, 0, packed.size() + guard},
+        {w.input.buffer, 0, image_bytes + guard},
+        out,
+        {},
+        {},
+        {},
+        {},
+        aux_of(aux0, w.aux0),
+        aux_of(aux1, w.aux1),
+        {w.scratch.buffer, 0, scratch_bytes + guard},
+        {}};
     // The bake pass stores to the bake image and samples no LUT; the store pass reads the bake
     // image (texelFetch) and stores to the LUT image; the other passes have the LUT image on
     // both.
@@ -1736,9 +1815,36 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
   HDRC_VK_CASE(vkBeginCommandBuffer(cmd, &bi));
   if (bakes_lut) {
     // The store pass writes every texel of the LUT (0 where the bake pass wrote none: the bake
-    // image is cleared), so the LUT itself only changes layout.
-    record_to_general(cmd, w.lut.image);
-    record_clear_to_general(cmd, w.bake[params.lut_layout].image);
+    // image is cleared), so the LUT itself only changes layout. The zero is no contract: a bake
+    // pass writes every texel of its lut_texels domain (docs/gpu-interface.md), as UE's
+    // CombineLUTs writes its whole render target; the clear only keeps a run on lavapipe
+    // deterministic. Under the worst-case model both images are poisoned instead (in the LUT's
+    // format: a texel the bake pass leaves out then shows in the LUT, whatever its format).
+    if (worst) {
+      const VkClearColorValue poison = poison_color(fmt->format);
+      record_clear_to_general(cmd, w.lut.image, poison);
+      record_clear_to_general(cmd, w.bake[params.lut_layout].image, poison);
+    } else {
+      record_to_general(cmd, w.lut.image);
+      record_clear_to_general(cmd, w.bake[params.lut_layout].image);
+    }
+  }
+  if (worst) {
+    // Poison, on the device, what a pass may write but must not read before writing: the output
+    // image, the scratch buffer (its passes write what a later pass reads) and the buffer the
+    // LUT is copied to. The parameter block, the input and the aux images are written whole by
+    // the host; the guards after them hold canaries.
+    vkCmdFillBuffer(cmd, w.output.buffer, 0, image_bytes, kPoisonWord);
+    if (uses_scratch) vkCmdFillBuffer(cmd, w.scratch.buffer, 0, scratch_bytes, kPoisonWord);
+    if (reads_back) vkCmdFillBuffer(cmd, w.readback.buffer, 0, VK_WHOLE_SIZE, kPoisonWord);
+    VkMemoryBarrier filled{};
+    filled.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
+    filled.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    filled.dstAccessMask =
+        VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, 0,
+                         1, &filled, 0, nullptr, 0, nullptr);
   }
   for (size_t slot = 0; slot < kUserLutSlots; ++slot)
     if (has_user_lut[slot])
@@ -1746,11 +1852,25 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
           cmd, w.user_lut_staging[slot].buffer, w.user_lut[slot].image,
           {uint32_t(c.user_luts[slot].width), uint32_t(c.user_luts[slot].height), 1});
 
-  const uint32_t max_groups = std::max<uint32_t>(g.limits.maxComputeWorkGroupCount[0], 1);
+  // The dispatches in segments, a barrier between consecutive segments: pass i reads what pass
+  // i−1 wrote (buffers and the LUT image, which stays GENERAL), so each pass is a segment of its
+  // own, after a global memory barrier that covers both. (A planted defect may leave a barrier
+  // out, joining two passes in one segment, or leave the store pass out.)
+  std::vector<std::vector<size_t>> segments;
   for (size_t i = 0; i < runs.size(); ++i) {
-    if (i > 0) {
-      // Pass i reads what pass i−1 wrote (buffers and the LUT image, which stays GENERAL): a
-      // global memory barrier covers both.
+    if (runs[i].role == Role::kStore && lut_reused &&
+        s.planted == VulkanOptions::Planted::kStaleLutOnReuse)
+      continue;
+    const bool barrier = !(runs[i].role == Role::kStore &&
+                           s.planted == VulkanOptions::Planted::kNoBarrierBeforeStore);
+    if (segments.empty() || barrier)
+      segments.push_back({i});
+    else
+      segments.back().push_back(i);
+  }
+  const uint32_t max_groups = std::max<uint32_t>(g.limits.maxComputeWorkGroupCount[0], 1);
+  for (size_t k = 0; k < segments.size(); ++k) {
+    if (k > 0) {
       VkMemoryBarrier between{};
       between.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
       between.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
@@ -1759,14 +1879,31 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
                            VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &between, 0, nullptr, 0,
                            nullptr);
     }
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, runs[i].pipeline);
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, g.pipeline_layout.handle, 0, 1,
-                            &descriptor_sets[i], 0, nullptr);
-    const uint64_t count = invocations(runs[i].domain, pixels, n);
-    const uint64_t groups = (count + kLocalSizeX - 1) / kLocalSizeX;
-    for (uint64_t base = 0; base < groups; base += max_groups) {
-      const uint32_t here = static_cast<uint32_t>(std::min<uint64_t>(max_groups, groups - base));
-      vkCmdDispatchBase(cmd, static_cast<uint32_t>(base), 0, 0, here, 1, 1);
+    // Dispatches with no barrier between them are ordered in no way (Vulkan spec,
+    // "Synchronization and Cache Control": without a dependency, commands may overlap and
+    // complete out of order): the worst-case model records them last to first, one execution a
+    // conformant device may choose; lavapipe runs commands one after the other as recorded.
+    std::vector<size_t> order = segments[k];
+    if (worst) std::reverse(order.begin(), order.end());
+    for (const size_t i : order) {
+      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, runs[i].pipeline);
+      vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, g.pipeline_layout.handle, 0, 1,
+                              &descriptor_sets[i], 0, nullptr);
+      const uint64_t count = invocations(runs[i].domain, pixels, n);
+      const uint64_t groups = (count + kLocalSizeX - 1) / kLocalSizeX;
+      for (uint64_t base = 0; base < groups; base += max_groups) {
+        const uint32_t here = static_cast<uint32_t>(std::min<uint64_t>(max_groups, groups - base));
+        // The first (usually only) dispatch of a pass is a vkCmdDispatch, the same as
+        // vkCmdDispatchBase with a zero base (Vulkan spec, vkCmdDispatchBase): the validation
+        // layer's synchronisation validation checks vkCmdDispatch's accesses and not
+        // vkCmdDispatchBase's (Vulkan-ValidationLayers issue #9851; 1.3.239 here). It takes
+        // each dispatch to access every descriptor's whole range, so the first one carries the
+        // pass's hazards.
+        if (base == 0)
+          vkCmdDispatch(cmd, here, 1, 1);
+        else
+          vkCmdDispatchBase(cmd, static_cast<uint32_t>(base), 0, 0, here, 1, 1);
+      }
     }
   }
   VkMemoryBarrier to_host{};
@@ -1858,6 +1995,25 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
                  ""};
   }
   HDRC_VK_CASE(waited);
+
+  // The canaries: a word of a guard that changed is a store past the data of that binding.
+  for (const Guarded& b : guarded) {
+    const auto* guard = static_cast<const uint8_t*>(b.buffer->mapped) + b.data_bytes;
+    for (VkDeviceSize at = 0; at < kGuardBytes; at += 4) {
+      uint32_t word = 0, want = 0;
+      std::memcpy(&word, guard + at, 4);
+      fill_words(&want, 4, kCanaryWord);
+      if (word == want) continue;
+      char found[16];
+      std::snprintf(found, sizeof found, "0x%08x", word);
+      return Error{"", "",
+                   "stage " + stage_name + ": out-of-bounds write to " + b.name + ": byte " +
+                       std::to_string(b.data_bytes + at) + " (" + std::to_string(at) +
+                       " past the end of its " + std::to_string(b.data_bytes) +
+                       "-byte data) holds " + found + ", not the guard's canary",
+                   ""};
+    }
+  }
 
   if (reads_back) return decode_lut(w.readback.mapped, *fmt, params.lut_layout, n);
   return widen_output(static_cast<const float*>(w.output.mapped), c.input.width, c.input.height);

@@ -35,6 +35,15 @@ struct VulkanOptions {
   // The worst-case conformant device model (core/device_precision.h): shaders compiled with every
   // freedom the Vulkan specification allows taken to its edge, images and buffers poisoned.
   DeviceModel device_model = DeviceModel::kNone;
+  // FOR TESTS ONLY (gpu/vulkan_hygiene_test.cpp; no CLI option sets it): an engine defect planted
+  // on purpose, to show what exposes it.
+  //  kNoBarrierBeforeStore: the barrier between a LUT bake pass and the engine's store pass is left
+  //    out (a read-after-write hazard: the store pass may read the bake image before the bake
+  //    pass has written it).
+  //  kStaleLutOnReuse: the store pass is left out when the LUT image is reused from the case before
+  //    (same format, layout and size), so the LUT holds what that case stored.
+  enum class Planted { kNone, kNoBarrierBeforeStore, kStaleLutOnReuse };
+  Planted planted = Planted::kNone;
 };
 
 // The default on-disk VkPipelineCache: <build folder>/vk_pipeline_cache.bin; for a relocated binary
