@@ -29,6 +29,32 @@ inline constexpr int kMetricCount = 5;
 // A limit that is not set: the criterion is not judged.
 inline constexpr double kNotJudged = std::numeric_limits<double>::infinity();
 
+// The property-based judgement of a quantisation dither (docs/diff-metrics.md, "Dither"): the
+// candidate's noise d = candidate − undithered (the stage's input; the amount is the case's
+// BackbufferQuantizationDithering, ParamBlock::dither_amount) must look like UE's triangular grain,
+// whatever hash the device's sin produces. t = d / amount is triangular on [-1, 1] (variance 1/6).
+//   * amplitude: every value |d| <= amount (plus float32 noise);
+//   * mean: over each block of >= block_pixels pixels (raster order) and channel, |mean t| <=
+//     mean_sigmas · sqrt(1 / (6 n));
+//   * std: per channel |std(t) · sqrt(6) − 1| <= std_sigmas · sqrt((kurtosis − 1) / (4 n)),
+//     the triangular distribution's kurtosis 2.4;
+//   * histogram: per channel the Kolmogorov–Smirnov distance to the triangular CDF <= ks_c /
+//     sqrt(n).
+// The metric criteria of the same tolerance judge the exact pattern (the reference's own grain);
+// `exact_pattern` says where: "always"; "float32_exact" (only on a candidate whose
+// DevicePrecision::float32_exact is set; elsewhere they are reported, not judged); "never" (the
+// properties alone, as on a device whose hash differs: a port whose grain is meant to differ, and
+// the planted-defect tests on lavapipe).
+struct DitherCriterion {
+  bool judged = false;  // false: no dither criterion (the metrics alone judge)
+  double mean_sigmas = 5.5;
+  int block_pixels = 256;
+  double std_sigmas = 5;
+  double ks_c = 3.75;
+  std::string exact_pattern = "float32_exact";
+  std::string reason;  // why these bounds (required when given)
+};
+
 // Diff thresholds of one case: a policy read from data (runner/tolerance.h parses it;
 // docs/tolerances.md). Criteria combine: the case fails when any judged criterion fails.
 // Per metric m:
@@ -47,9 +73,10 @@ struct Tolerance {
   std::array<double, kMetricCount> allowed_fraction{};  // in [0, 1]
   std::array<double, kMetricCount> hard{kNotJudged, kNotJudged, kNotJudged, kNotJudged, kNotJudged};
   std::array<double, kMetricCount> warn{kNotJudged, kNotJudged, kNotJudged, kNotJudged, kNotJudged};
-  std::string reason;  // why these numbers (measured error and its cause)
-  std::string source;  // where they came from: "cases/x.json: /tolerance" or "default", and
-                       // every overlay applied after it
+  DitherCriterion dither;  // the dither stage's properties (not judged unless set)
+  std::string reason;      // why these numbers (measured error and its cause)
+  std::string source;      // where they came from: "cases/x.json: /tolerance" or "default", and
+                           // every overlay applied after it
   double max(Metric m) const;
   double& max(Metric m);
   // True when any criterion of `m` is set.

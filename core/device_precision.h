@@ -44,6 +44,11 @@ struct DevicePrecision {
   bool fp16_rte = false;     // shaderRoundingModeRTEFloat16: float16 conversions round to nearest
   bool fp32_denorm = false;  // shaderDenormPreserveFloat32
   std::string model;         // "" for the device itself, else device_model_name()
+  // sin/cos/division and filtering evaluated as float32-exact, the hash deterministic: the
+  // dither's exact pattern (the reference's grain) is judged only on such a candidate
+  // (core/case.h DitherCriterion). The runner sets it (runner/dither.h float32_exact_device):
+  // the reference engine, and the Vulkan engine on llvmpipe without a device model.
+  bool float32_exact = false;
 };
 
 }  // namespace hdrc

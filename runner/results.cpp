@@ -47,7 +47,8 @@ json device(const DeviceInfo& d) {
   json j = {{"engine", d.engine},
             {"device", d.device},
             {"driver", d.driver},
-            {"api_version", d.api_version}};
+            {"api_version", d.api_version},
+            {"float32_exact", d.precision.float32_exact}};
   // The precision properties the device allowances are derived from (docs/precision.md). The
   // reference engine has none: it is exact by definition.
   if (d.engine != "reference")
@@ -96,6 +97,42 @@ json range_of_band(int b) {
   return {{"band", band_name(b)},
           {"min_nits", kBandEdges[b]},
           {"max_nits", kBandEdges[b + 1] < kNotJudged ? json(kBandEdges[b + 1]) : json(nullptr)}};
+}
+
+// The dither criterion's statistics (runner/dither.h); null for a case without one.
+json dither_json(const CaseResult& c) {
+  if (!c.has_dither) return nullptr;
+  const DitherStats& d = c.dither;
+  json channels = json::object();
+  for (int i = 0; i < 3; ++i) {
+    const DitherChannelStats& ch = d.channel[i];
+    channels[std::string(1, "RGB"[i])] = {{"n", ch.n},
+                                          {"blocks", ch.blocks},
+                                          {"mean_z", statistic(ch.mean_z)},
+                                          {"worst_block", ch.worst_block},
+                                          {"mean_used", statistic(ch.mean_used)},
+                                          {"judged", ch.judged},
+                                          {"std_ratio", statistic(ch.std_ratio)},
+                                          {"std_bound", statistic(ch.std_bound)},
+                                          {"ks", statistic(ch.ks)},
+                                          {"ks_bound", statistic(ch.ks_bound)}};
+  }
+  json worst = nullptr;
+  if (d.worst_x >= 0)
+    worst = {{"x", d.worst_x},
+             {"y", d.worst_y},
+             {"channel", std::string(1, "RGB"[d.worst_channel])},
+             {"undithered", number(d.worst_undithered)},
+             {"candidate", number(d.worst_candidate)}};
+  return {{"amount", d.amount},
+          {"values", d.values},
+          {"over_amplitude", d.over_amplitude},
+          {"max_amplitude", number(d.max_amplitude)},
+          {"worst", worst},
+          {"resolved", d.resolved},
+          {"statistics", d.statistics},
+          {"exact_pattern_judged", c.exact_pattern_judged},
+          {"channels", channels}};
 }
 
 json case_json(const CaseResult& c, const RunReport& r) {
@@ -159,6 +196,7 @@ json case_json(const CaseResult& c, const RunReport& r) {
       {"tolerance", tolerance_json(c.tolerance)},
       {"nonfinite", nonfinite},
       {"stats", stats},
+      {"dither", dither_json(c)},
       {"worst_pixel", worst},
       {"images", images},
       {"seconds",

@@ -303,7 +303,24 @@ class Executor {
     if (!save(r, "candidate", *cand_img)) return r;
     t0 = std::chrono::steady_clock::now();
     r.stats = diff_images(resolved->input, *ref_img, *cand_img, enc, r.tolerance);
-    const Verdict v = judge(r.stats, r.tolerance, !c.pins_nonfinite.empty());
+    Verdict v;
+    if (r.tolerance.dither.judged) {
+      // The dither's properties against the undithered image (the stage's input) and the case's
+      // amount (runner/dither.h); the exact pattern only where the device makes it deterministic.
+      if (c.stage->id != StageId::kDither)
+        return error(std::move(r),
+                     "the tolerance's dither criterion needs the dither stage, whose "
+                     "input is the undithered image; this case's stage is " +
+                         std::string(c.stage->name));
+      r.dither = dither_stats(resolved->input, *cand_img, resolved->params.dither_amount,
+                              r.tolerance.dither);
+      r.has_dither = true;
+      r.exact_pattern_judged = exact_pattern_judged(r.tolerance.dither, report_.candidate_device);
+      v = judge_dither(r.stats, r.dither, r.tolerance, r.exact_pattern_judged,
+                       !c.pins_nonfinite.empty());
+    } else {
+      v = judge(r.stats, r.tolerance, !c.pins_nonfinite.empty());
+    }
     r.diff_seconds = seconds_since(t0);
     r.has_stats = true;
     r.verdict = v.pass ? CaseVerdict::kPass : (v.error ? CaseVerdict::kError : CaseVerdict::kFail);
@@ -410,6 +427,8 @@ RunReport run_cases(const std::vector<Case>& cases, const EngineFactory& referen
           workers[0].candidate->name() + " engine unavailable: " + st.error().to_string();
   }
   report.candidate_device = workers[0].candidate->device();
+  report.candidate_device.precision.float32_exact = float32_exact_device(report.candidate_device);
+  report.reference_device.precision.float32_exact = float32_exact_device(report.reference_device);
 
   const size_t n = cases.size();
   report.cases.resize(n);

@@ -15,6 +15,7 @@
 #include "core/engine.h"
 #include "runner/case_loader.h"
 #include "runner/diff.h"
+#include "runner/dither.h"
 #include "runner/tolerance.h"
 
 namespace hdrc {
@@ -57,7 +58,10 @@ struct CaseResult {
   Tolerance tolerance;     // the tolerance applied: the case's, with any overlays
   bool has_stats = false;  // the images were diffed (PASS and FAIL)
   DiffStats stats;
-  std::string encoding;  // how outputs were decoded to nits (OutputEncoding::describe)
+  bool has_dither = false;  // the tolerance has a dither criterion and the images were diffed
+  DitherStats dither;
+  bool exact_pattern_judged = false;  // the dither's exact pattern was judged (runner/dither.h)
+  std::string encoding;               // how outputs were decoded to nits (OutputEncoding::describe)
   std::vector<std::string> warnings;
   bool could_be_tightened = false;
   double budget_used = 0;  // largest observed/max ratio (Verdict::budget_used)

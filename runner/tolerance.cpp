@@ -57,6 +57,60 @@ Result<double> limit_value(const json& v, const std::string& file, const std::st
   return x;
 }
 
+constexpr const char* kDitherKeys =
+    "mean_sigmas, block_pixels, std_sigmas, ks_c, exact_pattern, reason";
+
+// The "dither" criterion (core/case.h DitherCriterion) over `d`: null clears it, an object sets
+// the keys it names (the others keep the layer below) and must say why.
+Status parse_dither(const json& v, const std::string& file, const std::string& at,
+                    DitherCriterion* d) {
+  if (v.is_null()) {
+    *d = DitherCriterion{};
+    return {};
+  }
+  if (!v.is_object())
+    return Error{
+        file, at,
+        "dither must be an object or null, got " + std::string(v.type_name()) + " " + show(v),
+        std::string("{") + kDitherKeys + "} or null (not judged)"};
+  DitherCriterion out = *d;
+  out.judged = true;
+  for (auto it = v.begin(); it != v.end(); ++it) {
+    const std::string& k = it.key();
+    const std::string kat = at + "/" + escape_pointer_token(k);
+    if (k == "mean_sigmas" || k == "std_sigmas" || k == "ks_c") {
+      Result<double> x = limit_value(it.value(), file, kat, k, false);
+      if (!x) return x.error();
+      if (!(*x > 0)) return Error{file, kat, k + " must be positive", "a number > 0"};
+      (k == "mean_sigmas" ? out.mean_sigmas : k == "std_sigmas" ? out.std_sigmas : out.ks_c) = *x;
+    } else if (k == "block_pixels") {
+      const json& b = it.value();
+      if (!b.is_number_integer() || b.get<long long>() < 1 || b.get<long long>() > (1 << 24))
+        return Error{file, kat, "block_pixels must be a whole number, got " + show(b),
+                     "an integer from 1 to 16777216"};
+      out.block_pixels = b.get<int>();
+    } else if (k == "exact_pattern") {
+      const json& e = it.value();
+      if (!e.is_string() || (e != "always" && e != "float32_exact" && e != "never"))
+        return Error{file, kat, "exact_pattern " + show(e) + " is not a known choice",
+                     "\"always\", \"float32_exact\" or \"never\""};
+      out.exact_pattern = e.get<std::string>();
+    } else if (k == "reason") {
+      if (!it.value().is_string() || it.value().get<std::string>().empty())
+        return Error{file, kat, "the dither criterion's reason must be a non-empty string",
+                     "why these bounds (their derivation and the measured margin)"};
+      out.reason = it.value().get<std::string>();
+    } else {
+      return Error{file, kat, "unknown key '" + k + "'", kDitherKeys};
+    }
+  }
+  if (!v.contains("reason"))
+    return Error{file, at + "/reason", "the dither criterion must say why (its derivation)",
+                 "a non-empty string"};
+  *d = std::move(out);
+  return {};
+}
+
 bool glob_match(const std::string& glob, const std::string& s) {
   return matches_filter(s, glob);  // runner/case_loader.h: linear time on any pattern
 }
@@ -86,7 +140,7 @@ std::string metric_keys() {
 }
 
 std::string tolerance_keys() {
-  return metric_keys() + ", rel_floor, reason";
+  return metric_keys() + ", dither, rel_floor, reason";
 }
 
 Tolerance default_tolerance_policy() {
@@ -110,7 +164,7 @@ Result<Tolerance> parse_tolerance(const json& j, const std::string& file,
   for (auto it = j.begin(); it != j.end(); ++it) {
     const std::string& key = it.key();
     const std::string at = pointer + "/" + escape_pointer_token(key);
-    bool known = key == "rel_floor" || key == "reason";
+    bool known = key == "rel_floor" || key == "reason" || key == "dither";
     for (Metric m : kMetrics) known = known || key == metric_key(m);
     if (!known) return Error{file, at, "unknown key '" + key + "'", keys};
   }
@@ -167,6 +221,10 @@ Result<Tolerance> parse_tolerance(const json& j, const std::string& file,
                    key + ": warn " + format_number(t.warn[i]) + " is above max " +
                        format_number(t.max(m)) + "; a warn level sits below the fail limit",
                    "warn <= max"};
+  }
+  if (j.contains("dither")) {
+    Status st = parse_dither(j["dither"], file, pointer + "/dither", &t.dither);
+    if (!st) return st.error();
   }
   if (j.contains("rel_floor")) {
     Result<double> x =
@@ -329,6 +387,13 @@ json tolerance_json(const Tolerance& t) {
                         {"hard", num(t.hard[i])},
                         {"warn", num(t.warn[i])}};
   }
+  if (t.dither.judged)
+    j["dither"] = {
+        {"mean_sigmas", t.dither.mean_sigmas},     {"block_pixels", t.dither.block_pixels},
+        {"std_sigmas", t.dither.std_sigmas},       {"ks_c", t.dither.ks_c},
+        {"exact_pattern", t.dither.exact_pattern}, {"reason", t.dither.reason}};
+  else
+    j["dither"] = nullptr;
   j["rel_floor"] = t.rel_floor;
   j["reason"] = t.reason;
   j["source"] = t.source;

@@ -12,6 +12,8 @@
 //    "pq_code10": {"max": 0.025, "allowed_fraction": 0.001, "hard": 0.5, "warn": 0.02},
 //    "delta_e_itp": null,                        null: that metric is not judged
 //    "rel_floor": 1e-4,
+//    "dither": {"mean_sigmas": 5.5, ..., "reason": "..."},  the dither stage's properties
+//                                                (core/case.h DitherCriterion; null: none)
 //    "reason": "measured ... because ..."}       required, non-empty
 // Metric keys: linear_abs, linear_rel, pq_code10, pq_code12, delta_e_itp. A key left out keeps
 // the value of the layer below.

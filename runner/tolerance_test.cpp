@@ -18,10 +18,10 @@ struct BadTolerance {
 const BadTolerance kBad[] = {
     {"not_object", R"(3)",
      "t.json: /tolerance: a tolerance is an object, got number 3; valid choices: an object with "
-     "keys linear_abs, linear_rel, pq_code10, pq_code12, delta_e_itp, rel_floor, reason"},
+     "keys linear_abs, linear_rel, pq_code10, pq_code12, delta_e_itp, dither, rel_floor, reason"},
     {"unknown_key", R"({"pq_code": 1, "reason": "x"})",
      "t.json: /tolerance/pq_code: unknown key 'pq_code'; valid choices: linear_abs, linear_rel, "
-     "pq_code10, pq_code12, delta_e_itp, rel_floor, reason"},
+     "pq_code10, pq_code12, delta_e_itp, dither, rel_floor, reason"},
     {"negative", R"({"pq_code10": -1, "reason": "x"})",
      "t.json: /tolerance/pq_code10: pq_code10 -1 is negative; valid choices: a number >= 0"},
     {"string", R"({"linear_rel": "1e-5", "reason": "x"})",

@@ -52,5 +52,5 @@ cd "$build"
 # hygiene tests that load it (Hygiene.*Validation*).
 # The unit tests run as GoogleTest shards (CMakeLists.txt, hdrc_discover_tests), so the tests left
 # out are named to GoogleTest; a filter of the caller's own replaces this one.
-export GTEST_FILTER="${GTEST_FILTER:--*DevicesThreeAndFourOnlyOverTheWholeSuite*:*ThreeShardsMergedEqualOneUnshardedRun*:*ValidationLayerIsClean*:Hygiene.*Validation*:Pipelines.Planted*}"
+export GTEST_FILTER="${GTEST_FILTER:--*DevicesThreeAndFourOnlyOverTheWholeSuite*:*ThreeShardsMergedEqualOneUnshardedRun*:*ValidationLayerIsClean*:Hygiene.*Validation*:Pipelines.Planted*:DitherPlanted.*}"
 exec ctest --output-on-failure -j"$(nproc)" -L 'unit|conformance|fuzz' "$@"
