@@ -279,6 +279,12 @@ int main(int argc, char** argv) {
                    "LUT)")
       ->check(CLI::IsMember({"baked", "analytic"}))
       ->capture_default_str();
+  bool no_device_allowance = false;
+  for (CLI::App* sub : {run, verify})
+    sub->add_flag("--no-device-allowance", no_device_allowance,
+                  "reference-grade results: a case outside the float32-exact bounds fails even "
+                  "where a conformant device with the candidate's precision may produce its "
+                  "values (docs/precision.md, \"Device allowances\")");
   bool sandbox = false;
   verify->add_flag("--sandbox", sandbox,
                    "run each candidate command under bubblewrap (bwrap): the system read-only, "
@@ -597,6 +603,7 @@ int main(int argc, char** argv) {
     return code;
   };
   suite.jobs = jobs;
+  suite.device_allowances = !no_device_allowance;
   suite.shard = shard;
   if (*run && run_reference != "baked") suite.reference = run_reference;
   const std::string shader_dir = !*run || engine != "vulkan" ? ""

@@ -654,6 +654,7 @@ int run_suite(std::vector<Case> cases, const std::vector<KnownLimit>& limits,
     }
   }
   ro.jobs = options.jobs;
+  ro.device_allowances = options.device_allowances;
   ro.known_limits = all_limits;
   ro.image_dir = options.out_dir;
   ro.interrupt = &g_interrupt;

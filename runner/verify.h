@@ -149,6 +149,9 @@ struct SuiteOptions {
   std::string candidate_engine;     // "candidate-cmd" / "candidate-dir" (which limits apply)
   std::string reference = "baked";  // verify --reference: "baked" (UE's LUT) or "analytic"
   std::string reproduce_args;       // the options a reproduce command repeats (shell-quoted)
+  // --no-device-allowance clears it: a case within a device allowance only fails
+  // (RunOptions::device_allowances).
+  bool device_allowances = true;
 };
 
 // The reference engine a suite run compares against: "baked" samples the LUT UE bakes (the
