@@ -519,3 +519,35 @@ TEST(Pipelines, PlantedUeLutNeutralWeightDroppedFailsWhereItIsNotZero) {
 }
 
 }  // namespace
+
+// The H200's lut33 texel (issue 25; docs/ue55-decisions.md D-UV): UE's own form of the unwrapped
+// LUT's lattice coordinate, frac(UV.x·N) at r = 0, wraps to the neighbouring slice when a
+// conformant device's division rounds UV.x below the slice boundary. Lavapipe's division is
+// correctly rounded, so only the worst-case device model shows it: planted back, the layout-1
+// storage cases fail under the model (texel (0, g, b) holding (1, g, b − 1)'s colour); the
+// port's closed form passes them under the model.
+TEST(Pipelines, WorstCaseDeviceCatchesTheUnwrappedCoordinate) {
+  const std::string ue_form =
+      "  float w = float(n) * float(n);\n"
+      "  vec2 uv = (vec2(float(texel.r + n * texel.b), float(texel.g)) + 0.5) / vec2(w, "
+      "float(n));\n"
+      "  uv -= vec2(0.49999 / w, 0.49999 / float(n));\n"
+      "  float r = fract(uv.x * float(n));\n"
+      "  float b = uv.x - r / float(n);\n"
+      "  return vec3(r, uv.y, b) * (float(n) / n1);\n";
+  const std::string port_form =
+      "  const float kBias = 1.0e-5;  // 0.5 − 0.49999\n"
+      "  return vec3(float(texel.r) + kBias, float(texel.g) + kBias, float(texel.b)) / n1;\n";
+  std::string out;
+  const auto failing =
+      planted_shader_failures("lib/combine_luts.glsl", port_form, ue_form,
+                              "--filter 'lut/storage/*layout1*' --device-model worst", &out);
+  EXPECT_GE(failing.size(), 2u) << out;
+  EXPECT_TRUE(contains(failing, "lut/storage/lut33_dev0_fmt2_layout1")) << out;
+  for (const auto& id : failing) EXPECT_NE(id.find("layout1"), std::string::npos) << id;
+  // The port's form under the model: every layout-1 storage case passes.
+  const Ran fixed =
+      run("run --filter 'lut/storage/*layout1*' --device-model worst --no-goldens --out " +
+          temp_dir("unwrapped_fixed").string());
+  EXPECT_EQ(fixed.code, 0) << fixed.out;
+}
