@@ -1352,7 +1352,9 @@ std::vector<KnownLimit> load_known_limits(const std::string& cases_dir,
   }
   json doc = std::move(*parsed);
   if (!doc.is_object() || !doc.contains("limits") || !doc["limits"].is_array()) {
-    p.fail("/limits", "expected {\"limits\": [{\"cases\", \"engine\", \"reason\"}, ...]}");
+    p.fail(
+        "/limits",
+        "expected {\"limits\": [{\"cases\", \"engine\", \"device\" (optional), \"reason\"}, ...]}");
     return out;
   }
   for (size_t i = 0; i < doc["limits"].size(); ++i) {
@@ -1362,8 +1364,15 @@ std::vector<KnownLimit> load_known_limits(const std::string& cases_dir,
       p.fail(ptr, "expected an object");
       continue;
     }
-    p.check_keys(l, ptr, {"cases", "engine", "reason"});
+    p.check_keys(l, ptr, {"cases", "engine", "device", "reason"});
     KnownLimit k;
+    if (l.contains("device")) {
+      if (!l["device"].is_string() || l["device"].get<std::string>().empty())
+        p.fail(ptr + "/device", "expected a non-empty glob over the candidate device's name",
+               "e.g. \"*worst-case device model\"");
+      else
+        k.device = l["device"].get<std::string>();
+    }
     for (const char* key : {"cases", "engine", "reason"}) {
       if (!l.contains(key) || !l[key].is_string() || l[key].get<std::string>().empty()) {
         p.fail(ptr + "/" + key, std::string("missing ") + key, "a non-empty string");

@@ -239,7 +239,9 @@ class Executor {
     r.tolerance = c.tolerance;
     const KnownLimit* limit = nullptr;
     for (const KnownLimit& k : opt_.known_limits)
-      if (k.engine == w.candidate->name() && matches_filter(c.id, k.cases)) limit = &k;
+      if (k.engine == w.candidate->name() && matches_filter(c.id, k.cases) &&
+          matches_filter(report_.candidate_device.device, k.device))
+        limit = &k;
     auto resolved = resolve_case(c);
     if (!resolved) return error(std::move(r), resolved.error().to_string());
     r.has_params = true;
