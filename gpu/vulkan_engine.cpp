@@ -1214,12 +1214,7 @@ Status VulkanEngine::init() {
   }
   const VkPhysicalDevice physical = chosen->handle;
   s->physical_index = static_cast<size_t>(chosen - devices->data());
-  // The model names itself in the device's name, which tolerance overlays and known limits select
-  // by ("*worst-case device model").
-  const std::string model_suffix =
-      options_.device_model == DeviceModel::kWorst ? ", worst-case device model" : "";
-  s->info = {"vulkan", chosen->name + model_suffix, chosen->driver,
-             version_string(chosen->api_version),
+  s->info = {"vulkan", chosen->name, chosen->driver, version_string(chosen->api_version),
              device_precision(physical, chosen->api_version, options_.device_model)};
   VkPhysicalDeviceFeatures features;
   vkGetPhysicalDeviceFeatures(physical, &features);

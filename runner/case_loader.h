@@ -77,10 +77,12 @@ Tolerance default_tolerance();
 // A listed limitation of an engine: its cases are reported as KNOWN_LIMIT with the reason, never
 // as passed and never silently skipped (cases/known_limits.json).
 struct KnownLimit {
-  std::string cases;         // glob over case ids
-  std::string engine;        // candidate engine name ("vulkan")
-  std::string device = "*";  // a glob over the candidate device's name (optional)
-  std::string reason;        // why, with the issue that lifts it
+  std::string cases;   // glob over case ids
+  std::string engine;  // candidate engine name ("vulkan")
+  // A glob over the candidate device's name (optional), with ", worst-case device model" appended
+  // under `--device-model worst` (runner/run.cpp known_limit_device_name).
+  std::string device = "*";
+  std::string reason;  // why, with the issue that lifts it
 };
 
 // Reads `cases_dir`/known_limits.json (absent: none). Errors are located like case errors.

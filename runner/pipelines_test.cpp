@@ -551,3 +551,54 @@ TEST(Pipelines, WorstCaseDeviceCatchesTheUnwrappedCoordinate) {
           temp_dir("unwrapped_fixed").string());
   EXPECT_EQ(fixed.code, 0) << fixed.out;
 }
+
+// Every planted shader defect of this file and of cli_test.cpp still fails on the worst-case
+// conformant device (issue 25): the device allowances the reference derives there must not absorb
+// a wrong constant or a wrong lookup. Each row runs the cases its own test names, under
+// `--device-model worst`, and needs the named case to FAIL (not pass with an allowance, not be a
+// known limit of the model).
+TEST(Pipelines, PlantedDefectsFailOnTheWorstCaseDevice) {
+  struct Row {
+    const char* shader;
+    const char* from;
+    const char* to;
+    const char* filter;
+    const char* must_fail;
+  };
+  const Row rows[] = {
+      {"lib/aces_rrt.glsl", "aces_mul(AP0_2_AP1_MAT, aces)",
+       "aces_mul(AP0_2_AP1_MAT + mat3(0.0, 0.0, 0.0, 0.0, 1e-4, 0.0, 0.0, 0.0, 0.0), aces)",
+       "lut/devices/dev3_*", "lut/devices/dev3_gamut0"},
+      {"lib/film_tonemap.glsl", "const float FILM_MATCH = 0.18;",
+       "const float FILM_MATCH = 0.1801;", "lut/storage/*dev0_fmt2*",
+       // In a 10-bit UNORM LUT the change (under a code) is within the store's either-way
+       // rounding on a conformant device; a float LUT shows it.
+       "lut/storage/lut32_dev0_fmt2_layout0"},
+      {"unity_urp/lib/unity_color.glsl", "const float URP_LOGC_C = 0.244161;",
+       "const float URP_LOGC_C = 0.244171;", "unity_urp/graded_look/*",
+       "unity_urp/graded_look/gradingmode1_mode2_postexposure0_hue_sweep"},
+      {"unity_urp/lib/unity_grade.glsl", "float balance = P.urp_split_shadows.w;",
+       "float balance = -P.urp_split_shadows.w;", "unity_urp/graded_look/*",
+       "unity_urp/graded_look/gradingmode1_mode2_postexposure0_log_ramp"},
+      {"operators/lib/operators.glsl", "OpRational(P.op_hable_a,",
+       "OpRational(P.op_hable_a * 1.0005,", "operators/operators/operator2_*",
+       "operators/operators/operator2_log_ramp"},
+      {"pq_grading/lib/pq_grading.glsl", "  return pqg_sample_strip(t);",
+       "  return pqg_sample_strip(t.bgr);", "pq_grading/luts/*hue_33_random*",
+       "pq_grading/luts/display1_backbuffer0_lutpq_hue_33_random"},
+      {"pq_grading/lib/pq_grading.glsl", "vec3 uvw = t * ((n - 1.0) / n) + 0.5 / n;",
+       "vec3 uvw = t * ((n - 1.0) / n) + 1.0 / n;", "pq_grading/luts/*identity_33_random*",
+       "pq_grading/luts/display1_backbuffer0_lutpq_identity_33_random"},
+      {"lib/ue_lut_blend.glsl", "return mix(rg0, rg1, frac_w);",
+       "return mix(rg0, rg1, frac_w).bgr;", "lut/user_lut/blend5/*", "lut/user_lut/blend5/dev2"},
+  };
+  for (const Row& row : rows) {
+    std::string out;
+    const auto failing = planted_shader_failures(
+        row.shader, row.from, row.to,
+        std::string("--filter '") + row.filter + "' --device-model worst", &out);
+    EXPECT_TRUE(contains(failing, row.must_fail))
+        << row.shader << ": " << row.to << " did not fail " << row.must_fail << "\n"
+        << out;
+  }
+}

@@ -1,5 +1,7 @@
 #include "runner/run.h"
 
+#include "runner/dither.h"
+
 #include <algorithm>
 #include <cmath>
 #include <ctime>
@@ -225,6 +227,12 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+// The name known limits select a device by: the device's own, with ", worst-case device model"
+// appended when the candidate ran as the worst-case conformant device (--device-model worst).
+std::string known_limit_device_name(const DeviceInfo& d) {
+  return d.device + (d.precision.model == "worst" ? ", worst-case device model" : "");
+}
+
 struct Worker {
   std::unique_ptr<Engine> reference, candidate;
 };
@@ -240,7 +248,7 @@ class Executor {
     const KnownLimit* limit = nullptr;
     for (const KnownLimit& k : opt_.known_limits)
       if (k.engine == w.candidate->name() && matches_filter(c.id, k.cases) &&
-          matches_filter(report_.candidate_device.device, k.device))
+          matches_filter(known_limit_device_name(report_.candidate_device), k.device))
         limit = &k;
     auto resolved = resolve_case(c);
     if (!resolved) return error(std::move(r), resolved.error().to_string());
@@ -330,7 +338,10 @@ class Executor {
     r.warnings = v.warnings;
     r.could_be_tightened = v.could_be_tightened;
     r.budget_used = v.budget_used;
-    if (r.verdict == CaseVerdict::kFail && opt_.device_allowances)
+    // A float32-exact device (lavapipe as it is, the reference) needs no allowance: its results
+    // are judged by the tight bounds alone (runner/dither.h float32_exact_device).
+    if (r.verdict == CaseVerdict::kFail && opt_.device_allowances &&
+        !float32_exact_device(report_.candidate_device))
       judge_with_device_allowances(r, *resolved, *cand_img, enc, w);
     return r;
   }
