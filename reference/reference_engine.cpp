@@ -7,6 +7,7 @@
 #include "reference/lut_cache.h"
 #include "reference/lut_shaper.h"
 #include "reference/tonemap.h"
+#include "reference/ue_pixel_device.h"
 #include "reference/ui/composite.h"
 #include "reference/visualize/histogram.h"
 #include "reference/visualize/visualize_hdr.h"
@@ -225,6 +226,12 @@ Result<Image> run_ue55(const ResolvedCase& c, bool analytic_lut) {
     o[1] = rgb[1];
     o[2] = rgb[2];
     o[3] = in[3];  // alpha passes through
+  }
+  if (c.device_allowances &&
+      (c.spec.stage->id == StageId::kShaper || c.spec.stage->id == StageId::kLinearDevice)) {
+    out.device_admissible =
+        ue_device::per_pixel_device_ranges(c.spec.stage->id, c.params, c.input, out);
+    out.device_allowances = {"shader arithmetic (the Vulkan precision table's bounds)"};
   }
   return out;
 }
