@@ -73,26 +73,42 @@ Interval pow_const(Interval x, double y) {
 
 // st2084.glsl: lm = pow(nits / PQ_PEAK_NITS, PQ_M1);
 // pow((PQ_C1 + PQ_C2 · lm) · (1 / (1 + PQ_C3 · lm)), PQ_M2).
+// lm enters both the numerator and the denominator: an interval evaluation of the quotient over
+// lm's range would let the two move independently (the dependency problem) and widen it ~8x.
+// The quotient is increasing in lm (c2 > c1·c3), so each end of lm's range is carried on its own
+// through the quotient's steps and the hull taken; the same below for np in the decode.
 Interval pq_from_nits(Interval nits) {
   using namespace spirv;
   const Interval lm = pow_const(div(nits, constant(st2084::kPeakNits)), st2084::kM1);
-  const Interval num = mul_add(constant(st2084::kC2), lm, constant(st2084::kC1));
-  const Interval den = mul_add(constant(st2084::kC3), lm, Interval::point(1.0));
-  return pow_const(mul(num, div(Interval::point(1.0), den)), st2084::kM2);
+  auto quotient = [](double l) {
+    const Interval at = Interval::point(l);
+    const Interval num = mul_add(constant(st2084::kC2), at, constant(st2084::kC1));
+    const Interval den = mul_add(constant(st2084::kC3), at, Interval::point(1.0));
+    return mul(num, div(Interval::point(1.0), den));
+  };
+  return pow_const(hull(quotient(lm.lo), quotient(lm.hi)), st2084::kM2);
 }
 
 // st2084.glsl: np = pow(pq, 1 / PQ_M2); l = max(np − PQ_C1, 0) / (PQ_C2 − PQ_C3 · np);
-// pow(l, 1 / PQ_M1) · PQ_PEAK_NITS.
+// pow(l, 1 / PQ_M1) · PQ_PEAK_NITS. Every step is non-negative on a device (a correctly rounded
+// or bounded result of non-negative operands keeps its sign; pow_d3d of l ≥ 0 is ≥ 0).
 Interval nits_from_pq(Interval pq) {
   using namespace spirv;
   const Interval np = pow_const(pq, 1.0 / st2084::kM2);
-  Interval num = sub(np, constant(st2084::kC1));
-  num.lo = std::max(num.lo, 0.0);
-  num.hi = std::max(num.hi, 0.0);
-  if (num.hi == 0) return Interval::point(0.0);
-  const Interval den = sub(constant(st2084::kC2), mul(constant(st2084::kC3), np));
-  const Interval l = div(num, den);
-  return mul(pow_const(l, 1.0 / st2084::kM1), constant(st2084::kPeakNits));
+  auto ratio = [](double n) {
+    const Interval at = Interval::point(n);
+    Interval num = sub(at, constant(st2084::kC1));
+    num.lo = std::max(num.lo, 0.0);
+    num.hi = std::max(num.hi, 0.0);
+    if (num.hi == 0) return Interval::point(0.0);
+    const Interval den = sub(constant(st2084::kC2), mul(constant(st2084::kC3), at));
+    return div(num, den);
+  };
+  Interval l = hull(ratio(np.lo), ratio(np.hi));
+  l.lo = std::max(l.lo, 0.0);
+  Interval out = mul(pow_const(l, 1.0 / st2084::kM1), constant(st2084::kPeakNits));
+  out.lo = std::max(out.lo, 0.0);
+  return out;
 }
 
 Interval lut_encode_clamped(int output_device, Interval x) {
@@ -105,8 +121,12 @@ Interval lut_encode_clamped(int output_device, Interval x) {
 }
 
 Interval lut_decode(int output_device, Interval e) {
-  if (uses_pq_shaper(output_device))
-    return spirv::div(nits_from_pq(e), constant(kLinearToNitsScale));
+  if (uses_pq_shaper(output_device)) {
+    Interval out = spirv::div(nits_from_pq(e), constant(kLinearToNitsScale));
+    out.lo = std::max(out.lo, 0.0);  // non-negative operands: a non-negative quotient
+    return out;
+  }
+  if (e.hi == 0.0) return Interval::point(0.0);
   // e == 0 decodes to 0 (lut_shaper.glsl); elsewhere lin_from_log(e) − black.
   Interval lin = spirv::sub(lin_from_log(e), black());
   if (e.lo == 0.0) lin = hull(lin, Interval::point(0.0));
