@@ -210,8 +210,15 @@ Result<Image> run_ue55(const ResolvedCase& c, bool analytic_lut) {
     }
     case StageId::kDither:
       return dither_image(c.params, c.input);
-    case StageId::kUiComposite:
-      return ui_composite_stage(c.params, c.input, c.ui);
+    case StageId::kUiComposite: {
+      auto out = ui_composite_stage(c.params, c.input, c.ui);
+      if (out && c.device_allowances) {
+        out->device_admissible =
+            ue_device::ui_composite_device_ranges(c.params, c.input, c.ui, *out);
+        out->device_allowances = {"shader arithmetic (the Vulkan precision table's bounds)"};
+      }
+      return out;
+    }
     case StageId::kVisualizeHdr:
       return visualize_hdr_stage(c.params, c.input, analytic_lut);
     default:

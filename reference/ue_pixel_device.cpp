@@ -4,9 +4,12 @@
 #include <cmath>
 
 #include "reference/color/device_allowance.h"
+#include "reference/color/noise_range.h"
 #include "reference/color/st2084.h"
 #include "reference/color/ue_log_shaper.h"
 #include "reference/lut_shaper.h"
+#include "reference/reference_engine.h"
+#include "reference/ui/composite.h"
 
 namespace hdrc::ref::ue_device {
 
@@ -198,6 +201,72 @@ std::vector<AdmissibleRange> per_pixel_device_ranges(StageId stage, const ParamB
         a.lo[c] = std::min(r.c[c].lo, ref[c]);
         a.hi[c] = std::max(r.c[c].hi, ref[c]);
         if (r.nan[c]) a.nan_ok |= static_cast<uint8_t>(1u << c);
+      }
+      wider = wider || a.lo[c] != ref[c] || a.hi[c] != ref[c] || (a.nan_ok >> c & 1u);
+    }
+    if (wider) out.push_back(a);
+  }
+  return out;
+}
+
+std::vector<AdmissibleRange> ui_composite_device_ranges(const ParamBlock& p, const Image& scene,
+                                                        const Image& ui, const Image& reference) {
+  std::vector<AdmissibleRange> out;
+  const ui::UiCompositeParams u = ui_composite_params(p);
+  if (u.composite_mode == 0 ||
+      ui::back_buffer_encoding(u.output_device) != ui::BackBufferEncoding::kPq)
+    return out;
+  for (size_t i = 0; i < scene.pixel_count(); ++i) {
+    const double* s = &scene.data[i * 4];
+    const double* t = &ui.data[i * 4];
+    const double* ref = &reference.data[i * 4];
+    bool finite = true;
+    Interval nits[3];
+    for (int c = 0; c < 3; ++c) {
+      if (!(s[c] >= 0.0) || !std::isfinite(s[c])) finite = false;
+      if (finite) nits[c] = nits_from_pq(Interval::point(s[c]));
+    }
+    if (!finite) continue;
+    const ui::Vec4 ui_nits = ui::compute_hdr_ui_color({t[0], t[1], t[2], t[3]}, u);
+    Range3 r;
+    bool first = true;
+    for (int corner = 0; corner < 8; ++corner) {
+      Vec3 at;
+      for (int c = 0; c < 3; ++c) at[c] = (corner >> c & 1) ? nits[c].hi : nits[c].lo;
+      const Vec3 v =
+          ui::apply_color_deficiency(ui::compose_ui_and_scene(at, ui_nits, u.ui_level), u.cvd);
+      if (first) {
+        r = Range3::point(v);
+        first = false;
+      } else {
+        r.include(v);
+      }
+    }
+    Range3 noisy = r;
+    for (int c = 0; c < 3; ++c)
+      if (r.nan[c]) finite = false;
+    if (!finite) continue;
+    widen_noise(r.lo, kShaderNoise, &noisy);
+    widen_noise(r.hi, kShaderNoise, &noisy);
+    AdmissibleRange a;
+    a.pixel = i;
+    bool wider = false;
+    for (int c = 0; c < 4; ++c) {
+      a.lo[c] = a.hi[c] = ref[c];
+      if (c == 3 || noisy.hi[c] < 0.0) continue;  // alpha 1; a negative range: NaN alone
+      Interval v{noisy.lo[c], noisy.hi[c]};
+      if (v.lo < 0.0) {
+        a.nan_ok |= static_cast<uint8_t>(1u << c);
+        v.lo = 0.0;
+      }
+      const Interval e = pq_from_nits(v);
+      if (std::isnan(ref[c])) {
+        a.lo[c] = e.lo;
+        a.hi[c] = e.hi;
+        a.nan_ok |= static_cast<uint8_t>(1u << c);
+      } else {
+        a.lo[c] = std::min(e.lo, ref[c]);
+        a.hi[c] = std::max(e.hi, ref[c]);
       }
       wider = wider || a.lo[c] != ref[c] || a.hi[c] != ref[c] || (a.nan_ok >> c & 1u);
     }

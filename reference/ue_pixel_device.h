@@ -52,4 +52,15 @@ ChannelRanges linear_device_range(const ParamBlock& p, const Vec3& x);
 std::vector<AdmissibleRange> per_pixel_device_ranges(StageId stage, const ParamBlock& p,
                                                      const Image& input, const Image& reference);
 
+// The UI composite (gpu/shaders/lib/ui_composite.glsl, mode ≠ 0, PQ back buffer) of `scene`
+// (back-buffer codes) under `ui`: per pixel, the back buffer's device decode (nits_from_pq above)
+// carried through ComposeUIAndScene and ApplyColorDeficiency at the corners of its box (both are
+// smooth: over boxes of a few 1e-4 relative their extremes lie at the corners to first order),
+// widened by kShaderNoise × the largest |channel| for those steps' own float32 arithmetic (the
+// UI colour's decode, the matrices, the compose; reference/color/noise_range.h), then the device
+// PQ encode (pq_from_nits above); a range whose low end is negative admits NaN (pow of a negative
+// base). scRGB back buffers and mode 0 (the fixed-function blend) have no ranges here.
+std::vector<AdmissibleRange> ui_composite_device_ranges(const ParamBlock& p, const Image& scene,
+                                                        const Image& ui, const Image& reference);
+
 }  // namespace hdrc::ref::ue_device
