@@ -213,9 +213,26 @@ std::vector<AdmissibleRange> ui_composite_device_ranges(const ParamBlock& p, con
                                                         const Image& ui, const Image& reference) {
   std::vector<AdmissibleRange> out;
   const ui::UiCompositeParams u = ui_composite_params(p);
-  if (u.composite_mode == 0 ||
-      ui::back_buffer_encoding(u.output_device) != ui::BackBufferEncoding::kPq)
+  if (u.composite_mode == 0) return out;
+  if (ui::back_buffer_encoding(u.output_device) == ui::BackBufferEncoding::kScRgb) {
+    // scRGB: every step is linear (srgb_to_rec2020 · scene · 80, the compose, the CVD matrices,
+    // rec2020_to_srgb · (x / 80)): no transfer function amplifies, the float32 arithmetic's
+    // documented allowance kShaderNoise × the largest |channel| bounds it.
+    for (size_t i = 0; i < reference.pixel_count(); ++i) {
+      const double* ref = &reference.data[i * 4];
+      const Vec3 v{ref[0], ref[1], ref[2]};
+      Range3 r = Range3::point(v);
+      if (!widen_noise(v, kShaderNoise, &r)) continue;
+      AdmissibleRange a;
+      a.pixel = i;
+      for (int c = 0; c < 4; ++c) {
+        a.lo[c] = c < 3 && std::isfinite(v[c]) ? r.lo[c] : ref[c];
+        a.hi[c] = c < 3 && std::isfinite(v[c]) ? r.hi[c] : ref[c];
+      }
+      out.push_back(a);
+    }
     return out;
+  }
   for (size_t i = 0; i < scene.pixel_count(); ++i) {
     const double* s = &scene.data[i * 4];
     const double* t = &ui.data[i * 4];

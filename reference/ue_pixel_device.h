@@ -59,7 +59,8 @@ std::vector<AdmissibleRange> per_pixel_device_ranges(StageId stage, const ParamB
 // widened by kShaderNoise × the largest |channel| for those steps' own float32 arithmetic (the
 // UI colour's decode, the matrices, the compose; reference/color/noise_range.h), then the device
 // PQ encode (pq_from_nits above); a range whose low end is negative admits NaN (pow of a negative
-// base). scRGB back buffers and mode 0 (the fixed-function blend) have no ranges here.
+// base). scRGB back buffers (all steps linear): kShaderNoise × the largest |channel| around the
+// reference. Mode 0 (the fixed-function blend) has no ranges here.
 std::vector<AdmissibleRange> ui_composite_device_ranges(const ParamBlock& p, const Image& scene,
                                                         const Image& ui, const Image& reference);
 
