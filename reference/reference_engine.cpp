@@ -219,8 +219,28 @@ Result<Image> run_ue55(const ResolvedCase& c, bool analytic_lut) {
       }
       return out;
     }
-    case StageId::kVisualizeHdr:
-      return visualize_hdr_stage(c.params, c.input, analytic_lut);
+    case StageId::kVisualizeHdr: {
+      auto out = visualize_hdr_stage(c.params, c.input, analytic_lut);
+      if (out && c.device_allowances && !analytic_lut) {
+        // The background and the meters pass the Tonemap pass's colour through unchanged
+        // (visualize_hdr.glsl: `return scene`, `out_c = scene`): where the output is that colour,
+        // its range is the Tonemap pass's device range (tonemap_image's device overload). The
+        // panel, the overlays and the meters' swatches have none.
+        const BakedLut device = bake_lut_device(c.params, c.device);
+        const Image tm = tonemap_image(c.params, c.input, nullptr, nullptr, &device, nullptr,
+                                       &device, c.device.sub_texel_bits);
+        for (const AdmissibleRange& r : tm.device_admissible) {
+          const double* o = &out->data[r.pixel * 4];
+          const double* t = &tm.data[r.pixel * 4];
+          bool same = true;
+          for (int ch = 0; ch < 4; ++ch)
+            same = same && (o[ch] == t[ch] || (std::isnan(o[ch]) && std::isnan(t[ch])));
+          if (same) out->device_admissible.push_back(r);
+        }
+        out->device_allowances = tm.device_allowances;
+      }
+      return out;
+    }
     default:
       break;
   }
