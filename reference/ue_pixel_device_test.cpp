@@ -69,15 +69,62 @@ TEST(UePixelDevice, LogShaperRange) {
   EXPECT_EQ(r.c[2].hi, 0.0);
 }
 
-// Linear device 7: a colour whose output-gamut value is within device error of zero admits NaN
-// (pow of a negative base), and a clearly negative one is NaN alone.
+// Linear device 7: an output-gamut channel that is exactly 0 (here r − g of a grey, a planted
+// matrix row (1, −1, 0)) straddles 0 on a device: NaN admissible (pow of a negative base), and
+// the range's non-negative part starts at 0; a clearly negative one (g − 2r) is NaN alone.
 TEST(UePixelDevice, LinearDevice7NegativeOutputGamut) {
   ParamBlock p;
   p.output_device = 7;
-  const ChannelRanges black = linear_device_range(p, {1.0, 1.0, 0.0});
-  EXPECT_TRUE(black.nan[2] || !black.valid[2] || black.c[2].lo >= 0.0);
-  const ChannelRanges grey = linear_device_range(p, {0.5, 0.5, 0.5});
-  for (int c = 0; c < 3; ++c) EXPECT_TRUE(grey.c[c].contains(0.5));
+  p.ap1_to_output = Mat3{{1, -1, 0, -2, 1, 0, 0, 0, 1}};
+  const ChannelRanges r = linear_device_range(p, {0.5, 0.5, 0.5});
+  ASSERT_TRUE(r.valid[0]);
+  EXPECT_TRUE(r.nan[0]);
+  EXPECT_EQ(r.c[0].lo, 0.0);
+  EXPECT_LT(r.c[0].hi, 1e-3);
+  EXPECT_FALSE(r.valid[1]);
+  EXPECT_TRUE(r.c[2].contains(0.5));
+  EXPECT_FALSE(r.nan[2]);
+}
+
+// The UI composite on an scRGB back buffer (device 5, every step linear): kShaderNoise × the
+// largest |channel| either side of the reference, by hand: (1, 0.5, 0) → ±2^-15 on each channel.
+TEST(UePixelDevice, UiCompositeScRgbIsShaderNoise) {
+  ParamBlock p;
+  p.output_device = 5;
+  p.ui_composite_mode = 1;
+  p.ui_level = 1;
+  p.ui_luminance = 300;
+  Image scene(1, 1), ui(1, 1), ref(1, 1);
+  const double v[4] = {1.0, 0.5, 0.0, 1.0};
+  for (int c = 0; c < 4; ++c) ref.data[c] = v[c];
+  const auto r = ui_composite_device_ranges(p, scene, ui, ref);
+  ASSERT_EQ(r.size(), 1u);
+  EXPECT_EQ(r[0].lo[0], 1.0 - 0x1p-15);
+  EXPECT_EQ(r[0].hi[1], 0.5 + 0x1p-15);
+  EXPECT_EQ(r[0].lo[2], -0x1p-15);
+  EXPECT_EQ(r[0].lo[3], 1.0);  // alpha: the point value
+}
+
+// The UI composite on a PQ back buffer with no UI (alpha 0: the scene passes, decode then encode):
+// the range holds the input code, and a planted 0.1 % gain in nits lies outside it.
+TEST(UePixelDevice, UiCompositePqRoundTrip) {
+  ParamBlock p;
+  p.output_device = 3;
+  p.ui_composite_mode = 1;
+  p.ui_level = 1;
+  p.ui_luminance = 300;
+  Image scene(1, 1), ui(1, 1), ref(1, 1);
+  const double code = st2084::pq_from_nits(100.0);
+  for (int c = 0; c < 3; ++c) scene.data[c] = ref.data[c] = code;
+  ref.data[3] = 1.0;
+  const auto r = ui_composite_device_ranges(p, scene, ui, ref);
+  ASSERT_EQ(r.size(), 1u);
+  const double planted = st2084::pq_from_nits(100.1);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_LE(r[0].lo[c], code);
+    EXPECT_GE(r[0].hi[c], code);
+    EXPECT_LT(r[0].hi[c], planted) << c;
+  }
 }
 
 }  // namespace
