@@ -7,6 +7,7 @@
 #include "reference/lut_cache.h"
 #include "reference/lut_shaper.h"
 #include "reference/tonemap.h"
+#include "reference/ue_pixel_device.h"
 #include "reference/ui/composite.h"
 #include "reference/visualize/histogram.h"
 #include "reference/visualize/visualize_hdr.h"
@@ -209,10 +210,37 @@ Result<Image> run_ue55(const ResolvedCase& c, bool analytic_lut) {
     }
     case StageId::kDither:
       return dither_image(c.params, c.input);
-    case StageId::kUiComposite:
-      return ui_composite_stage(c.params, c.input, c.ui);
-    case StageId::kVisualizeHdr:
-      return visualize_hdr_stage(c.params, c.input, analytic_lut);
+    case StageId::kUiComposite: {
+      auto out = ui_composite_stage(c.params, c.input, c.ui);
+      if (out && c.device_allowances) {
+        out->device_admissible =
+            ue_device::ui_composite_device_ranges(c.params, c.input, c.ui, *out);
+        out->device_allowances = {"shader arithmetic (the Vulkan precision table's bounds)"};
+      }
+      return out;
+    }
+    case StageId::kVisualizeHdr: {
+      auto out = visualize_hdr_stage(c.params, c.input, analytic_lut);
+      if (out && c.device_allowances && !analytic_lut) {
+        // The background and the meters pass the Tonemap pass's colour through unchanged
+        // (visualize_hdr.glsl: `return scene`, `out_c = scene`): where the output is that colour,
+        // its range is the Tonemap pass's device range (tonemap_image's device overload). The
+        // panel, the overlays and the meters' swatches have none.
+        const BakedLut device = bake_lut_device(c.params, c.device);
+        const Image tm = tonemap_image(c.params, c.input, nullptr, nullptr, &device, nullptr,
+                                       &device, c.device.sub_texel_bits);
+        for (const AdmissibleRange& r : tm.device_admissible) {
+          const double* o = &out->data[r.pixel * 4];
+          const double* t = &tm.data[r.pixel * 4];
+          bool same = true;
+          for (int ch = 0; ch < 4; ++ch)
+            same = same && (o[ch] == t[ch] || (std::isnan(o[ch]) && std::isnan(t[ch])));
+          if (same) out->device_admissible.push_back(r);
+        }
+        out->device_allowances = tm.device_allowances;
+      }
+      return out;
+    }
     default:
       break;
   }
@@ -225,6 +253,12 @@ Result<Image> run_ue55(const ResolvedCase& c, bool analytic_lut) {
     o[1] = rgb[1];
     o[2] = rgb[2];
     o[3] = in[3];  // alpha passes through
+  }
+  if (c.device_allowances &&
+      (c.spec.stage->id == StageId::kShaper || c.spec.stage->id == StageId::kLinearDevice)) {
+    out.device_admissible =
+        ue_device::per_pixel_device_ranges(c.spec.stage->id, c.params, c.input, out);
+    out.device_allowances = {"shader arithmetic (the Vulkan precision table's bounds)"};
   }
   return out;
 }
