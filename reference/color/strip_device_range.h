@@ -49,17 +49,27 @@ inline Range3 strip_lookup_device_range(const StripBounds& s, const Range3& t, i
                                         double coord_noise) {
   const int n = s.size;
   const int width = n * n;
-  // The candidate coordinates per axis in texel units of the lattice: both ends and the lattice
-  // planes strictly between them.
-  std::vector<double> pos[3];
+  // The candidate coordinates per axis, in texel units: both ends of the coordinate's range
+  // widened by the noise, and the texel planes strictly between them (the noise may carry a
+  // coordinate across a plane: a strip's x below a slice's first texel reads the previous slice's
+  // last one). At each candidate the weight takes its sub-texel box.
+  auto candidates = [](double a, double b, double noise) {
+    std::vector<double> v;
+    a -= noise;
+    b += noise;
+    v.push_back(a);
+    for (double k = std::floor(a) + 1; k < b; k += 1) v.push_back(k);
+    if (b > a) v.push_back(b);
+    return v;
+  };
+  double a[3], b[3];
   for (int c = 0; c < 3; ++c) {
     // A NaN coordinate reads the clamp-to-edge texel 0 (as the references' samplers take it).
-    const double a = std::isnan(t.lo[c]) ? 0.0 : std::clamp(t.lo[c], 0.0, 1.0) * (n - 1);
-    const double b = std::isnan(t.hi[c]) ? a : std::clamp(t.hi[c], 0.0, 1.0) * (n - 1);
-    pos[c].push_back(a);
-    for (double k = std::floor(a) + 1; k < b; k += 1) pos[c].push_back(k);
-    if (b > a) pos[c].push_back(b);
+    a[c] = std::isnan(t.lo[c]) ? 0.0 : std::clamp(t.lo[c], 0.0, 1.0) * (n - 1);
+    b[c] = std::isnan(t.hi[c]) ? a[c] : std::max(a[c], std::clamp(t.hi[c], 0.0, 1.0) * (n - 1));
   }
+  const std::vector<double> pos_g = candidates(a[1], b[1], coord_noise * n);
+  const std::vector<double> pos_b = candidates(a[2], b[2], coord_noise * n);
   Range3 r;
   for (int c = 0; c < 3; ++c) {
     r.lo[c] = HUGE_VAL;
@@ -68,19 +78,20 @@ inline Range3 strip_lookup_device_range(const StripBounds& s, const Range3& t, i
   bool nan[3] = {false, false, false};
   double least[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL};  // the least lower texel bound read
   auto at = [](const Image& img, int x, int y, int c) { return img.px(x, y)[c]; };
-  for (const double pr : pos[0])
-    for (const double pg : pos[1])
-      for (const double pb : pos[2]) {
-        const double slice = std::floor(pb);
-        const double frac = pb - slice;
-        Vec3 s_lo[2], s_hi[2];
-        const TapBox ty = linear_tap_box(pg, n, bits, coord_noise * n);
-        for (int k = 0; k < 2; ++k) {
-          const TapBox tx = linear_tap_box(pr + n * (slice + k), width, bits, coord_noise * width);
-          for (int c = 0; c < 3; ++c) {
-            s_lo[k][c] = HUGE_VAL;
-            s_hi[k][c] = -HUGE_VAL;
-          }
+  for (const double pg : pos_g)
+    for (const double pb : pos_b) {
+      const double slice = std::floor(pb);
+      const double frac = pb - slice;
+      Vec3 s_lo[2], s_hi[2];
+      const TapBox ty = linear_tap_box(pg, n, bits, 0.0);
+      for (int k = 0; k < 2; ++k) {
+        for (int c = 0; c < 3; ++c) {
+          s_lo[k][c] = HUGE_VAL;
+          s_hi[k][c] = -HUGE_VAL;
+        }
+        for (const double px :
+             candidates(a[0] + n * (slice + k), b[0] + n * (slice + k), coord_noise * width)) {
+          const TapBox tx = linear_tap_box(px, width, bits, 0.0);
           for (const double fx : {tx.f_lo, tx.f_hi})
             for (const double fy : {ty.f_lo, ty.f_hi}) {
               const double w00 = (1 - fx) * (1 - fy), w10 = fx * (1 - fy), w01 = (1 - fx) * fy,
@@ -103,8 +114,10 @@ inline Range3 strip_lookup_device_range(const StripBounds& s, const Range3& t, i
               }
             }
         }
-        const double f_lo = std::max(0.0, frac - coord_noise * n),
-                     f_hi = std::min(1.0, frac + coord_noise * n);
+      }
+      // The slice lerp's weight is the shader's own fraction (no sub-texel rounding).
+      {
+        const double f_lo = frac, f_hi = frac;
         for (int c = 0; c < 3; ++c) {
           for (const double f : {f_lo, f_hi}) {
             const double lo = s_lo[0][c] + (s_lo[1][c] - s_lo[0][c]) * f;
@@ -117,6 +130,7 @@ inline Range3 strip_lookup_device_range(const StripBounds& s, const Range3& t, i
           }
         }
       }
+    }
   for (int c = 0; c < 3; ++c) {
     // Non-negative texels filter to a non-negative value (weights in [0, 1]), and the lerp keeps
     // it: a + t·(b − a) with t in [0, 1] rounds to at least 0 (t·(b − a) ≥ −a exactly, and

@@ -228,9 +228,12 @@ Range3 grade_device_range(const ParamBlock& p, const StripLut& lut, const Vec3& 
     pq_t.hi[c] = d3d::saturate(n.hi);
   }
   // 4. The strip lookup: RGBA32F holds the .cube's floats, so the texels are exact; the weights
-  // take their boxes; the uvw scale/offset arithmetic is kShaderNoise of the coordinate.
+  // take their boxes. The shader's coordinate arithmetic after the normalisation (uvw = t·(N −
+  // 1)/N + 0.5/N, w = uvw.b·N − 0.5, u = (uvw.r + floor(w))/N: correctly rounded steps and one
+  // division, 2.5 ULP) errs by under 3·10^-7 in u and uvw, within kFloat32Noise (2^-20, 16 ULP of
+  // 1), which is the coordinate noise used (in texels: N² · 2^-20 along the strip's x).
   const Range3 g = strip_lookup_device_range({lut.strip, lut.strip, lut.size}, pq_t,
-                                             d.sub_texel_bits, kShaderNoise);
+                                             d.sub_texel_bits, kFloat32Noise);
   // 5. PQ decode (nits_from_pq, increasing), / 10000 / ExposureFract · Amplify. A negative graded
   // signal is NaN on the device (pow_d3d): no allowance is derived for such a pixel.
   Range3 graded;
