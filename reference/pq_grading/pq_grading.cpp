@@ -215,8 +215,11 @@ Range3 grade_device_range(const ParamBlock& p, const StripLut& lut, const Vec3& 
   Range3 pq_t;
   for (int c = 0; c < 3; ++c) {
     const double v = std::clamp(scene[c], -kHalfMax, kHalfMax);
+    // Vulkan's float16 rounding modes are RTE and RTZ: the nearest half or the one toward zero.
+    const double rtz = v >= 0 ? half_round_down(v) : half_round_up(v);
     const Interval stored =
-        d.fp16_rte ? Interval::point(t.stored[c]) : Interval{half_round_down(v), half_round_up(v)};
+        d.fp16_rte ? Interval::point(t.stored[c])
+                   : Interval{std::fmin(rtz, t.stored[c]), std::fmax(rtz, t.stored[c])};
     const Interval e = mul(stored, Interval::point(p.pq_exposure_fract));
     const Interval exposed{d3d::saturate(e.lo), d3d::saturate(e.hi)};
     const Interval pq = pq_from_nits_on_device(mul(exposed, Interval::point(st2084::kPeakNits)));

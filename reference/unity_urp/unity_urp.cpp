@@ -564,11 +564,18 @@ Image grade_image(const Image& input, const ParamBlock& p) {
 // Device allowances.
 
 namespace {
+// Vulkan's float16 rounding modes are RTE and RTZ (VkPhysicalDeviceFloatControlsProperties:
+// shaderRoundingModeRTEFloat16 / RTZFloat16): a store that does not guarantee RTE gives the
+// nearest half or the one toward zero, not the one away from zero.
+double half_toward_zero(double v) {
+  return v >= 0 ? half_round_down(v) : half_round_up(v);
+}
 // The storage neighbours of [lo, hi] in `lut_format` (quantize_texel's formats).
 double store_low(int lut_format, const DevicePrecision& d, double v) {
   switch (lut_format) {
     case 1:
-      return d.fp16_rte ? quantize_texel(1, v) : half_round_down(v);
+      return d.fp16_rte ? quantize_texel(1, v)
+                        : std::fmin(quantize_texel(1, v), half_toward_zero(v));
     case 3:
       return unorm_floor(v, 255.0);
     default:
@@ -578,7 +585,8 @@ double store_low(int lut_format, const DevicePrecision& d, double v) {
 double store_high(int lut_format, const DevicePrecision& d, double v) {
   switch (lut_format) {
     case 1:
-      return d.fp16_rte ? quantize_texel(1, v) : half_round_up(v);
+      return d.fp16_rte ? quantize_texel(1, v)
+                        : std::fmax(quantize_texel(1, v), half_toward_zero(v));
     case 3:
       return unorm_ceil(v, 255.0);
     default:
@@ -597,7 +605,7 @@ StripRange bake_lut_strip_device_range(const ParamBlock& p, const DevicePrecisio
         double big = 0;
         for (int c = 0; c < 3; ++c)
           if (std::isfinite(v[c])) big = std::fmax(big, std::fabs(v[c]));
-        const double e = kShaderNoise * big;
+        const double e = kFloat32Noise * big;
         double* lo = s.lo.px(r + n * b, g);
         double* hi = s.hi.px(r + n * b, g);
         for (int c = 0; c < 3; ++c) {
@@ -624,7 +632,7 @@ Range3 apply_color_grading_device_range(const StripRange& bounds, const ParamBlo
   // ApplyLut2D's sampling is strip_lookup_device_range's: with scaleOffset = (1/W, 1/H, H − 1),
   // u·W − 0.5 = uvw.x·(H − 1) + H·floor(uvw.z·(H − 1)), v·H − 0.5 = uvw.y·(H − 1).
   return strip_lookup_device_range({&bounds.lo, &bounds.hi, p.lut_size}, Range3::point(coord),
-                                   sub_texel_bits, kShaderNoise);
+                                   sub_texel_bits, kFloat32Noise);
 }
 
 }  // namespace hdrc::ref::unity_urp

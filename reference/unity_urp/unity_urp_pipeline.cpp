@@ -88,7 +88,7 @@ Result<Image> reference(const ResolvedCase& c, bool /*analytic_lut*/) {
       out.device_admissible.push_back(a);
     }
   out.device_allowances = {"LUT storage rounding (either neighbour)",
-                           "shader noise (kShaderNoise of the bake and the LUT coordinate)"};
+                           "shader noise (kFloat32Noise of the bake and the LUT coordinate)"};
   if (!bake)
     out.device_allowances.insert(
         out.device_allowances.begin(),

@@ -692,11 +692,11 @@ TEST(UnityUrpPlantedDefects, SplitToningBalanceSign) {
 
 // --- Device allowances -----------------------------------------------------------------------
 
-// The internal LUT's device bounds: every stored texel inside, and both storage neighbours of the
-// bake's value admitted (RGBA16F without RTE: half toward −inf and +inf; RGBA8 UNORM: floor and
-// ceil of v·255): a store toward zero (the worst-case device model's) lies within them. A texel
-// one code beyond (UNORM: k + 2 when v rounds to k + 1) lies outside where the bake's noise is far
-// from a code boundary.
+// The internal LUT's device bounds: every stored texel inside, and both storage results of the
+// bake's value admitted (RGBA16F without RTE: the nearest half and the one toward zero; RGBA8
+// UNORM: floor and ceil of v·255): a store toward zero (the worst-case device model's) lies within
+// them. A texel one code beyond (UNORM: k + 2 when v rounds to k + 1) lies outside where the bake's
+// noise is far from a code boundary.
 TEST(UnityUrpDevice, BakeBoundsHoldBothStorageNeighbours) {
   hdrc::DevicePrecision d;  // fp16_rte false
   for (const char* mode : {"HighDynamicRange", "LowDynamicRange"}) {
@@ -712,9 +712,11 @@ TEST(UnityUrpDevice, BakeBoundsHoldBothStorageNeighbours) {
           const double lo = b.lo.px(x, y)[c], hi = b.hi.px(x, y)[c];
           EXPECT_LE(lo, strip.px(x, y)[c]);
           EXPECT_GE(hi, strip.px(x, y)[c]);
-          if (p.lut_format == 1) {
-            EXPECT_LE(lo, hdrc::ref::half_round_down(v[c]));
-            EXPECT_GE(hi, hdrc::ref::half_round_up(v[c]));
+          if (p.lut_format == 1) {  // RTE or RTZ (Vulkan's float16 rounding modes)
+            const double rtz =
+                v[c] >= 0 ? hdrc::ref::half_round_down(v[c]) : hdrc::ref::half_round_up(v[c]);
+            EXPECT_LE(lo, std::fmin(rtz, urp::quantize_texel(1, v[c])));
+            EXPECT_GE(hi, std::fmax(rtz, urp::quantize_texel(1, v[c])));
           } else {
             ASSERT_EQ(p.lut_format, 3);
             EXPECT_LE(lo, std::floor(std::clamp(v[c], 0.0, 1.0) * 255) / 255);
