@@ -96,7 +96,7 @@ Result<Image> reference(const ResolvedCase& c, bool analytic_lut) {
     out.device_allowances = {
         "filter weights (" + std::to_string(c.device.sub_texel_bits) + " sub-texel bits)",
         "shader arithmetic (the Vulkan precision table's bounds)",
-        "shader noise (kShaderNoise of the display mapping and the LUT coordinate)"};
+        "shader noise (kShaderNoise of the display mapping, kFloat32Noise of the LUT coordinate)"};
     if (!c.device.fp16_rte) out.device_allowances.push_back("RGBA16F rounding (either neighbour)");
   }
   return out;
