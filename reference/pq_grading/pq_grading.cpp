@@ -7,8 +7,10 @@
 
 #include "core/cube/cube.h"
 #include "reference/color/d3d_math.h"
+#include "reference/color/device_allowance.h"
 #include "reference/color/linear_tap.h"
 #include "reference/color/st2084.h"
+#include "reference/color/strip_device_range.h"
 #include "reference/grading/film_tonemap.h"
 #include "reference/operators/operators.h"
 
@@ -154,6 +156,126 @@ Trace grade(const ParamBlock& p, const StripLut& lut, const Vec3& scene, LutEval
   t.display = display_map(p, t.graded);
   for (int c = 0; c < 3; ++c) t.out[c] = encode_output(p, t.display[c]);
   return t;
+}
+
+// --- Device allowances ---
+
+spirv::Interval pq_from_nits_on_device(spirv::Interval nits) {
+  using namespace spirv;
+  Interval lm = Interval::point(0.0);  // pow_d3d(0, m1) = 0
+  if (nits.hi > 0) {
+    const Interval y =
+        div(Interval{std::max(nits.lo, 0.0), nits.hi}, Interval::point(st2084::kPeakNits));
+    lm = pow(Interval{std::max(y.lo, 0x1p-149), y.hi}, st2084::kM1);
+    if (!(nits.lo > 0)) lm.lo = 0.0;
+  }
+  const Interval num = mul_add(Interval::point(st2084::kC2), lm, Interval::point(st2084::kC1));
+  const Interval den = mul_add(Interval::point(st2084::kC3), lm, Interval::point(1.0));
+  return pow(mul(num, div(Interval::point(1.0), den)), st2084::kM2);
+}
+
+namespace {
+
+// pqg_encode_output of one display value as a device may evaluate it (pq_grading.glsl).
+spirv::Interval encode_output_on_device(const ParamBlock& p, double d) {
+  using namespace spirv;
+  const Interval dv = Interval::point(d);
+  switch (static_cast<BackBuffer>(p.pq_back_buffer)) {
+    case BackBuffer::kR10G10B10A2: {
+      const Interval q = pq_from_nits_on_device(mul(dv, Interval::point(p.pq_white_nits)));
+      return {d3d::saturate(q.lo), d3d::saturate(q.hi)};
+    }
+    case BackBuffer::kRgba16f:
+      return div(mul(dv, Interval::point(p.pq_white_nits)), Interval::point(kScRgbWhiteNits));
+    case BackBuffer::kSrgb8: {
+      const double v = d3d::saturate(d);
+      if (!(v > 0.0031308)) return mul(Interval::point(12.92), Interval::point(v));
+      return mul_add(Interval::point(1.055), pow(Interval::point(v), 1.0 / 2.4),
+                     Interval::point(-0.055));
+    }
+    case BackBuffer::kRgb8: {
+      const double v = d3d::saturate(d);
+      if (!(v > 0)) return Interval::point(0.0);
+      return pow(Interval::point(v), 1.0 / kRgb8Gamma);
+    }
+  }
+  return Interval::point(d3d::kNaN);
+}
+
+}  // namespace
+
+Range3 grade_device_range(const ParamBlock& p, const StripLut& lut, const Vec3& scene,
+                          const DevicePrecision& d) {
+  using namespace spirv;
+  const Trace t = grade(p, lut, scene, LutEval::kStrip);
+  Range3 ref = Range3::point(t.out);
+  if (std::isnan(scene[0]) || std::isnan(scene[1]) || std::isnan(scene[2])) return ref;
+  // 1-3. The lighting target's half (packHalf2x16 rounds by the device's float16 rounding mode
+  // unless it guarantees RTE), the exposure multiply, saturate, PQ.
+  Range3 pq_t;
+  for (int c = 0; c < 3; ++c) {
+    const double v = std::clamp(scene[c], -kHalfMax, kHalfMax);
+    // Vulkan's float16 rounding modes are RTE and RTZ: the nearest half or the one toward zero.
+    const double rtz = v >= 0 ? half_round_down(v) : half_round_up(v);
+    const Interval stored =
+        d.fp16_rte ? Interval::point(t.stored[c])
+                   : Interval{std::fmin(rtz, t.stored[c]), std::fmax(rtz, t.stored[c])};
+    const Interval e = mul(stored, Interval::point(p.pq_exposure_fract));
+    const Interval exposed{d3d::saturate(e.lo), d3d::saturate(e.hi)};
+    const Interval pq = pq_from_nits_on_device(mul(exposed, Interval::point(st2084::kPeakNits)));
+    // pqg_domain_normalise: (v − min) / (max − min), saturate.
+    const Interval span =
+        sub(Interval::point(lut.domain_max[c]), Interval::point(lut.domain_min[c]));
+    const Interval n = div(sub(pq, Interval::point(lut.domain_min[c])), span);
+    pq_t.lo[c] = d3d::saturate(n.lo);
+    pq_t.hi[c] = d3d::saturate(n.hi);
+  }
+  // 4. The strip lookup: RGBA32F holds the .cube's floats, so the texels are exact; the weights
+  // take their boxes. The shader's coordinate arithmetic after the normalisation (uvw = t·(N −
+  // 1)/N + 0.5/N, w = uvw.b·N − 0.5, u = (uvw.r + floor(w))/N: correctly rounded steps and one
+  // division, 2.5 ULP) errs by under 3·10^-7 in u and uvw, within kFloat32Noise (2^-20, 16 ULP of
+  // 1), which is the coordinate noise used (in texels: N² · 2^-20 along the strip's x).
+  const Range3 g = strip_lookup_device_range({lut.strip, lut.strip, lut.size}, pq_t,
+                                             d.sub_texel_bits, kFloat32Noise);
+  // 5. PQ decode (nits_from_pq, increasing), / 10000 / ExposureFract · Amplify. A negative graded
+  // signal is NaN on the device (pow_d3d): no allowance is derived for such a pixel.
+  Range3 graded;
+  for (int c = 0; c < 3; ++c) {
+    if (g.nan[c] || !(g.lo[c] >= 0) || !(g.hi[c] <= 1e30)) return ref;
+    const Interval nits{pq_decode_on_device(g.lo[c]).lo, pq_decode_on_device(g.hi[c]).hi};
+    const Interval lin = div(nits, Interval::point(st2084::kPeakNits));
+    const Interval v =
+        mul(div(lin, Interval::point(p.pq_exposure_fract)), Interval::point(p.pq_amplify));
+    // The sign of a product or quotient is exact: non-negative nits stay non-negative (the
+    // bounds' ULP around an exact 0 would otherwise admit a negative denormal).
+    graded.lo[c] = std::max(v.lo, 0.0);
+    graded.hi[c] = v.hi;
+  }
+  // 6. The display mapping over the box of its input: its extremes at the box's corners to first
+  // order (the box is a few float32 ulps to a filter weight step wide, the mapping smooth), then
+  // kShaderNoise of the largest channel for its float32 arithmetic (matrices, log10/pow of
+  // FilmToneMap, the rational fit).
+  Range3 disp = Range3::point(t.display);
+  for (int corner = 0; corner < 8; ++corner) {
+    Vec3 v;
+    for (int c = 0; c < 3; ++c) v[c] = (corner >> c) & 1 ? graded.hi[c] : graded.lo[c];
+    disp.include(display_map(p, v));
+  }
+  double big = 0;
+  for (int c = 0; c < 3; ++c)
+    big = std::fmax(big, std::fmax(std::fabs(disp.lo[c]), std::fabs(disp.hi[c])));
+  const double noise = kShaderNoise * big;
+  // 7. The back buffer's encoding, nondecreasing: the device's low end of the low end, high end of
+  // the high end.
+  Range3 out;
+  for (int c = 0; c < 3; ++c) {
+    if (disp.nan[c]) return ref;
+    out.lo[c] = encode_output_on_device(p, disp.lo[c] - noise).lo;
+    out.hi[c] = encode_output_on_device(p, disp.hi[c] + noise).hi;
+    if (std::isnan(out.lo[c]) || std::isnan(out.hi[c])) return ref;
+  }
+  out.include(t.out);
+  return out;
 }
 
 // --- Settings ---

@@ -20,9 +20,12 @@
 #include <vector>
 
 #include "core/cube/cube.h"
+#include "core/device_precision.h"
 #include "core/image.h"
 #include "core/settings.h"
 #include "core/shader_interface.h"
+#include "reference/color/noise_range.h"
+#include "reference/color/spirv_precision.h"
 #include "reference/color/vec.h"
 
 namespace hdrc::ref::pq_grading {
@@ -99,6 +102,24 @@ struct Trace {
   Vec3 stored, exposed, pq, graded_pq, graded, display, out;
 };
 Trace grade(const ParamBlock& p, const StripLut& lut, const Vec3& scene, LutEval eval);
+
+// --- Device allowances (docs/precision.md, "Device allowances") ---
+
+// GLSL pq_from_nits (gpu/shaders/lib/st2084.glsl) over a range of nits as a conformant device may
+// evaluate it: nits / 10000 (OpFDiv), lm = pow(., m1) (0 for 0, pow_d3d), (c1 + c2·lm) ·
+// (1 / (1 + c3·lm)), pow(., m2), each step within the precision table's bound
+// (reference/color/spirv_precision.h). Increasing; nits ≤ 0 gives lm = 0.
+spirv::Interval pq_from_nits_on_device(spirv::Interval nits);
+
+// The range of `grade`'s output (kStrip) on a conformant device with precision `d`, per channel:
+// the RGBA16F store either way (unless d.fp16_rte), the exposure multiply, the PQ encode
+// (pq_from_nits_on_device), the strip lookup with the weight box of d.sub_texel_bits
+// (strip_lookup_device_range; the RGBA32F strip holds the .cube's floats exactly), the PQ decode
+// (pq_decode_on_device) and the divisions, the display mapping over the box of its input
+// (corners) widened by kShaderNoise of its largest channel for its float32 arithmetic, the back
+// buffer's encoding (nondecreasing: the device bounds of its ends). Contains t.out.
+Range3 grade_device_range(const ParamBlock& p, const StripLut& lut, const Vec3& scene,
+                          const DevicePrecision& d);
 
 // --- Settings and host derivation ---
 

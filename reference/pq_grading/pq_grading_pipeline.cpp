@@ -2,6 +2,9 @@
 // pq_grade, per pixel (pq_grading.h; docs/pq_grading.md).
 #include "reference/pq_grading/pq_grading_pipeline.h"
 
+#include <cmath>
+#include <string>
+
 #include "reference/color/ue_matrices.h"
 #include "reference/pipeline_support.h"
 #include "reference/pq_grading/pq_grading.h"
@@ -75,6 +78,26 @@ Result<Image> reference(const ResolvedCase& c, bool analytic_lut) {
     o[1] = t.out[1];
     o[2] = t.out[2];
     o[3] = in[3];  // alpha passes through (grade.comp)
+    if (c.device_allowances && !analytic_lut) {
+      const Range3 r = grade_device_range(c.params, lut, {in[0], in[1], in[2]}, c.device);
+      AdmissibleRange a;
+      a.pixel = i;
+      for (int ch = 0; ch < 3; ++ch) {
+        a.lo[ch] = r.lo[ch];
+        a.hi[ch] = r.hi[ch];
+        if (r.nan[ch] || std::isnan(o[ch])) a.nan_ok |= uint8_t(1u << ch);
+      }
+      a.lo[3] = a.hi[3] = in[3];
+      if (std::isnan(in[3])) a.nan_ok |= uint8_t(1u << 3);
+      out.device_admissible.push_back(a);
+    }
+  }
+  if (c.device_allowances && !analytic_lut) {
+    out.device_allowances = {
+        "filter weights (" + std::to_string(c.device.sub_texel_bits) + " sub-texel bits)",
+        "shader arithmetic (the Vulkan precision table's bounds)",
+        "shader noise (kShaderNoise of the display mapping, kFloat32Noise of the LUT coordinate)"};
+    if (!c.device.fp16_rte) out.device_allowances.push_back("RGBA16F rounding (either neighbour)");
   }
   return out;
 }

@@ -15,6 +15,8 @@
 #include "core/cube/cube.h"
 #include "core/cube/ocio_oracle.h"
 #include "core/settings.h"
+#include "reference/color/strip_device_range.h"
+#include "reference/pq_grading/pq_grading_pipeline.h"
 
 namespace {
 
@@ -236,6 +238,97 @@ TEST(PqGrading, StripSamplingIsTrilinearAndDiffersFromTetrahedralByTheMeasuredAm
       EXPECT_GT(tet, 0.5 * row.tetra_max) << file;
     }
   }
+}
+
+// --- Device allowances -----------------------------------------------------------------------
+
+// One lookup's device range by hand, N = 2 (a 4 x 2 strip), t = (0.3, 0, 0), no coordinate noise:
+// texel-space x = 0.3 (i0 = 0, i1 = 1, weight 0.3), y = 0 and the slice 0 (weights 0), so two
+// texels carry the value: A = strip(0, 0), B = strip(1, 0). With 4 sub-texel bits the weight may
+// be either grid value around 0.3: [4/16, 5/16] = [0.25, 0.3125]. Channel 0, A in [0.2, 0.2],
+// B in [0.6, 0.61] (the bounds' lo and hi images): min 0.2 + 0.4 * 0.25 = 0.3, max 0.2 + 0.41 *
+// 0.3125 = 0.328125, each widened by the lerp's rounding.
+// Row 1 (weight 0) and slice 1 (lerp weight 0) hold values that must not reach the range but its
+// rounding allowance (2.5 ulp32 of the largest filtered sample, 0.5: 2^-24); a planted weight of
+// 0.35 (0.34) lies outside.
+TEST(PqGradingDevice, OneLookupRangeByHand) {
+  hdrc::Image lo(4, 2), hi(4, 2);
+  for (int y = 0; y < 2; ++y)
+    for (int x = 0; x < 4; ++x)
+      for (int c = 0; c < 3; ++c) lo.px(x, y)[c] = hi.px(x, y)[c] = y == 1 ? 0.9 : 0.5;
+  lo.px(0, 0)[0] = hi.px(0, 0)[0] = 0.2;
+  lo.px(1, 0)[0] = 0.6;
+  hi.px(1, 0)[0] = 0.61;
+  hdrc::ref::Range3 t = hdrc::ref::Range3::point({0.3, 0.0, 0.0});
+  const hdrc::ref::Range3 r = hdrc::ref::strip_lookup_device_range({&lo, &hi, 2}, t, 4, 0.0);
+  const double e = 2.5 * std::ldexp(1.0, -24);
+  EXPECT_DOUBLE_EQ(r.lo[0], 0.3 - e);
+  EXPECT_DOUBLE_EQ(r.hi[0], 0.2 + 0.41 * 0.3125 + e);
+  EXPECT_FALSE(r.nan[0]);
+  EXPECT_GT(0.2 + 0.4 * 0.35, r.hi[0]);  // a weight outside the box
+  EXPECT_LT(0.2 + 0.4 * 0.3, r.hi[0]);   // the exact weight inside
+  // Channels 1, 2: both texels 0.5, any weight: 0.5 within the lerp's allowance.
+  EXPECT_DOUBLE_EQ(r.lo[1], 0.5 - 2.5 * std::ldexp(1.0, -24));
+  EXPECT_DOUBLE_EQ(r.hi[2], 0.5 + 2.5 * std::ldexp(1.0, -24));
+  // 8 sub-texel bits: the box shrinks to [76/256, 77/256] around 0.3 (76.8/256).
+  const hdrc::ref::Range3 r8 = hdrc::ref::strip_lookup_device_range({&lo, &hi, 2}, t, 8, 0.0);
+  EXPECT_DOUBLE_EQ(r8.lo[0], 0.2 + 0.4 * 76.0 / 256 - e);
+  EXPECT_DOUBLE_EQ(r8.hi[0], 0.2 + 0.41 * 77.0 / 256 + e);
+  // A coordinate range across the lattice plane x = 1 (t.r in [0.9, 1.0] of N − 1 = 1: x in
+  // [0.9, 1]): the plane's texel B alone is a candidate, so the range reaches B's bounds.
+  t.lo[0] = 0.9;
+  t.hi[0] = 1.0;
+  const hdrc::ref::Range3 rr = hdrc::ref::strip_lookup_device_range({&lo, &hi, 2}, t, 4, 0.0);
+  EXPECT_DOUBLE_EQ(rr.hi[0], 0.61 + e);
+  EXPECT_DOUBLE_EQ(rr.lo[0], 0.2 + 0.4 * (14.0 / 16) - e);  // x = 0.9: weight box [14/16, 15/16]
+}
+
+// The pipeline's reference with device allowances: the tight output is unchanged (bit for bit,
+// and no tight admissible range appears), every pixel has a device range holding its reference
+// value, and the ranges are not all points (the weight boxes open them); without allowances no
+// device range is made.
+TEST(PqGradingDevice, TightOutputUnchangedAndEveryPixelHasARange) {
+  for (const BackBuffer bb :
+       {BackBuffer::kR10G10B10A2, BackBuffer::kRgba16f, BackBuffer::kSrgb8, BackBuffer::kRgb8})
+    for (const Display disp : {Display::kHdr, Display::kSdr}) {
+      const Loaded l = load("pq_look_33.cube", 3.0, disp, bb);
+      hdrc::ResolvedCase rc;
+      rc.params = l.p;
+      rc.user_luts[0] = l.strip;
+      rc.input = hdrc::Image(64, 4);
+      for (size_t i = 0; i < rc.input.pixel_count(); ++i) {
+        double* px = &rc.input.data[i * hdrc::Image::kChannels];
+        // 1e-3 to 3e4 scene units, the three channels apart.
+        const double k = std::pow(10.0, -3.0 + 7.5 * static_cast<double>(i % 64) / 63);
+        px[0] = k;
+        px[1] = k * (0.3 + 0.2 * static_cast<double>(i / 64));
+        px[2] = k * 0.05;
+        px[3] = 1.0;
+      }
+      const auto& ref = hdrc::ref::pq_grading::pq_grading_pipeline().reference;
+      auto tight = ref(rc, false);
+      rc.device_allowances = true;
+      rc.device.sub_texel_bits = 8;
+      auto dev = ref(rc, false);
+      ASSERT_TRUE(tight && dev);
+      EXPECT_EQ(tight->data, dev->data);
+      EXPECT_TRUE(tight->device_admissible.empty());
+      EXPECT_TRUE(dev->admissible.empty());
+      ASSERT_EQ(dev->device_admissible.size(), rc.input.pixel_count());
+      EXPECT_FALSE(dev->device_allowances.empty());
+      int wider = 0;
+      for (size_t i = 0; i < dev->device_admissible.size(); ++i) {
+        const hdrc::AdmissibleRange& a = dev->device_admissible[i];
+        EXPECT_EQ(a.pixel, i);
+        for (int c = 0; c < 4; ++c) {
+          const double v = dev->data[i * 4 + c];
+          EXPECT_LE(a.lo[c], v) << i << " " << c;
+          EXPECT_GE(a.hi[c], v) << i << " " << c;
+          if (c < 3 && a.hi[c] > a.lo[c]) ++wider;
+        }
+      }
+      EXPECT_GT(wider, 64) << int(bb) << " " << int(disp);
+    }
 }
 
 }  // namespace

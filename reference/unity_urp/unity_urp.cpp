@@ -6,6 +6,8 @@
 #include <cmath>
 
 #include "reference/color/d3d_math.h"
+#include "reference/color/device_allowance.h"
+#include "reference/color/strip_device_range.h"
 #include "reference/operators/operators.h"
 
 namespace hdrc::ref::unity_urp {
@@ -556,6 +558,81 @@ Image grade_image(const Image& input, const ParamBlock& p) {
       o[3] = i[3];
     }
   return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Device allowances.
+
+namespace {
+// Vulkan's float16 rounding modes are RTE and RTZ (VkPhysicalDeviceFloatControlsProperties:
+// shaderRoundingModeRTEFloat16 / RTZFloat16): a store that does not guarantee RTE gives the
+// nearest half or the one toward zero, not the one away from zero.
+double half_toward_zero(double v) {
+  return v >= 0 ? half_round_down(v) : half_round_up(v);
+}
+// The storage neighbours of [lo, hi] in `lut_format` (quantize_texel's formats).
+double store_low(int lut_format, const DevicePrecision& d, double v) {
+  switch (lut_format) {
+    case 1:
+      return d.fp16_rte ? quantize_texel(1, v)
+                        : std::fmin(quantize_texel(1, v), half_toward_zero(v));
+    case 3:
+      return unorm_floor(v, 255.0);
+    default:
+      return float_round_down(v);
+  }
+}
+double store_high(int lut_format, const DevicePrecision& d, double v) {
+  switch (lut_format) {
+    case 1:
+      return d.fp16_rte ? quantize_texel(1, v)
+                        : std::fmax(quantize_texel(1, v), half_toward_zero(v));
+    case 3:
+      return unorm_ceil(v, 255.0);
+    default:
+      return float_round_up(v);
+  }
+}
+}  // namespace
+
+StripRange bake_lut_strip_device_range(const ParamBlock& p, const DevicePrecision& d) {
+  const int n = p.lut_size;
+  StripRange s{Image(n * n, n), Image(n * n, n)};
+  for (int b = 0; b < n; ++b)
+    for (int g = 0; g < n; ++g)
+      for (int r = 0; r < n; ++r) {
+        const Vec3 v = lut_texel(lattice_code(n, r, g, b), p, kUnityLogC);
+        double big = 0;
+        for (int c = 0; c < 3; ++c)
+          if (std::isfinite(v[c])) big = std::fmax(big, std::fabs(v[c]));
+        const double e = kFloat32Noise * big;
+        double* lo = s.lo.px(r + n * b, g);
+        double* hi = s.hi.px(r + n * b, g);
+        for (int c = 0; c < 3; ++c) {
+          const double q = quantize_texel(p.lut_format, v[c]);  // the tight texel
+          if (std::isnan(v[c])) {
+            lo[c] = hi[c] = q;
+            continue;
+          }
+          lo[c] = std::fmin(q, store_low(p.lut_format, d, v[c] - e));
+          hi[c] = std::fmax(q, store_high(p.lut_format, d, v[c] + e));
+        }
+        lo[3] = hi[3] = 1.0;
+      }
+  return s;
+}
+
+Range3 apply_color_grading_device_range(const StripRange& bounds, const ParamBlock& p,
+                                        const Vec3& scene_linear, int sub_texel_bits) {
+  Vec3 x = scene_linear;
+  for (double& c : x) c *= p.urp_post_exposure;
+  const Vec3 coord = grading_mode(p) == GradingMode::kHighDynamicRange
+                         ? saturate(logc_from_linear(x))
+                         : uber_tonemap(x, tonemap_mode(p));
+  // ApplyLut2D's sampling is strip_lookup_device_range's: with scaleOffset = (1/W, 1/H, H − 1),
+  // u·W − 0.5 = uvw.x·(H − 1) + H·floor(uvw.z·(H − 1)), v·H − 0.5 = uvw.y·(H − 1).
+  return strip_lookup_device_range({&bounds.lo, &bounds.hi, p.lut_size}, Range3::point(coord),
+                                   sub_texel_bits, kFloat32Noise);
 }
 
 }  // namespace hdrc::ref::unity_urp

@@ -22,8 +22,10 @@
 #include <array>
 #include <functional>
 
+#include "core/device_precision.h"
 #include "core/image.h"
 #include "core/shader_interface.h"
+#include "reference/color/noise_range.h"
 #include "reference/color/vec.h"
 
 namespace hdrc::ref::unity_urp {
@@ -210,5 +212,27 @@ Vec3 apply_color_grading(const Image& strip, const ParamBlock& p, const Vec3& sc
 
 // Bakes the strip once and grades every pixel of `input` (rgb; alpha passes through).
 Image grade_image(const Image& input, const ParamBlock& p);
+
+// ---------------------------------------------------------------------------------------------
+// Device allowances (docs/precision.md, "Device allowances").
+
+// What a conformant device with precision `d` may hold in each texel of the internal LUT: the
+// bake's value ± kFloat32Noise of its largest channel (the float32 arithmetic of ColorGrade and the
+// tone map: logs, pows, the HSV round trip), then the storage format's neighbours either way
+// (device_allowance.h: RGBA16F rounds by the device's float16 rounding mode unless d.fp16_rte,
+// UNORM to either of the two nearest codes, float32 to either neighbour). Contains
+// bake_lut_strip(p) texel by texel.
+struct StripRange {
+  Image lo, hi;
+};
+StripRange bake_lut_strip_device_range(const ParamBlock& p, const DevicePrecision& d);
+
+// ApplyColorGrading's output range on a device with `sub_texel_bits` sub-texel bits reading the
+// strip held within `bounds` (bake_lut_strip_device_range): the exact coordinate (post exposure,
+// LogC or the uber tone map) with kFloat32Noise for its float32 arithmetic, the weight boxes of the
+// two bilinear taps and the lerp (reference/color/strip_device_range.h). Contains
+// apply_color_grading of the reference strip.
+Range3 apply_color_grading_device_range(const StripRange& bounds, const ParamBlock& p,
+                                        const Vec3& scene_linear, int sub_texel_bits);
 
 }  // namespace hdrc::ref::unity_urp

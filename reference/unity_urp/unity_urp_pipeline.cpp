@@ -3,6 +3,9 @@
 // (docs/unity_urp-spec.md, docs/unity_urp.md).
 #include "reference/unity_urp/unity_urp_pipeline.h"
 
+#include <cmath>
+#include <string>
+
 #include "reference/color/ue_matrices.h"
 #include "reference/pipeline_support.h"
 #include "reference/unity_urp/unity_urp.h"
@@ -52,8 +55,45 @@ OutputEncoding encoding(const StageInfo& stage, const ParamBlock&) {
 // analytic_lut: Unity's LUT is always baked (the strip is a stage of its own); both modes sample
 // it.
 Result<Image> reference(const ResolvedCase& c, bool /*analytic_lut*/) {
-  if (c.spec.stage->name == "lut_bake") return bake_lut_strip(c.params);
-  return grade_image(c.input, c.params);
+  const bool bake = c.spec.stage->name == "lut_bake";
+  Image out = bake ? bake_lut_strip(c.params) : grade_image(c.input, c.params);
+  if (!c.device_allowances) return out;
+  // Device allowances: the texels' ranges (the bake stage's own output), or ApplyColorGrading's
+  // range per pixel over them.
+  const StripRange bounds = bake_lut_strip_device_range(c.params, c.device);
+  for (int y = 0; y < out.height; ++y)
+    for (int x = 0; x < out.width; ++x) {
+      const double* o = out.px(x, y);
+      Range3 r;
+      if (bake) {
+        for (int ch = 0; ch < 3; ++ch) {
+          r.lo[ch] = bounds.lo.px(x, y)[ch];
+          r.hi[ch] = bounds.hi.px(x, y)[ch];
+        }
+      } else {
+        const double* in = c.input.px(x, y);
+        r = apply_color_grading_device_range(bounds, c.params, {in[0], in[1], in[2]},
+                                             c.device.sub_texel_bits);
+      }
+      r.include({o[0], o[1], o[2]});
+      AdmissibleRange a;
+      a.pixel = static_cast<size_t>(y) * out.width + x;
+      for (int ch = 0; ch < 3; ++ch) {
+        a.lo[ch] = r.lo[ch];
+        a.hi[ch] = r.hi[ch];
+        if (r.nan[ch]) a.nan_ok |= uint8_t(1u << ch);
+      }
+      a.lo[3] = a.hi[3] = o[3];  // alpha: 1 in the bake, the input's in the grade
+      if (std::isnan(o[3])) a.nan_ok |= uint8_t(1u << 3);
+      out.device_admissible.push_back(a);
+    }
+  out.device_allowances = {"LUT storage rounding (either neighbour)",
+                           "shader noise (kFloat32Noise of the bake and the LUT coordinate)"};
+  if (!bake)
+    out.device_allowances.insert(
+        out.device_allowances.begin(),
+        "filter weights (" + std::to_string(c.device.sub_texel_bits) + " sub-texel bits)");
+  return out;
 }
 
 }  // namespace

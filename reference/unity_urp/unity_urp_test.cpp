@@ -18,7 +18,10 @@
 #include <cstdio>
 #include <vector>
 
+#include "core/case.h"
+#include "reference/color/device_allowance.h"
 #include "reference/color/ue_matrices.h"
+#include "reference/unity_urp/unity_urp_pipeline.h"
 #include "reference/unity_urp/unity_urp_settings.h"
 
 namespace {
@@ -685,6 +688,96 @@ TEST(UnityUrpPlantedDefects, SplitToningBalanceSign) {
               change.max_relative, change.changed);
   EXPECT_GT(change.max_relative, 0.01);
   EXPECT_GT(change.changed, 1000);
+}
+
+// --- Device allowances -----------------------------------------------------------------------
+
+// The internal LUT's device bounds: every stored texel inside, and both storage results of the
+// bake's value admitted (RGBA16F without RTE: the nearest half and the one toward zero; RGBA8
+// UNORM: floor and ceil of v·255): a store toward zero (the worst-case device model's) lies within
+// them. A texel one code beyond (UNORM: k + 2 when v rounds to k + 1) lies outside where the bake's
+// noise is far from a code boundary.
+TEST(UnityUrpDevice, BakeBoundsHoldBothStorageNeighbours) {
+  hdrc::DevicePrecision d;  // fp16_rte false
+  for (const char* mode : {"HighDynamicRange", "LowDynamicRange"}) {
+    const ParamBlock p = defaults(mode, "Neutral", 16);
+    const Image strip = urp::bake_lut_strip(p);
+    const urp::StripRange b = urp::bake_lut_strip_device_range(p, d);
+    int outside = 0, texels = 0;
+    for (int y = 0; y < strip.height; ++y)
+      for (int x = 0; x < strip.width; ++x) {
+        const int n = p.lut_size, r = x % n, bb = x / n;
+        const Vec3 v = urp::lut_texel(urp::lattice_code(n, r, y, bb), p);
+        for (int c = 0; c < 3; ++c) {
+          const double lo = b.lo.px(x, y)[c], hi = b.hi.px(x, y)[c];
+          EXPECT_LE(lo, strip.px(x, y)[c]);
+          EXPECT_GE(hi, strip.px(x, y)[c]);
+          if (p.lut_format == 1) {  // RTE or RTZ (Vulkan's float16 rounding modes)
+            const double rtz =
+                v[c] >= 0 ? hdrc::ref::half_round_down(v[c]) : hdrc::ref::half_round_up(v[c]);
+            EXPECT_LE(lo, std::fmin(rtz, urp::quantize_texel(1, v[c])));
+            EXPECT_GE(hi, std::fmax(rtz, urp::quantize_texel(1, v[c])));
+          } else {
+            ASSERT_EQ(p.lut_format, 3);
+            EXPECT_LE(lo, std::floor(std::clamp(v[c], 0.0, 1.0) * 255) / 255);
+            EXPECT_GE(hi, std::ceil(std::clamp(v[c], 0.0, 1.0) * 255) / 255);
+            const double k = std::nearbyint(std::clamp(v[c], 0.0, 1.0) * 255);
+            if (k + 2 <= 255) {
+              ++texels;
+              if ((k + 2) / 255 > hi) ++outside;
+            }
+          }
+        }
+      }
+    if (p.lut_format == 3) {
+      EXPECT_GT(outside, texels * 9 / 10) << outside << " / " << texels;
+    }
+  }
+}
+
+// The pipeline's reference with device allowances, both stages, HDR and LDR grading: the tight
+// output is unchanged bit for bit, every pixel has a device range holding its value, the grade's
+// ranges are not all points.
+TEST(UnityUrpDevice, TightOutputUnchangedAndEveryPixelHasARange) {
+  const auto& pipeline = hdrc::ref::unity_urp::unity_urp_pipeline();
+  for (const hdrc::StageInfo& stage : pipeline.stages())
+    for (const char* mode : {"HighDynamicRange", "LowDynamicRange"}) {
+      hdrc::ResolvedCase rc;
+      hdrc::Case spec;
+      spec.stage = &stage;
+      rc.spec = spec;
+      rc.params = defaults(mode, "ACES", 16);
+      rc.params.urp_hue_sat_con[0] = 0.1;  // a hue shift: a LUT that is not the identity
+      rc.input = Image(64, 4);
+      for (size_t i = 0; i < rc.input.pixel_count(); ++i) {
+        double* px = &rc.input.data[i * Image::kChannels];
+        const double k = std::pow(10.0, -3.0 + 4.0 * static_cast<double>(i % 64) / 63);
+        px[0] = k;
+        px[1] = k * (0.2 + 0.25 * static_cast<double>(i / 64));
+        px[2] = k * 0.6;
+        px[3] = 0.5;
+      }
+      if (stage.name == "lut_bake") rc.input = Image(16 * 16, 16);
+      auto tight = pipeline.reference(rc, false);
+      rc.device_allowances = true;
+      rc.device.sub_texel_bits = 8;
+      auto dev = pipeline.reference(rc, false);
+      ASSERT_TRUE(tight && dev);
+      EXPECT_EQ(tight->data, dev->data) << stage.name << " " << mode;
+      EXPECT_TRUE(tight->device_admissible.empty());
+      ASSERT_EQ(dev->device_admissible.size(), dev->pixel_count());
+      int wider = 0;
+      for (size_t i = 0; i < dev->device_admissible.size(); ++i) {
+        const hdrc::AdmissibleRange& a = dev->device_admissible[i];
+        EXPECT_EQ(a.pixel, i);
+        for (int c = 0; c < 4; ++c) {
+          EXPECT_LE(a.lo[c], dev->data[i * 4 + c]) << i;
+          EXPECT_GE(a.hi[c], dev->data[i * 4 + c]) << i;
+          if (c < 3 && a.hi[c] > a.lo[c]) ++wider;
+        }
+      }
+      EXPECT_GT(wider, static_cast<int>(dev->pixel_count())) << stage.name << " " << mode;
+    }
 }
 
 }  // namespace
