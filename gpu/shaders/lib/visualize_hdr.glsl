@@ -96,7 +96,11 @@ vec4 visualize_hdr_pixel(int x, int y, int width, int height, vec4 hdr, vec4 sce
   if (distance > 0.0) return out_c;
 
   // Inside the panel: region tint, bars, the tone-curve overlay, the three lines.
-  int bucket = min(int(u * float(HISTOGRAM_SIZE)), HISTOGRAM_SIZE - 1);
+  // The bar's bucket, floor(u · 64) with u = inset / width, in integers: the float form lands on
+  // the previous bucket at every exact boundary where the division rounds down, as the 2.5 ULP
+  // Vulkan allows may (a whole column of the neighbouring bar; the worst-case device model shows
+  // it, docs/precision.md). Exact arithmetic, so the reference's value.
+  int bucket = min(int(x - g.left) * HISTOGRAM_SIZE / g.width, HISTOGRAM_SIZE - 1);
   vec3 tint = (u < in_v.pos_min || !(u < in_v.pos_max)) ? vec3(0.5) : vec3(0.5, 0.8, 0.5);
   rgb = lerp_d3d(rgb, tint, 0.5);
   if (in_v.histogram[bucket] / in_v.histogram_max >= 1.0 - v) rgb = lerp_d3d(rgb, colorize(u), 0.5);
