@@ -174,6 +174,22 @@ Vec3 combine_luts_texel(const ParamBlock& p, const Vec3& lattice, CombineLutsTra
   return t.stored;
 }
 
+// FilmColor's gamma, the output matrices and the SDR encodes of devices 0 and 1 over a range of
+// FilmColorNoGamma (each step nondecreasing per channel, or an exact interval matrix); device 2's
+// explicit-gamma encode is left to the caller.
+Range3 sdr_encode_range(const ParamBlock& p, const grading::InverseGamma& inverse_gamma, Range3 r) {
+  const int device = p.output_device;
+  r = map_nondecreasing(r, [&](double v) {
+    return grading::apply_film_gamma({v, v, v}, inverse_gamma)[0];
+  });
+  if (device != 0 || !p.wcs_is_srgb)
+    r = apply_matrix(p.ap1_to_output, apply_matrix(p.wcs_to_ap1, r));
+  if (device == 0) return map_nondecreasing(r, [](double v) { return linear_to_srgb(v); });
+  if (device == 1)
+    return map_nondecreasing(r, [](double v) { return linear_to_rec709_branchless(v); });
+  return r;
+}
+
 TexelRange stored_range(const ParamBlock& p, const grading::InverseGamma& inverse_gamma,
                         const Vec3& film, const Vec3& pq_in) {
   TexelRange t;
@@ -195,15 +211,8 @@ TexelRange stored_range(const ParamBlock& p, const grading::InverseGamma& invers
       x_ambiguous = widen_near_zero(x, kFloat32Noise, &x_widened);
     }
     if (!ambiguous && !x_ambiguous) return t;
-    r = map_nondecreasing(r, [&](double v) {
-      return grading::apply_film_gamma({v, v, v}, inverse_gamma)[0];
-    });
-    if (device != 0 || !p.wcs_is_srgb) r = apply_matrix(to_output, apply_matrix(p.wcs_to_ap1, r));
-    if (device == 0) {
-      r = map_nondecreasing(r, [](double v) { return linear_to_srgb(v); });
-    } else if (device == 1) {
-      r = map_nondecreasing(r, [](double v) { return linear_to_rec709_branchless(v); });
-    } else {
+    r = sdr_encode_range(p, inverse_gamma, r);
+    if (device == 2) {
       for (int c = 0; c < 3; ++c) {
         r.lo[c] = std::fmin(r.lo[c], x_widened.lo[c]);
         r.hi[c] = std::fmax(r.hi[c], x_widened.hi[c]);
@@ -466,15 +475,8 @@ Range3 device_texel_range(const ParamBlock& p, const grading::InverseGamma& inve
     r = Range3::point(t.film);
     widen_noise(t.film, kShaderNoise, &r);
     if (device == 9) return apply_matrix(to_output, apply_matrix(p.wcs_to_ap1, r));
-    r = map_nondecreasing(r, [&](double v) {
-      return grading::apply_film_gamma({v, v, v}, inverse_gamma)[0];
-    });
-    if (device != 0 || !p.wcs_is_srgb) r = apply_matrix(to_output, apply_matrix(p.wcs_to_ap1, r));
-    if (device == 0) {
-      r = map_nondecreasing(r, [](double v) { return linear_to_srgb(v); });
-    } else if (device == 1) {
-      r = map_nondecreasing(r, [](double v) { return linear_to_rec709_branchless(v); });
-    } else {
+    r = sdr_encode_range(p, inverse_gamma, r);
+    if (device == 2) {
       const double g = p.inverse_gamma[2];
       r = map_nonnegative(r, [g](double v) { return d3d::pow(v, g); });
     }

@@ -256,18 +256,11 @@ Image tonemap_image(const ParamBlock& p, const Image& scene, const Image* bloom,
         Range3 post = post_convert_range(p, range);
         post.include(o);  // the reference's own value, whatever path rounded the end points
         range.include(lut_out);
-        AdmissibleRange a;
-        a.pixel = static_cast<size_t>(y) * scene.width + x;
-        for (int c = 0; c < 3; ++c) {
-          a.lo[c] = post.lo[c];
-          a.hi[c] = post.hi[c];
-          if (post.nan[c]) a.nan_ok |= uint8_t(1u << c);
-        }
         // Alpha: the luminance of the LUT value, non-negative weights.
-        a.lo[3] = range.lo[0] * 0.299 + range.lo[1] * 0.587 + range.lo[2] * 0.114;
-        a.hi[3] = range.hi[0] * 0.299 + range.hi[1] * 0.587 + range.hi[2] * 0.114;
-        if (range.nan[0] || range.nan[1] || range.nan[2]) a.nan_ok |= uint8_t(1u << 3);
-        out.admissible.push_back(a);
+        const auto lum = luminance_range(range);
+        out.admissible.push_back(to_admissible(static_cast<size_t>(y) * scene.width + x, post,
+                                               lum[0], lum[1],
+                                               range.nan[0] || range.nan[1] || range.nan[2]));
       }
       Range3 device;
       if (device_lut && sample_lut_device_range(*device_lut, encoded, sub_texel_bits, &device)) {
@@ -280,19 +273,10 @@ Image tonemap_image(const ParamBlock& p, const Image& scene, const Image* bloom,
             post.hi[c] = std::fmax(post.hi[c], t.hi[c]);
           }
         }
-        AdmissibleRange a;
-        a.pixel = static_cast<size_t>(y) * scene.width + x;
-        for (int c = 0; c < 3; ++c) {
-          a.lo[c] = post.lo[c];
-          a.hi[c] = post.hi[c];
-          if (post.nan[c]) a.nan_ok |= uint8_t(1u << c);
-        }
-        a.lo[3] = device.lo[0] * 0.299 + device.lo[1] * 0.587 + device.lo[2] * 0.114;
-        a.hi[3] = device.hi[0] * 0.299 + device.hi[1] * 0.587 + device.hi[2] * 0.114;
-        a.lo[3] = std::fmin(a.lo[3], dst[3]);
-        a.hi[3] = std::fmax(a.hi[3], dst[3]);
-        if (device.nan[0] || device.nan[1] || device.nan[2]) a.nan_ok |= uint8_t(1u << 3);
-        out.device_admissible.push_back(a);
+        const auto lum = luminance_range(device);
+        out.device_admissible.push_back(to_admissible(
+            static_cast<size_t>(y) * scene.width + x, post, std::fmin(lum[0], dst[3]),
+            std::fmax(lum[1], dst[3]), device.nan[0] || device.nan[1] || device.nan[2]));
       }
     }
   }

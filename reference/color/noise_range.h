@@ -179,6 +179,30 @@ Range3 map_nonnegative(const Range3& r, F f) {
   return map_nondecreasing(lifted, f);
 }
 
+// A pixel's admissible range for core/image.h: the colour channels from `rgb`, alpha [lo, hi]
+// with NaN admissible where `alpha_nan`.
+inline AdmissibleRange to_admissible(size_t pixel, const Range3& rgb, double alpha_lo,
+                                     double alpha_hi, bool alpha_nan) {
+  AdmissibleRange a;
+  a.pixel = pixel;
+  for (int c = 0; c < 3; ++c) {
+    a.lo[c] = rgb.lo[c];
+    a.hi[c] = rgb.hi[c];
+    if (rgb.nan[c]) a.nan_ok |= uint8_t(1u << c);
+  }
+  a.lo[3] = alpha_lo;
+  a.hi[3] = alpha_hi;
+  if (alpha_nan) a.nan_ok |= uint8_t(1u << 3);
+  return a;
+}
+
+// The luminance OutLuminance takes from a LUT value's range (non-negative weights: the ends map
+// to the ends), for the Tonemap pass's alpha.
+inline std::array<double, 2> luminance_range(const Range3& r) {
+  return {r.lo[0] * 0.299 + r.lo[1] * 0.587 + r.lo[2] * 0.114,
+          r.hi[0] * 0.299 + r.hi[1] * 0.587 + r.hi[2] * 0.114};
+}
+
 inline Range3 scale(const Range3& r, double k) {  // k > 0
   Range3 out = r;
   for (int c = 0; c < 3; ++c) {

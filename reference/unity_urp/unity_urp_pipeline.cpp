@@ -76,16 +76,9 @@ Result<Image> reference(const ResolvedCase& c, bool /*analytic_lut*/) {
                                              c.device.sub_texel_bits);
       }
       r.include({o[0], o[1], o[2]});
-      AdmissibleRange a;
-      a.pixel = static_cast<size_t>(y) * out.width + x;
-      for (int ch = 0; ch < 3; ++ch) {
-        a.lo[ch] = r.lo[ch];
-        a.hi[ch] = r.hi[ch];
-        if (r.nan[ch]) a.nan_ok |= uint8_t(1u << ch);
-      }
-      a.lo[3] = a.hi[3] = o[3];  // alpha: 1 in the bake, the input's in the grade
-      if (std::isnan(o[3])) a.nan_ok |= uint8_t(1u << 3);
-      out.device_admissible.push_back(a);
+      // Alpha: 1 in the bake, the input's in the grade.
+      out.device_admissible.push_back(
+          to_admissible(static_cast<size_t>(y) * out.width + x, r, o[3], o[3], std::isnan(o[3])));
     }
   out.device_allowances = {"LUT storage rounding (either neighbour)",
                            "shader noise (kFloat32Noise of the bake and the LUT coordinate)"};
