@@ -79,10 +79,10 @@ Tolerance default_tolerance();
 struct KnownLimit {
   std::string cases;   // glob over case ids
   std::string engine;  // candidate engine name ("vulkan")
+  std::string reason;  // why, with the issue that lifts it
   // A glob over the candidate device's name (optional), with ", worst-case device model" appended
   // under `--device-model worst` (runner/run.cpp known_limit_device_name).
   std::string device = "*";
-  std::string reason;  // why, with the issue that lifts it
 };
 
 // Reads `cases_dir`/known_limits.json (absent: none). Errors are located like case errors.
