@@ -71,6 +71,14 @@ Status check_exr_header(const std::string& path, size_t max_pixels) {
             (w <= 0 || h <= 0 || static_cast<unsigned long long>(w) * h > max_pixels))
           return fail("the data window is " + std::to_string(w) + "x" + std::to_string(h) +
                       ", at most " + std::to_string(max_pixels) + " pixels are read" + where);
+        // OpenEXR's line compressors allocate a chunk's lines (up to 32, PIZ/B44; 16 ZIP) of the
+        // window's width before any pixel is read: a 16M × 1 window passes the pixel limit and
+        // asks ZIP for 2 GB (found by fuzz/image_fuzzer). No image of the suite is wider or taller
+        // than a 256-edge LUT's strip (65 536 × 256).
+        if (name == "dataWindow" && (w > kMaxExrDimension || h > kMaxExrDimension))
+          return fail("the data window is " + std::to_string(w) + "x" + std::to_string(h) +
+                      ", at most " + std::to_string(kMaxExrDimension) + " pixels wide and high" +
+                      where);
       } else if (name == "chunkCount" && type == "int" && size == 4) {
         // The offset table holds 8 bytes per chunk, and OpenEXR allocates it first.
         unsigned char v[4];

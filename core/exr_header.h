@@ -16,6 +16,9 @@ namespace hdrc {
 
 // The largest data window the check lets OpenEXR see (4096 x 4096).
 inline constexpr size_t kMaxExrHeaderPixels = size_t{4096} * 4096;
+// The widest or tallest data window it lets through: a 256-edge LUT's strip (256² × 256), the
+// widest image of the suite. OpenEXR's line compressors allocate a chunk of lines of that width.
+inline constexpr long long kMaxExrDimension = 65536;
 
 // Ok when `path` is not an OpenEXR file (no EXR magic number) or its headers are within bounds;
 // otherwise an error naming the file, the part and the attribute.

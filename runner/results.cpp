@@ -212,10 +212,14 @@ json case_json(const CaseResult& c, const RunReport& r) {
   };
   // A PASS within a device allowance only (docs/precision.md, "Device allowances").
   if (!c.device_allowances.empty())
-    out["device_allowance"] = {{"classes", c.device_allowances},
-                               {"values", c.allowance_values},
-                               {"first", pixel(c.first_allowance)},
-                               {"without_it", c.tight_reason}};
+    out["device_allowance"] = {
+        {"classes", c.device_allowances},
+        {"values", c.allowance_values},
+        // A whole pixel (the diff counts values, not one channel).
+        {"first", c.first_allowance.valid()
+                      ? json{{"x", c.first_allowance.x}, {"y", c.first_allowance.y}}
+                      : json(nullptr)},
+        {"without_it", c.tight_reason}};
   return out;
 }
 
