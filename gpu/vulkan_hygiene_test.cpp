@@ -12,6 +12,7 @@
 #include <random>
 #include <string>
 
+#include "gpu/engine_test_cases.h"
 #include "gpu/shader_probe.h"
 #include "gpu/vulkan_engine.h"
 #include "reference/ue_cpp/resolve.h"
@@ -24,36 +25,17 @@ using hdrc::gpu::VulkanOptions;
 using Planted = hdrc::gpu::VulkanOptions::Planted;
 
 hdrc::Image ramp(int w, int h, uint64_t seed) {
-  hdrc::Image img(w, h);
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> u(-4.0, 2.0);
-  for (size_t i = 0; i < img.pixel_count(); ++i) {
-    for (int c = 0; c < 3; ++c) img.data[i * 4 + c] = static_cast<float>(std::pow(10.0, u(rng)));
-    img.data[i * 4 + 3] = 1.0;
-  }
-  return img;
+  return hdrc::gpu::testing::random_image(w, h, seed, -4.0);
 }
 
 hdrc::ResolvedCase make_case(const char* stage, int device, int size, int format, int layout,
                              hdrc::Image input) {
-  hdrc::ResolvedCase rc;
-  rc.spec.id = "hygiene";
-  rc.spec.stage = hdrc::find_stage(stage);
-  rc.spec.cvars.set("r.HDR.EnableHDROutput", 1);
-  rc.spec.cvars.set("r.HDR.Display.OutputDevice", device);
-  rc.spec.cvars.set("r.LUT.Size", size);
-  rc.spec.settings.set("LUTFormat", {static_cast<double>(format), 0, 0, 0}, 1);
-  rc.spec.settings.set("LUTLayout", {static_cast<double>(layout), 0, 0, 0}, 1);
-  if (std::string(stage) == "combine_luts") input = hdrc::Image(size * size, size);
-  rc.params = *hdrc::ref::resolve_params(rc.spec, input.width, input.height);
-  rc.input = std::move(input);
-  return rc;
+  return hdrc::gpu::testing::lut_stage_case("hygiene", stage, device, size, format, layout,
+                                            std::move(input));
 }
 
-// Bit for bit (a NaN equals the same NaN).
 bool same(const hdrc::Image& a, const hdrc::Image& b) {
-  return a.width == b.width && a.height == b.height &&
-         std::memcmp(a.data.data(), b.data.data(), a.data.size() * sizeof(double)) == 0;
+  return hdrc::gpu::testing::same_bits(a, b);
 }
 
 VulkanOptions options(DeviceModel model, Planted planted = Planted::kNone) {
