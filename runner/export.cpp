@@ -185,7 +185,7 @@ json explicit_settings(const Case& c) {
 }
 
 const char* device_name(int d) {
-  // EDisplayOutputFormat's names (the spec's OutputDevice table, /work/shared/spec).
+  // EDisplayOutputFormat's names (the OutputDevice table, docs/ue55-decisions.md D10).
   static const char* names[] = {"SDR_sRGB",
                                 "SDR_Rec709",
                                 "SDR_ExplicitGammaMapping",

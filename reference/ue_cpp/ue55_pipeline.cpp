@@ -171,7 +171,7 @@ const Pipeline& ue55_pipeline() {
       "Unreal Engine 5.5 HDR output",
       "docs/ue55-decisions.md",
       "CombineLUTs, ACES 1.3 output, the Tonemap pass, HDR UI composite, VisualizeHDR and the cvar "
-      "semantics of UE 5.5 (../shared/spec/ue55-hdr-pipeline.md)",
+      "semantics of UE 5.5 (docs/ue55-decisions.md)",
       &stage_table,
       &cvar_table,
       &setting_table,
