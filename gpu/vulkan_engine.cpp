@@ -227,7 +227,21 @@ Result<VkInstance> create_instance(Messages* messages) {
     ci.pNext = &mi;
   }
   VkInstance instance = VK_NULL_HANDLE;
-  HDRC_VK(vkCreateInstance(&ci, nullptr, &instance));
+  const VkResult r = vkCreateInstance(&ci, nullptr, &instance);
+  // The loader answers VK_ERROR_INCOMPATIBLE_DRIVER when it loaded no driver at all: no manifest
+  // found, or the library a manifest names failed to load. Measured on an NVIDIA H200 container
+  // (docs/precision.md, "The default suite on a real GPU"): NVIDIA's Vulkan library needs
+  // libglvnd's libGLdispatch.so.0, and without it every vkCreateInstance in the process fails so.
+  if (r == VK_ERROR_INCOMPATIBLE_DRIVER)
+    return Error{"", "",
+                 "vkCreateInstance failed: VK_ERROR_INCOMPATIBLE_DRIVER (-9): the Vulkan loader "
+                 "could load no driver. Install one (lavapipe: mesa-vulkan-drivers); with a "
+                 "vendor driver, its library may lack a dependency (NVIDIA's needs libglvnd: "
+                 "libGLX.so.0, libGLdispatch.so.0) or its manifest may not be found "
+                 "(VK_DRIVER_FILES=/path/to/icd.json names it). VK_LOADER_DEBUG=driver shows "
+                 "which manifests were read and why each driver was rejected",
+                 ""};
+  if (r != VK_SUCCESS) return vk_error("vkCreateInstance(&ci, nullptr, &instance)", r);
   return instance;
 }
 

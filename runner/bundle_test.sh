@@ -74,6 +74,18 @@ cmp -s "$tmp/list.build" "$tmp/run/list.bundle" || fail "the bundle lists other 
 total="$(wc -l <"$tmp/run/list.bundle")"
 echo "bundle_test: list: $total cases, as the build's binary"
 
+# The real-GPU check finds the bundle's own launcher, shaders and planted defects (run outside the
+# box: the box hides the host's libz, which python3 needs).
+if command -v python3 >/dev/null; then
+  COLUMNS=100000 "$tmp/moved/gpu-check" --help >"$tmp/gpu-check.help" 2>&1 ||
+    fail "gpu-check --help failed: $(cat "$tmp/gpu-check.help")"
+  for f in hdrconform share/hdrconform/shaders share/hdrconform/planted_shader_defects.json; do
+    grep -qF "default: $tmp/moved/$f)" "$tmp/gpu-check.help" ||
+      fail "gpu-check's default is not the bundle's $f"
+  done
+  echo "bundle_test: gpu-check finds the bundle's launcher, shaders and planted defects"
+fi
+
 # Two cases of every folder, every pipeline among them.
 filter="$(awk -F/ 'n[$1]++ < 2 {printf "%s=%s", sep, $0; sep = ","}' "$tmp/run/list.bundle")"
 picked="$(echo "$filter" | tr ',' '\n' | wc -l)"

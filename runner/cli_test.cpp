@@ -100,6 +100,12 @@ TEST(Cli, NoVulkanDriverSkipsAndExits3) {
   EXPECT_NE(r.out.find("candidate unavailable: vulkan engine unavailable"), std::string::npos)
       << r.out;
   EXPECT_NE(r.out.find("40 skipped"), std::string::npos) << r.out;
+  // The reason says what to check (the loader loaded no driver), not only the VkResult.
+  EXPECT_NE(r.out.find("the Vulkan loader could load no driver"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("VK_LOADER_DEBUG=driver"), std::string::npos) << r.out;
+  const Ran d = run("devices", "VK_ICD_FILENAMES=/nonexistent/icd.json ");
+  EXPECT_EQ(d.code, 3) << d.out;
+  EXPECT_NE(d.out.find("could load no driver"), std::string::npos) << d.out;
   fs::remove_all(out);
 }
 

@@ -15,6 +15,7 @@
 
 #include "core/pipeline.h"
 #include "runner/case_loader.h"
+#include "runner/json_read.h"
 #include "runner/test_support.h"
 
 namespace {
@@ -520,6 +521,23 @@ TEST(Pipelines, PlantedUeLutNeutralWeightDroppedFailsWhereItIsNotZero) {
 
 }  // namespace
 
+// The planted shader defects every conformant device must fail (runner/planted_shader_defects.json,
+// shared with scripts/gpu-check.py, which runs them on a real GPU).
+struct PlantedDefect {
+  std::string shader, from, to, cases, must_fail, what;
+};
+
+std::vector<PlantedDefect> planted_defects() {
+  const std::string path = std::string(HDRC_SOURCE_DIR) + "/runner/planted_shader_defects.json";
+  auto j = hdrc::read_json_file<nlohmann::json>(path, "planted defects");
+  EXPECT_TRUE(j.ok()) << path;
+  std::vector<PlantedDefect> rows;
+  if (!j.ok()) return rows;
+  for (const auto& d : (*j)["defects"])
+    rows.push_back({d["shader"], d["from"], d["to"], d["cases"], d["must_fail"], d["what"]});
+  return rows;
+}
+
 // The H200's lut33 texel (issue 25; docs/ue55-decisions.md D-UV): UE's own form of the unwrapped
 // LUT's lattice coordinate, frac(UV.x·N) at r = 0, wraps to the neighbouring slice when a
 // conformant device's division rounds UV.x below the slice boundary. Lavapipe's division is
@@ -527,23 +545,20 @@ TEST(Pipelines, PlantedUeLutNeutralWeightDroppedFailsWhereItIsNotZero) {
 // storage cases fail under the model (texel (0, g, b) holding (1, g, b − 1)'s colour); the
 // port's closed form passes them under the model.
 TEST(Pipelines, WorstCaseDeviceCatchesTheUnwrappedCoordinate) {
-  const std::string ue_form =
-      "  float w = float(n) * float(n);\n"
-      "  vec2 uv = (vec2(float(texel.r + n * texel.b), float(texel.g)) + 0.5) / vec2(w, "
-      "float(n));\n"
-      "  uv -= vec2(0.49999 / w, 0.49999 / float(n));\n"
-      "  float r = fract(uv.x * float(n));\n"
-      "  float b = uv.x - r / float(n);\n"
-      "  return vec3(r, uv.y, b) * (float(n) / n1);\n";
-  const std::string port_form =
-      "  const float kBias = 1.0e-5;  // 0.5 − 0.49999\n"
-      "  return vec3(float(texel.r) + kBias, float(texel.g) + kBias, float(texel.b)) / n1;\n";
+  PlantedDefect ue_form;
+  for (const auto& d : planted_defects())
+    if (d.shader == "lib/combine_luts.glsl") ue_form = d;
+  ASSERT_FALSE(ue_form.from.empty()) << "no lib/combine_luts.glsl row";
   std::string out;
+  // On lavapipe, without the model, UE's form passes: its divisions are correctly rounded.
+  const auto exact = planted_shader_failures(ue_form.shader, ue_form.from, ue_form.to,
+                                             "--filter '" + ue_form.cases + "'", &out, 0);
+  EXPECT_TRUE(exact.empty()) << out;
   const auto failing =
-      planted_shader_failures("lib/combine_luts.glsl", port_form, ue_form,
-                              "--filter 'lut/storage/*layout1*' --device-model worst", &out);
+      planted_shader_failures(ue_form.shader, ue_form.from, ue_form.to,
+                              "--filter '" + ue_form.cases + "' --device-model worst", &out);
   EXPECT_GE(failing.size(), 2u) << out;
-  EXPECT_TRUE(contains(failing, "lut/storage/lut33_dev0_fmt2_layout1")) << out;
+  EXPECT_TRUE(contains(failing, ue_form.must_fail)) << out;
   for (const auto& id : failing) EXPECT_NE(id.find("layout1"), std::string::npos) << id;
   // The port's form under the model: every layout-1 storage case passes.
   const Ran fixed =
@@ -552,55 +567,23 @@ TEST(Pipelines, WorstCaseDeviceCatchesTheUnwrappedCoordinate) {
   EXPECT_EQ(fixed.code, 0) << fixed.out;
 }
 
-// Every planted shader defect of this file and of cli_test.cpp still fails on the worst-case
-// conformant device (issue 25): the device allowances the reference derives there must not absorb
-// a wrong constant or a wrong lookup. Each row runs the cases its own test names, under
-// `--device-model worst`, and needs the named case to FAIL (not pass with an allowance, not be a
-// known limit of the model).
+// Every planted shader defect of runner/planted_shader_defects.json (those of this file, of
+// cli_test.cpp and of dither_test.cpp) still fails on the worst-case conformant device
+// (issue 25): the device allowances the reference derives there must not absorb a wrong constant
+// or a wrong lookup. Each row runs its cases under `--device-model worst` and needs the named case
+// to FAIL (not pass with an allowance, not be a known limit of the model).
 TEST(Pipelines, PlantedDefectsFailOnTheWorstCaseDevice) {
-  struct Row {
-    const char* shader;
-    const char* from;
-    const char* to;
-    const char* filter;
-    const char* must_fail;
-  };
-  const Row rows[] = {
-      {"lib/aces_rrt.glsl", "aces_mul(AP0_2_AP1_MAT, aces)",
-       "aces_mul(AP0_2_AP1_MAT + mat3(0.0, 0.0, 0.0, 0.0, 1e-4, 0.0, 0.0, 0.0, 0.0), aces)",
-       "lut/devices/dev3_*", "lut/devices/dev3_gamut0"},
-      {"lib/film_tonemap.glsl", "const float FILM_MATCH = 0.18;",
-       "const float FILM_MATCH = 0.1801;", "lut/storage/*dev0_fmt2*",
-       // In a 10-bit UNORM LUT the change (under a code) is within the store's either-way
-       // rounding on a conformant device; a float LUT shows it.
-       "lut/storage/lut32_dev0_fmt2_layout0"},
-      {"unity_urp/lib/unity_color.glsl", "const float URP_LOGC_C = 0.244161;",
-       "const float URP_LOGC_C = 0.244171;", "unity_urp/graded_look/*",
-       "unity_urp/graded_look/gradingmode1_mode2_postexposure0_hue_sweep"},
-      {"unity_urp/lib/unity_grade.glsl", "float balance = P.urp_split_shadows.w;",
-       "float balance = -P.urp_split_shadows.w;", "unity_urp/graded_look/*",
-       "unity_urp/graded_look/gradingmode1_mode2_postexposure0_log_ramp"},
-      {"operators/lib/operators.glsl", "OpRational(P.op_hable_a,",
-       "OpRational(P.op_hable_a * 1.0005,", "operators/operators/operator2_*",
-       "operators/operators/operator2_log_ramp"},
-      {"pq_grading/lib/pq_grading.glsl", "  return pqg_sample_strip(t);",
-       "  return pqg_sample_strip(t.bgr);", "pq_grading/luts/*hue_33_random*",
-       "pq_grading/luts/display1_backbuffer0_lutpq_hue_33_random"},
-      {"pq_grading/lib/pq_grading.glsl", "vec3 uvw = t * ((n - 1.0) / n) + 0.5 / n;",
-       "vec3 uvw = t * ((n - 1.0) / n) + 1.0 / n;", "pq_grading/luts/*identity_33_random*",
-       "pq_grading/luts/display1_backbuffer0_lutpq_identity_33_random"},
-      {"lib/ue_lut_blend.glsl", "return mix(rg0, rg1, frac_w);",
-       "return mix(rg0, rg1, frac_w).bgr;", "lut/user_lut/storage/dev9_*",
-       // (the blend cases are known limits of the model: cases/known_limits.json)
-       "lut/user_lut/storage/dev9_fmt1_layout0"},
-  };
-  for (const Row& row : rows) {
+  const auto rows = planted_defects();
+  EXPECT_GE(rows.size(), 12u);
+  for (const auto& row : rows) {
     std::string out;
     const auto failing = planted_shader_failures(
-        row.shader, row.from, row.to,
-        std::string("--filter '") + row.filter + "' --device-model worst", &out);
-    EXPECT_TRUE(contains(failing, row.must_fail))
-        << row.shader << ": " << row.to << " did not fail " << row.must_fail << "\n"
-        << out;
+        row.shader, row.from, row.to, "--filter '" + row.cases + "' --device-model worst", &out);
+    if (row.must_fail == "*")
+      EXPECT_FALSE(failing.empty()) << row.what << ": no case failed\n" << out;
+    else
+      EXPECT_TRUE(contains(failing, row.must_fail))
+          << row.what << ": " << row.to << " did not fail " << row.must_fail << "\n"
+          << out;
   }
 }

@@ -80,12 +80,13 @@ inline void write(const std::filesystem::path& p, const std::string& text) {
 // A planted defect: `from` replaced by `to` in `shader` (a path under gpu/shaders) of a copy of the
 // suite's shaders, then `hdrconform run SELECTION` (e.g. "--pipeline unity_urp" or "--filter
 // 'lut/devices/*'") on that copy without goldens. Returns the ids of the FAIL cases (results.json)
-// and the console output in `out`; the run must exit 1 and `from` must be in the shader.
+// and the console output in `out`; the run must exit `expected_code` (1: something failed) and
+// `from` must be in the shader.
 inline std::vector<std::string> planted_shader_failures(const std::string& shader,
                                                         const std::string& from,
                                                         const std::string& to,
                                                         const std::string& selection,
-                                                        std::string* out) {
+                                                        std::string* out, int expected_code = 1) {
   namespace fs = std::filesystem;
   const fs::path shaders = temp_dir("planted_shader");
   const fs::path results = temp_dir("planted_shader_out");
@@ -99,7 +100,7 @@ inline std::vector<std::string> planted_shader_failures(const std::string& shade
   const Ran r = run("run " + selection + " --no-goldens --shader-dir " + shaders.string() +
                     " --out " + results.string());
   *out = r.out;
-  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_EQ(r.code, expected_code) << r.out;
   std::vector<std::string> failing;
   const auto j = nlohmann::json::parse(read(results / "results.json"));
   for (const auto& c : j["cases"])

@@ -11,7 +11,10 @@
 #                                 Vulkan loader libvulkan.so.1 included
 # DIR/lib/compat/                 libstdc++.so.6 and libgcc_s.so.1: used only where the host's
 #                                 are missing or older than the build's (the launcher checks)
-# DIR/share/hdrconform/           cases/, goldens/, shaders/ (gpu/shaders), source_commit: the
+# DIR/gpu-check                   scripts/gpu-check.py: the suite, its planted defects and
+#                                 (optionally) gpu_tests on a real GPU, summarised (Python 3)
+# DIR/share/hdrconform/           cases/, goldens/, shaders/ (gpu/shaders), source_commit,
+#                                 planted_shader_defects.json: the
 #                                 binary finds them from its own path (core/install_paths.h)
 # DIR/MANIFEST.txt                every library, where it came from, and which ones are stubs
 #
@@ -213,6 +216,9 @@ share="$out/share/hdrconform"
 cp -R "$root/cases" "$share/cases"
 cp -R "$root/goldens" "$share/goldens"
 cp -R "$root/gpu/shaders" "$share/shaders"
+# The real-GPU check (scripts/gpu-check.py) and the planted shader defects it runs.
+cp "$root/runner/planted_shader_defects.json" "$share/planted_shader_defects.json"
+cp "$root/scripts/gpu-check.py" "$out/gpu-check"
 commit="$(git -C "$root" rev-parse HEAD 2>/dev/null || echo unknown)"
 if [ "$commit" != unknown ] &&
   [ -n "$(git -C "$root" status --porcelain --untracked-files=no 2>/dev/null)" ]; then
