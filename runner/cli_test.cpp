@@ -91,6 +91,37 @@ TEST(Cli, UnavailableDeviceSkipsAndExits3) {
   fs::remove_all(out);
 }
 
+// Usage errors name the cause and the fix, exit 2 and write nothing (issue 28, CLI polish): a
+// misspelt command or option gets the nearest one; a word for a number says it is not one.
+TEST(Cli, UsageErrorsNameTheNearestChoiceAndWriteNothing) {
+  const fs::path out = temp_dir("usage") / "out";
+  struct Row {
+    std::string args, says;
+  };
+  const Row rows[] = {
+      {"runn", "unknown command 'runn'; did you mean 'run'?"},
+      {"run --filtr x", "unknown option '--filtr' for 'run'; did you mean '--filter'?"},
+      {"run --pipe ue55", "did you mean '--pipeline'?"},
+      {"verify --candidate-cm x",
+       "unknown option '--candidate-cm' for 'verify'; did you mean "
+       "'--candidate-cmd'?"},
+      {"goldens update --bogus", "unknown option '--bogus' for 'update'; --help lists its options"},
+      {"run -j two", "'two' is not a whole number"},
+      {"run -j 2000", "'2000' is out of range: 0 (every core) to 1024"},
+      {"report " + out.string() + " -j x", "'x' is not a whole number"},
+  };
+  for (const Row& r : rows) {
+    const Ran ran = run(r.args + (r.args.rfind("report", 0) == 0 ? "" : " --out " + out.string()));
+    EXPECT_EQ(ran.code, 2) << r.args << "\n" << ran.out;
+    EXPECT_NE(ran.out.find(r.says), std::string::npos) << r.args << "\n" << ran.out;
+    EXPECT_FALSE(fs::exists(out)) << r.args << " wrote " << out;
+  }
+  // The top-level help names every pipeline.
+  const Ran help = run("--help");
+  for (const char* title : {"Unreal Engine 5.5", "Unity URP", "tone-mapping operators", "PQ-space"})
+    EXPECT_NE(help.out.find(title), std::string::npos) << title << "\n" << help.out;
+}
+
 // No Vulkan driver at all (an ICD list naming no file): unavailable with the reason, exit 3.
 TEST(Cli, NoVulkanDriverSkipsAndExits3) {
   const fs::path out = temp_dir("noicd");

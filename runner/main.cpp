@@ -4,12 +4,14 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <charconv>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
 
 #include "core/install_paths.h"
+#include "core/nearest.h"
 #include "core/pipeline.h"
 #include "gpu/vulkan_engine.h"
 #include "reference/reference_engine.h"
@@ -78,6 +80,75 @@ int load_or_report(const std::string& dir, const hdrc::CaseSelection& filter,
   return hdrc::kExitPass;
 }
 
+// "Unreal Engine 5.5 HDR output, Unity URP colour grading, ...": every registered pipeline's
+// title, so the top-level help names each one (a new pipeline touches no runner code).
+std::string pipeline_titles() {
+  std::string out;
+  for (const hdrc::Pipeline* p : hdrc::pipeline_table())
+    out += (out.empty() ? "" : ", ") + std::string(p->title);
+  return out;
+}
+
+// -j/--jobs: a whole number 0..1024, with a message that says which (CLI11's Range says "Value
+// two not in range" for a word).
+CLI::Validator jobs_check() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        long v = 0;
+        const char* end = text.data() + text.size();
+        const auto [p, ec] = std::from_chars(text.data(), end, v);
+        if (text.empty() || ec != std::errc() || p != end)
+          return "'" + text +
+                 "' is not a whole number: give the number of worker threads, 0 (every core) "
+                 "to 1024";
+        if (v < 0 || v > 1024)
+          return "'" + text + "' is out of range: 0 (every core) to 1024 worker threads";
+        return "";
+      },
+      "INT in [0 - 1024]");
+}
+
+// The subcommand the command line names, deepest first (`goldens update`), else the app.
+const CLI::App* named_subcommand(const CLI::App& app, int argc, char** argv) {
+  const CLI::App* at = &app;
+  for (int i = 1; i < argc; ++i) {
+    for (const CLI::App* sub : at->get_subcommands([](const CLI::App*) { return true; }))
+      if (sub->get_name() == argv[i]) {
+        at = sub;
+        break;
+      }
+  }
+  return at;
+}
+
+// For CLI11's "arguments were not expected": the first --option that the named subcommand does
+// not have, with the nearest one it has ("unknown option '--filtr' for 'run'; did you mean
+// '--filter'?"). Empty where every --option is known (the extra is a positional argument).
+std::string unknown_option_hint(const CLI::App& app, int argc, char** argv) {
+  const CLI::App* sub = named_subcommand(app, argc, argv);
+  std::vector<std::string> known;
+  for (const CLI::App* a = sub; a; a = a->get_parent())
+    for (const CLI::Option* o : a->get_options())
+      for (const std::string& n : o->get_lnames()) known.push_back(n);
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg.size() < 3 || arg.compare(0, 2, "--") != 0) continue;
+    const std::string name =
+        arg.substr(2, arg.find('=') == std::string::npos ? std::string::npos : arg.find('=') - 2);
+    if (std::find(known.begin(), known.end(), name) != known.end()) continue;
+    const std::string where = sub == &app ? "hdrconform" : "'" + sub->get_name() + "'";
+    // A prefix of one option, or within 2 edits (a typo, not another word: "--bogus" is 3 edits
+    // from "--jobs").
+    std::string near = hdrc::closest_command(name, known);
+    if (!near.empty() && near.compare(0, name.size(), name) != 0 &&
+        hdrc::edit_distance(name, near) > 2)
+      near.clear();
+    return "unknown option '--" + name + "' for " + where +
+           (near.empty() ? "; --help lists its options" : "; did you mean '--" + near + "'?");
+  }
+  return "";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -87,11 +158,10 @@ int main(int argc, char** argv) {
   // extension names cannot open a file (a damaged PNG would reach libtiff's stub): there, only
   // that one reader (OpenImageIO imageio.h, attribute "try_all_readers").
   if (!hdrc::installed_data_dir().empty()) OIIO::attribute("try_all_readers", 0);
-  CLI::App app{
-      "hdrconform: conformance suite for HDR output pipelines (Unreal Engine 5.5, Unity URP\n"
-      "colour grading, the classic tone-mapping operators: hdrconform pipelines).\n"
-      "Runs a candidate engine (the GLSL/Vulkan port) and the double-precision reference on\n"
-      "JSON cases and diffs them in linear and PQ space."};
+  CLI::App app{"hdrconform: conformance suite for HDR output pipelines (" + pipeline_titles() +
+               ": hdrconform pipelines).\n"
+               "Runs a candidate engine (the GLSL/Vulkan port) and the double-precision reference "
+               "on\nJSON cases and diffs them in linear and PQ space."};
   app.footer(kExitCodes);
   app.require_subcommand(1);
 
@@ -139,7 +209,7 @@ int main(int argc, char** argv) {
         ->multi_option_policy(CLI::MultiOptionPolicy::Join);
   };
   auto add_jobs = [&](CLI::App* sub) {
-    sub->add_option("-j,--jobs", jobs, jobs_help)->check(CLI::Range(0, 1024));
+    sub->add_option("-j,--jobs", jobs, jobs_help)->check(jobs_check());
   };
   auto add_shard = [&](CLI::App* sub) {
     sub->add_option("--shard", shard, shard_help);
@@ -351,7 +421,7 @@ int main(int argc, char** argv) {
   report_cmd->add_option("RESULTS_DIR", report_dir, "a directory written by `hdrconform run --out`")
       ->required();
   report_cmd->add_option("-j,--jobs", jobs, "threads building the case pages (default: every core)")
-      ->check(CLI::Range(0, 1024));
+      ->check(jobs_check());
 
   std::string merge_out;
   std::vector<std::string> merge_dirs;
@@ -376,6 +446,12 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "error: unknown command '%s'; did you mean '%s'?\n", argv[1],
                    near.c_str());
       return hdrc::kExitBadInput;
+    }
+    if (dynamic_cast<const CLI::ExtrasError*>(&e)) {
+      if (const std::string hint = unknown_option_hint(app, argc, argv); !hint.empty()) {
+        std::fprintf(stderr, "error: %s\n", hint.c_str());
+        return hdrc::kExitBadInput;
+      }
     }
     const int code = app.exit(e);
     return code == 0 ? hdrc::kExitPass : hdrc::kExitBadInput;
