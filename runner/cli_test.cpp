@@ -383,11 +383,22 @@ bool vulkan_available() {
   return run("devices").code == 0;
 }
 
+// A test that needs a Vulkan device fails without one (a green run must have checked the GPU
+// path), unless HDRC_ALLOW_NO_VULKAN=1 says the machine has none: then it is skipped.
+#define HDRC_REQUIRE_VULKAN()                                                                      \
+  do {                                                                                             \
+    if (!vulkan_available()) {                                                                     \
+      if (hdrc::test::vulkan_optional())                                                           \
+        GTEST_SKIP() << "no Vulkan device (HDRC_ALLOW_NO_VULKAN)";                                 \
+      FAIL() << "no Vulkan device; on a machine without Vulkan HDRC_ALLOW_NO_VULKAN=1 skips this"; \
+    }                                                                                              \
+  } while (0)
+
 // export, then a port (examples/vulkan_candidate, hdrconform's own GPU engine reading only the
 // exported files) renders each case into DIR/<id>.exr, then verify --candidate-dir: the same
 // verdicts and statistics as `run`.
 TEST(Cli, ExportThenVerifyCandidateDirMatchesRun) {
-  if (!vulkan_available()) GTEST_SKIP() << "no Vulkan device";
+  HDRC_REQUIRE_VULKAN();
   // Gamuts 2 and 3: gamut 0's ramps are known limits of the vulkan engine (cases/known_limits.json,
   // sign-boundary NaN), which `verify` of a candidate directory does not apply.
   const std::string filter = "--filter 'tonemap/linear_dev7/gamut[23]_[ls]*_ramp' ";
@@ -481,7 +492,7 @@ TEST(Cli, VerifyReportsMissingAndCorruptCandidatesPerCase) {
 
 // verify --candidate-cmd with the example candidate in examples/: the way to verify a port.
 TEST(Cli, VerifyCandidateCmdWithTheExampleCandidate) {
-  if (!vulkan_available()) GTEST_SKIP() << "no Vulkan device";
+  HDRC_REQUIRE_VULKAN();
   const fs::path out = temp_dir("cmd");
   const Ran v = run("verify --filter 'tonemap/shaper_pq/dev3_[ls]*_ramp' -j 2 --candidate-cmd '" +
                     std::string(HDRC_EXAMPLE_CANDIDATE) +

@@ -17,6 +17,8 @@
 #include <array>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -51,6 +53,15 @@ inline Ran run(const std::string& args, const std::string& env = "", int limit_s
   const int status = pclose(p);
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return {WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status), out, s};
+}
+
+// HDRC_ALLOW_NO_VULKAN set (not "", "0", "false", "no"): this machine has no Vulkan device, and
+// a test or conformance run that needs one is skipped instead of failing (runner/ctest_run.sh).
+inline bool vulkan_optional() {
+  const char* v = std::getenv("HDRC_ALLOW_NO_VULKAN");
+  if (!v) return false;
+  const std::string s = v;
+  return !(s.empty() || s == "0" || s == "false" || s == "no");
 }
 
 // A fresh, empty folder for this process: TMP/hdrc_<name>_<pid>.
