@@ -701,67 +701,93 @@ bool sample_lut_device_range(const BakedLut& lut, const Vec3& encoded, int bits,
   uint8_t nan = 0;
   auto lo_at = [&](size_t i) -> const Vec3& { return lut.lo[i]; };
   auto hi_at = [&](size_t i) -> const Vec3& { return lut.hi[i]; };
-  // One bilinear/trilinear filter over `taps` (2 or 3 axes) at every corner of the weight box:
-  // the per-channel extremes of the lower and upper texel bounds.
-  auto filter_extremes = [&](const TapBox* taps, int axes, auto index_of, Vec3* mins, Vec3* maxs) {
+  // One bilinear/trilinear filter over `taps` (2 or 3 axes; per axis the boxes of
+  // linear_tap_boxes) at every corner of every combination of boxes: the per-channel extremes of
+  // the lower and upper texel bounds.
+  auto filter_extremes = [&](const std::vector<TapBox>* taps, int axes, auto index_of, Vec3* mins,
+                             Vec3* maxs) {
     for (int c = 0; c < 3; ++c) {
       (*mins)[c] = HUGE_VAL;
       (*maxs)[c] = -HUGE_VAL;
     }
-    for (int corner = 0; corner < (1 << axes); ++corner) {
-      Vec3 slo{}, shi{};
-      for (int k = 0; k < (1 << axes); ++k) {
-        double w = 1;
-        int idx[3] = {0, 0, 0};
-        for (int a = 0; a < axes; ++a) {
-          const double f = (corner >> a) & 1 ? taps[a].f_hi : taps[a].f_lo;
-          const bool second = (k >> a) & 1;
-          w *= second ? f : 1 - f;
-          idx[a] = second ? taps[a].i1 : taps[a].i0;
-        }
-        if (w == 0) continue;
-        const size_t i = index_of(idx);
-        nan |= lut.flags[i] & 0x7;
-        for (int c = 0; c < 3; ++c) {
-          slo[c] += w * lo_at(i)[c];
-          shi[c] += w * hi_at(i)[c];
-        }
+    size_t combos = 1;
+    for (int a = 0; a < axes; ++a) combos *= taps[a].size();
+    for (size_t combo = 0; combo < combos; ++combo) {
+      const TapBox* box[3] = {nullptr, nullptr, nullptr};
+      for (size_t a = 0, rest = combo; a < static_cast<size_t>(axes); ++a) {
+        box[a] = &taps[a][rest % taps[a].size()];
+        rest /= taps[a].size();
       }
-      for (int c = 0; c < 3; ++c) {
-        (*mins)[c] = std::fmin((*mins)[c], slo[c]);
-        (*maxs)[c] = std::fmax((*maxs)[c], shi[c]);
+      for (int corner = 0; corner < (1 << axes); ++corner) {
+        Vec3 slo{}, shi{};
+        for (int k = 0; k < (1 << axes); ++k) {
+          double w = 1;
+          int idx[3] = {0, 0, 0};
+          for (int a = 0; a < axes; ++a) {
+            const double f = (corner >> a) & 1 ? box[a]->f_hi : box[a]->f_lo;
+            const bool second = (k >> a) & 1;
+            w *= second ? f : 1 - f;
+            idx[a] = second ? box[a]->i1 : box[a]->i0;
+          }
+          if (w == 0) continue;
+          const size_t i = index_of(idx);
+          nan |= lut.flags[i] & 0x7;
+          for (int c = 0; c < 3; ++c) {
+            slo[c] += w * lo_at(i)[c];
+            shi[c] += w * hi_at(i)[c];
+          }
+        }
+        for (int c = 0; c < 3; ++c) {
+          (*mins)[c] = std::fmin((*mins)[c], slo[c]);
+          (*maxs)[c] = std::fmax((*maxs)[c], shi[c]);
+        }
       }
     }
   };
   if (lut.layout == 0) {
-    const TapBox taps[3] = {linear_tap_box(uvw[0] * n - 0.5, n, bits, coord_noise),
-                            linear_tap_box(uvw[1] * n - 0.5, n, bits, coord_noise),
-                            linear_tap_box(uvw[2] * n - 0.5, n, bits, coord_noise)};
+    const std::vector<TapBox> taps[3] = {linear_tap_boxes(uvw[0] * n - 0.5, n, bits, coord_noise),
+                                         linear_tap_boxes(uvw[1] * n - 0.5, n, bits, coord_noise),
+                                         linear_tap_boxes(uvw[2] * n - 0.5, n, bits, coord_noise)};
     filter_extremes(
         taps, 3, [&](const int* i) { return lut.index(i[0], i[1], i[2]); }, &r.lo, &r.hi);
   } else {
-    // UnwrappedTexture3DSample: the shader's lerp by frac(w) (exact up to float32: the slice
-    // coordinate's noise opens it like a weight) between two hardware bilinear samples.
+    // UnwrappedTexture3DSample: the shader's lerp by frac(w) between two hardware bilinear samples
+    // one slice apart, u = (uvw.r + floor(w))/N. The slice coordinate w = uvw.b·N − 0.5 carries
+    // the coordinate's noise like the filter's axes: at both ends of its range and at every
+    // integer between (where floor(w) steps and the lerp's weight wraps from 1 to 0), each with
+    // its own slice pair and exact fraction. Along the strip's x the noise (N times larger in
+    // texels) may cross a slice's first texel into the previous slice's last one, which
+    // linear_tap_boxes reads (the strip's clamp-to-edge only at its ends). The lerp's own float32
+    // rounding: a + t·(b − a), three correctly rounded steps, 2.5 ULP of the larger sample
+    // (spirv_precision.h; as strip_device_range.h).
     const double w = uvw[2] * n - 0.5;
-    const double int_w = std::floor(w);
-    const double frac_w = w - int_w;
-    const double u0 = (uvw[0] + int_w) / n;
-    Vec3 s_lo[2], s_hi[2];
-    for (int s = 0; s < 2; ++s) {
-      const double u = u0 + s * (1.0 / n);
-      const TapBox taps[2] = {linear_tap_box(u * n * n - 0.5, n * n, bits, coord_noise * n),
-                              linear_tap_box(uvw[1] * n - 0.5, n, bits, coord_noise)};
-      filter_extremes(
-          taps, 2, [&](const int* i) { return lut.index(i[0] % n, i[1], i[0] / n); }, &s_lo[s],
-          &s_hi[s]);
-    }
-    const double f_lo = std::max(0.0, frac_w - coord_noise),
-                 f_hi = std::min(1.0, frac_w + coord_noise);
-    for (int c = 0; c < 3; ++c) {
-      r.lo[c] = std::fmin(s_lo[0][c] + (s_lo[1][c] - s_lo[0][c]) * f_lo,
-                          s_lo[0][c] + (s_lo[1][c] - s_lo[0][c]) * f_hi);
-      r.hi[c] = std::fmax(s_hi[0][c] + (s_hi[1][c] - s_hi[0][c]) * f_lo,
-                          s_hi[0][c] + (s_hi[1][c] - s_hi[0][c]) * f_hi);
+    std::vector<double> ws = {w - coord_noise};
+    for (double k = std::floor(w - coord_noise) + 1; k < w + coord_noise; k += 1) ws.push_back(k);
+    ws.push_back(w + coord_noise);
+    const std::vector<TapBox> ty = linear_tap_boxes(uvw[1] * n - 0.5, n, bits, coord_noise);
+    for (const double wc : ws) {
+      const double int_w = std::floor(wc);
+      const double frac_w = wc - int_w;
+      const double u0 = (uvw[0] + int_w) / n;
+      Vec3 s_lo[2], s_hi[2];
+      for (int s = 0; s < 2; ++s) {
+        const double u = u0 + s * (1.0 / n);
+        const std::vector<TapBox> taps[2] = {
+            linear_tap_boxes(u * n * n - 0.5, n * n, bits, coord_noise * n), ty};
+        filter_extremes(
+            taps, 2, [&](const int* i) { return lut.index(i[0] % n, i[1], i[0] / n); }, &s_lo[s],
+            &s_hi[s]);
+      }
+      for (int c = 0; c < 3; ++c) {
+        const double big = std::fmax(std::fmax(std::fabs(s_lo[0][c]), std::fabs(s_lo[1][c])),
+                                     std::fmax(std::fabs(s_hi[0][c]), std::fabs(s_hi[1][c])));
+        const double e = 2.5 * spirv::ulp32(big);
+        double lo = s_lo[0][c] + (s_lo[1][c] - s_lo[0][c]) * frac_w - e;
+        // Non-negative samples lerp to a non-negative value (rounding is monotone).
+        if (s_lo[0][c] >= 0 && s_lo[1][c] >= 0) lo = std::fmax(lo, 0.0);
+        r.lo[c] = std::fmin(r.lo[c], lo);
+        r.hi[c] = std::fmax(r.hi[c], s_hi[0][c] + (s_hi[1][c] - s_hi[0][c]) * frac_w + e);
+      }
     }
   }
   for (int c = 0; c < 3; ++c) {

@@ -289,3 +289,54 @@ TEST(CombineLuts, AmbiguousTexelsCarryTheirAdmissibleRange) {
     }
   }
 }
+
+// The unwrapped LUT (layout 1) at a slice's first texel, where the coordinate's noise crosses into
+// the previous slice's last texel. N = 2, every texel 0 but (r 1, g 0, b 0) = 1 (slice 0's last,
+// strip x = 1). Encoded (0, 0, 1): uvw = e·(1/2) + 1/4 = (0.25, 0.25, 0.75); w = 0.75·2 − 0.5 = 1,
+// floor 1, fraction 0; u = (0.25 + 1)/2 = 0.625, strip x = 0.625·4 − 0.5 = 2 (slice 1's first
+// texel), y = 0. The coordinate noise kShaderNoise·N = 2^-14 (2^-13 texels along the strip's x)
+// carries x to 2 − 2^-13: taps (1, 2), fraction 1 − 2^-13, whose 8-bit box is [255/256, 1], so
+// texel x = 1 may weigh 1/256 (the worst-case device model's truncated weight does exactly that).
+// The slice coordinate w = 1 − 2^-14 reads slices 0 and 1 with fraction ≈ 1: slice 0's tap at
+// x ≈ 0 weighs texel 1 up to 1/256 too. Upper end: 1/256 · 1.05 (LUTScale), plus the lerp's
+// rounding (2.5 ulp of 1/256); lower end 0 (non-negative texels). Without the crossing the range
+// was [0, 0].
+TEST(SampleLutDeviceRange, UnwrappedSliceEdgeReadsThePreviousSlicesLastTexel) {
+  hdrc::ref::BakedLut lut;
+  lut.size = 2;
+  lut.layout = 1;
+  lut.texels.assign(8, Vec3{0, 0, 0});
+  lut.texels[lut.index(1, 0, 0)] = Vec3{1, 1, 1};
+  lut.lo = lut.texels;
+  lut.hi = lut.texels;
+  lut.flags.assign(8, hdrc::ref::BakedLut::kAmbiguous);
+  hdrc::ref::Range3 r;
+  ASSERT_TRUE(hdrc::ref::sample_lut_device_range(lut, Vec3{0, 0, 1}, 8, &r));
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_EQ(r.lo[c], 0.0);
+    EXPECT_NEAR(r.hi[c], 1.05 / 256, 2.5 * 0x1p-31 * 1.05);
+    EXPECT_GE(r.hi[c], 1.05 / 256);
+  }
+}
+
+// The volume LUT at a texel centre (a lattice stimulus): N = 2, texel (0, 0, 0) = 1, the rest 0.
+// Encoded (1, 0, 0): uvw = e·(1/2) + 1/4, t = uvw·2 − 0.5 = e, so t.r = 1 exactly: the exact
+// lookup reads texel r = 1 (0). The noise 2^-15·2 = 2^-14 texels carries t.r to 1 − 2^-14: taps
+// (0, 1), fraction 1 − 2^-14 (·256 = 255.98), box [255/256, 1]: texel 0 weighs up to 1/256 (g and
+// b at t = 0 weigh it up to 1). Upper end 1.05/256; before the crossing was enumerated, 0.
+TEST(SampleLutDeviceRange, VolumeLatticePointReadsTheLowerNeighbour) {
+  hdrc::ref::BakedLut lut;
+  lut.size = 2;
+  lut.layout = 0;
+  lut.texels.assign(8, Vec3{0, 0, 0});
+  lut.texels[lut.index(0, 0, 0)] = Vec3{1, 1, 1};
+  lut.lo = lut.texels;
+  lut.hi = lut.texels;
+  lut.flags.assign(8, hdrc::ref::BakedLut::kAmbiguous);
+  hdrc::ref::Range3 r;
+  ASSERT_TRUE(hdrc::ref::sample_lut_device_range(lut, Vec3{1, 0, 0}, 8, &r));
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_EQ(r.lo[c], 0.0);
+    EXPECT_DOUBLE_EQ(r.hi[c], 1.05 / 256);
+  }
+}

@@ -17,6 +17,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "reference/color/linear_tap.h"
 #include "reference/color/noise_range.h"
@@ -67,6 +68,22 @@ inline TapBox linear_tap_box(double t, int size, int bits, double coord_noise) {
   b.f_lo = std::max(0.0, std::floor((tap.f - coord_noise) * grid) / grid);
   b.f_hi = std::min(1.0, std::ceil((tap.f + coord_noise) * grid) / grid);
   return b;
+}
+
+// The same where the coordinate's noise may carry it across a texel plane (a coordinate at or near
+// a texel centre: a lattice stimulus, the first texel of an unwrapped LUT's slice): the filter then
+// reads another pair of texels, with the lower one's weight near 1 − 2^-bits (the box of a
+// fraction just under 1). The boxes at both ends of [t − noise, t + noise] and at every texel plane
+// strictly between them (weight 0 of the upper neighbour there, the value the piece below reaches
+// at weight 1): within one piece the filtered value is linear in the weight, so its extremes over
+// the whole range lie among these boxes' corners (as strip_device_range.h's candidates).
+inline std::vector<TapBox> linear_tap_boxes(double t, int size, int bits, double coord_noise) {
+  const double a = t - coord_noise, b = t + coord_noise;
+  std::vector<TapBox> boxes = {linear_tap_box(a, size, bits, 0.0)};
+  for (double k = std::floor(a) + 1; k < b; k += 1)
+    boxes.push_back(linear_tap_box(k, size, bits, 0.0));
+  if (b > a) boxes.push_back(linear_tap_box(b, size, bits, 0.0));
+  return boxes;
 }
 
 // UE's LinearToST2084 (GammaCorrectionCommon.ush) of `nits` as a conformant device may evaluate

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
 namespace hdrc::ref {
 namespace {
@@ -34,6 +35,32 @@ TEST(DeviceAllowance, TwoTexelLookupAtFourAndEightBits) {
   const TapBox edge = linear_tap_box(1.7, 2, 8, 0.0);
   EXPECT_EQ(edge.i0, 1);
   EXPECT_EQ(edge.i1, 1);
+}
+
+// A coordinate at a texel centre with noise: t = 3 ± 0.001 in a row of 8 at 8 bits. Below the
+// centre (t = 2.999) the taps are (2, 3) with fraction 0.999: 0.999·256 = 255.744, box
+// [255/256, 1]; at the plane t = 3, taps (3, 4) with weight exactly 0; above (t = 3.001), taps
+// (3, 4) with fraction 0.001: 0.256, box [0, 1/256]. Inside one cell (t = 2.5 ± 0.001): the ends
+// 2.499 (0.499·256 = 127.744: [127/256, 128/256]) and 2.501 ([128/256, 129/256]).
+TEST(DeviceAllowance, TapBoxesAcrossATexelPlane) {
+  const std::vector<TapBox> c = linear_tap_boxes(3.0, 8, 8, 0.001);
+  ASSERT_EQ(c.size(), 3u);
+  EXPECT_EQ(c[0].i0, 2);
+  EXPECT_EQ(c[0].i1, 3);
+  EXPECT_DOUBLE_EQ(c[0].f_lo, 255.0 / 256);
+  EXPECT_DOUBLE_EQ(c[0].f_hi, 1.0);
+  EXPECT_EQ(c[1].i0, 3);
+  EXPECT_EQ(c[1].i1, 4);
+  EXPECT_DOUBLE_EQ(c[1].f_lo, 0.0);
+  EXPECT_DOUBLE_EQ(c[1].f_hi, 0.0);
+  EXPECT_EQ(c[2].i0, 3);
+  EXPECT_DOUBLE_EQ(c[2].f_lo, 0.0);
+  EXPECT_DOUBLE_EQ(c[2].f_hi, 1.0 / 256);
+  const std::vector<TapBox> in = linear_tap_boxes(2.5, 8, 8, 0.001);
+  ASSERT_EQ(in.size(), 2u);
+  EXPECT_EQ(in[0].i0, 2);
+  EXPECT_DOUBLE_EQ(in[0].f_lo, 127.0 / 256);
+  EXPECT_DOUBLE_EQ(in[1].f_hi, 129.0 / 256);
 }
 
 // ulp as the specification defines it.

@@ -1,8 +1,10 @@
 #include "reference/operators/operators.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "reference/color/d3d_math.h"
+#include "reference/color/device_allowance.h"
 #include "reference/color/ue_matrices.h"
 #include "reference/grading/hlsl_ops.h"
 
@@ -110,6 +112,136 @@ Vec3 apply_operator(const ParamBlock& p, const Vec3& scene_linear) {
     }
   }
   return {d3d::kNaN, d3d::kNaN, d3d::kNaN};
+}
+
+// --- Device allowances ---
+
+namespace {
+
+using spirv::Interval;
+
+// A float32 constant, uniform or input of exact value v: its float32 neighbours (a conversion to
+// float32 is correctly rounded).
+Interval constant(double v) {
+  return {float_round_down(v), float_round_up(v)};
+}
+
+bool finite(const Interval& i) {
+  return std::isfinite(i.lo) && std::isfinite(i.hi);
+}
+
+// OpFDiv where the divisor's range excludes 0 (else no range: *ok cleared).
+Interval safe_div(Interval a, Interval b, bool* ok) {
+  if (!(b.lo > 0 || b.hi < 0)) {
+    *ok = false;
+    return a;
+  }
+  return spirv::div(a, b);
+}
+
+Interval hull(Interval a, Interval b) {
+  return {std::fmin(a.lo, b.lo), std::fmax(a.hi, b.hi)};
+}
+
+// Which branch of the shader's |y| <= 1 test a range of y may take: both where it straddles ±1.
+bool may_be_small(Interval y) {
+  return std::fmin(std::fabs(y.lo), std::fabs(y.hi)) <= 1.0 || (y.lo < 0 && y.hi > 0);
+}
+bool may_be_large(Interval y) {
+  return std::fmax(std::fabs(y.lo), std::fabs(y.hi)) > 1.0;
+}
+
+// op_recip_large: 1/y (|y| > 1; the 2^126 cut-off gives 0, inside the interval's ends there).
+Interval recip(Interval y, bool* ok) {
+  return safe_div(Interval::point(1.0), y, ok);
+}
+
+// operators.glsl op_rational: f(y) = (y (A y + C B) + D E) / (y (A y + B) + D F) − E / F, or in
+// 1/y above |y| = 1, with y = scale · x.
+Interval rational_device(Interval x, Interval scale, const RationalCurve& kc, bool* ok) {
+  using namespace spirv;
+  const Interval a = constant(kc.a), b = constant(kc.b), c = constant(kc.c), d = constant(kc.d),
+                 e = constant(kc.e), f = constant(kc.f);
+  const Interval y = mul(scale, x);
+  Interval q{HUGE_VAL, -HUGE_VAL};
+  if (may_be_small(y)) {
+    const Interval num = mul_add(y, mul_add(a, y, mul(c, b)), mul(d, e));
+    const Interval den = mul_add(y, mul_add(a, y, b), mul(d, f));
+    q = hull(q, safe_div(num, den, ok));
+  }
+  if (may_be_large(y)) {
+    const Interval r = recip(y, ok);
+    const Interval num = mul_add(r, mul_add(r, mul(d, e), mul(c, b)), a);
+    const Interval den = mul_add(r, mul_add(r, mul(d, f), b), a);
+    q = hull(q, safe_div(num, den, ok));
+  }
+  return sub(q, safe_div(e, f, ok));
+}
+
+}  // namespace
+
+bool operator_channel_device_range(const ParamBlock& p, double x_in, Interval* out) {
+  using namespace spirv;
+  if (!std::isfinite(x_in)) return false;
+  bool ok = true;
+  const Interval x = constant(x_in);
+  const Interval s = constant(p.op_exposure);
+  const Interval one = Interval::point(1.0);
+  Interval r;
+  switch (static_cast<Operator>(p.op_operator)) {
+    case Operator::kReinhard: {
+      const Interval y = mul(s, x);
+      r = {HUGE_VAL, -HUGE_VAL};
+      if (may_be_small(y)) r = hull(r, safe_div(y, add(one, y), &ok));
+      if (may_be_large(y)) r = hull(r, safe_div(one, add(one, recip(y, &ok)), &ok));
+      break;
+    }
+    case Operator::kReinhardWhite: {
+      const Interval w = constant(p.op_white_point);
+      const Interval y = mul(s, x);
+      const Interval t = mul_add(safe_div(s, mul(w, w), &ok), x, one);  // 1 + y / Lw²
+      r = {HUGE_VAL, -HUGE_VAL};
+      if (may_be_small(y)) r = hull(r, safe_div(mul(y, t), add(one, y), &ok));
+      if (may_be_large(y)) r = hull(r, safe_div(t, add(one, recip(y, &ok)), &ok));
+      break;
+    }
+    case Operator::kHable: {
+      const RationalCurve k{p.op_hable_a, p.op_hable_b, p.op_hable_c,
+                            p.op_hable_d, p.op_hable_e, p.op_hable_f};
+      r = safe_div(rational_device(x, mul(constant(p.op_hable_exposure_bias), s), k, &ok),
+                   rational_device(constant(p.op_hable_w), one, k, &ok), &ok);
+      break;
+    }
+    case Operator::kAcesNarkowicz: {
+      const NarkowiczFit& kf = kNarkowicz;
+      const Interval a = constant(kf.a), b = constant(kf.b), c = constant(kf.c), d = constant(kf.d),
+                     e = constant(kf.e);
+      const Interval y = mul(mul(s, constant(p.op_narkowicz_pre_scale)), x);
+      r = {HUGE_VAL, -HUGE_VAL};
+      if (may_be_small(y))
+        r = hull(r, safe_div(mul(y, mul_add(a, y, b)), mul_add(y, mul_add(c, y, d), e), &ok));
+      if (may_be_large(y)) {
+        const Interval rr = recip(y, &ok);
+        r = hull(r, safe_div(mul_add(rr, b, a), mul_add(rr, mul_add(rr, e, d), c), &ok));
+      }
+      r = {d3d::saturate(r.lo), d3d::saturate(r.hi)};
+      break;
+    }
+    case Operator::kUnityNeutral: {
+      const Interval xc{std::fmax(x.lo, 0.0), std::fmax(x.hi, 0.0)};
+      const Interval ws = safe_div(
+          one, rational_device(constant(kUnityNeutralWhiteLevel), one, kUnityNeutralCurve, &ok),
+          &ok);
+      r = safe_div(mul(rational_device(xc, mul(s, ws), kUnityNeutralCurve, &ok), ws),
+                   constant(kUnityNeutralWhiteClip), &ok);
+      break;
+    }
+    default:
+      return false;
+  }
+  if (!ok || !finite(r) || r.lo > r.hi) return false;
+  *out = r;
+  return true;
 }
 
 }  // namespace hdrc::ref::operators

@@ -18,6 +18,7 @@
 #pragma once
 
 #include "core/shader_interface.h"
+#include "reference/color/spirv_precision.h"
 #include "reference/color/vec.h"
 #include "reference/grading/film_tonemap.h"
 
@@ -121,5 +122,15 @@ Vec3 ue_filmic(const Vec3& rec709, const grading::FilmParams& film, const UeFilm
 // x = op_exposure · scene_linear, then the operator op_operator with its op_* fields (UeFilmic:
 // film_* and the op_ matrices). An op_operator outside 0-5 gives NaN in every channel.
 Vec3 apply_operator(const ParamBlock& p, const Vec3& scene_linear);
+
+// Device allowances (docs/precision.md, "Device allowances"): the range of one output channel a
+// conformant Vulkan device may return evaluating the per-channel operators (Reinhard, Reinhard
+// with white point, Hable, Narkowicz, Unity's Neutral) as gpu/shaders/operators/lib/operators.glsl
+// writes them, step by step in the interval arithmetic of the Vulkan precision table
+// (reference/color/spirv_precision.h: add/sub/mul 0.5 ULP, div 2.5 ULP, a·b + c fused or not),
+// the input, uniforms and constants as the interval between their float32 neighbours. False where
+// no range is derived (a non-finite input or result, a denominator whose range holds 0, UeFilmic:
+// see operators_pipeline.cpp).
+bool operator_channel_device_range(const ParamBlock& p, double x, spirv::Interval* out);
 
 }  // namespace hdrc::ref::operators

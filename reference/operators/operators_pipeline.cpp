@@ -2,6 +2,9 @@
 // stage, the chosen operator applied per pixel to a scene-linear Rec.709 image (operators.h).
 #include "reference/operators/operators_pipeline.h"
 
+#include <cmath>
+
+#include "reference/color/noise_range.h"
 #include "reference/color/ue_matrices.h"
 #include "reference/operators/operators.h"
 #include "reference/operators/operators_settings.h"
@@ -32,6 +35,39 @@ OutputEncoding encoding(const StageInfo&, const ParamBlock&) {
   return linear_rec709_encoding("display-linear x 100 nits");
 }
 
+// One pixel's device range (docs/precision.md, "Device allowances"): the per-channel operators
+// step by step (operator_channel_device_range); UeFilmic (the matrices and FilmToneMap's
+// log10/exp/pow, film_tonemap.glsl unchanged) kShaderNoise of the pixel's largest |channel|
+// around the reference, the documented allowance for a stage's float32 arithmetic
+// (reference/color/noise_range.h; as pq_grading's display mapping), then max(·, 0). Each range
+// holds the reference's value; a pixel without one keeps the tight bounds.
+void add_device_range(const ParamBlock& p, size_t pixel, const double* in, const double* ref,
+                      std::vector<AdmissibleRange>* ranges) {
+  AdmissibleRange a;
+  a.pixel = pixel;
+  if (static_cast<Operator>(p.op_operator) == Operator::kUeFilmic) {
+    double big = 0;
+    for (int ch = 0; ch < 3; ++ch) {
+      if (!std::isfinite(ref[ch])) return;
+      big = std::fmax(big, std::fabs(ref[ch]));
+    }
+    for (int ch = 0; ch < 3; ++ch) {
+      a.lo[ch] = std::fmax(ref[ch] - kShaderNoise * big, 0.0);
+      a.hi[ch] = ref[ch] + kShaderNoise * big;
+    }
+  } else {
+    for (int ch = 0; ch < 3; ++ch) {
+      spirv::Interval r;
+      if (!std::isfinite(ref[ch]) || !operator_channel_device_range(p, in[ch], &r)) return;
+      a.lo[ch] = std::fmin(r.lo, ref[ch]);
+      a.hi[ch] = std::fmax(r.hi, ref[ch]);
+    }
+  }
+  a.lo[3] = a.hi[3] = in[3];
+  if (std::isnan(in[3])) a.nan_ok |= uint8_t(1u << 3);
+  ranges->push_back(a);
+}
+
 Result<Image> reference(const ResolvedCase& c, bool /*analytic_lut: no LUT*/) {
   Image out(c.input.width, c.input.height);
   for (size_t i = 0; i < c.input.pixel_count(); ++i) {
@@ -42,7 +78,10 @@ Result<Image> reference(const ResolvedCase& c, bool /*analytic_lut: no LUT*/) {
     o[1] = rgb[1];
     o[2] = rgb[2];
     o[3] = in[3];  // alpha passes through (curve.comp)
+    if (c.device_allowances) add_device_range(c.params, i, in, o, &out.device_admissible);
   }
+  if (c.device_allowances)
+    out.device_allowances = {"shader arithmetic (the Vulkan precision table's bounds)"};
   return out;
 }
 

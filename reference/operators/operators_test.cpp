@@ -478,3 +478,19 @@ TEST(OperatorsSettings, ValuesOverAnotherTableDeriveTheDefaults) {
 }
 
 }  // namespace
+
+// Reinhard at x = 0.5, exposure 1, in the precision table's interval arithmetic: y = 0.5·1 with
+// 0.5 ulp(0.5) = 2^-25 either way; 1 + y = 1.5 ± 2^-25, widened by 0.5 ulp(1.5) = 2^-24: ±3·2^-25;
+// y/(1 + y) over those ends, to first order 1/3 ∓ 2^-25·(2/3 + 2/3), then 2.5 ulp(1/3) =
+// 2.5·2^-25: 1/3 ∓ 2^-25·23/6 (second-order terms ~2^-50).
+TEST(OperatorDeviceRange, ReinhardAtOneHalfFromThePrecisionTable) {
+  hdrc::ParamBlock p{};
+  p.op_operator = 0;
+  p.op_exposure = 1.0;
+  hdrc::ref::spirv::Interval r;
+  ASSERT_TRUE(hdrc::ref::operators::operator_channel_device_range(p, 0.5, &r));
+  EXPECT_NEAR(r.lo, 1.0 / 3 - 0x1p-25 * 23 / 6, 1e-13);
+  EXPECT_NEAR(r.hi, 1.0 / 3 + 0x1p-25 * 23 / 6, 1e-13);
+  // A NaN input gets no range (the tight bounds judge it).
+  EXPECT_FALSE(hdrc::ref::operators::operator_channel_device_range(p, std::nan(""), &r));
+}
