@@ -11,6 +11,7 @@
 #include "reference/ui/composite.h"
 #include "reference/visualize/histogram.h"
 #include "reference/visualize/visualize_hdr.h"
+#include "reference/visualize_device.h"
 
 namespace hdrc::ref {
 
@@ -134,12 +135,11 @@ Image baked_tonemap_image(const ParamBlock& p, const Image& scene, const Image* 
   return tonemap_image(p, scene, bloom, dirt, cached_bake_lut(p).get());
 }
 
-}  // namespace
-
-Result<Image> visualize_hdr_stage(const ParamBlock& p, const Image& hdr_scene, bool analytic_lut) {
+// VisualizeHDR's inputs over `hdr_scene` and its tonemapped image (which must outlive them).
+visualize::VisualizeHdrInputs visualize_inputs(const ParamBlock& p, const Image& hdr_scene,
+                                               const Image& tonemapped) {
   visualize::VisualizeHdrInputs in;
   in.params = eye_adaptation_parameters(p);
-  const Image tonemapped = baked_tonemap_image(p, hdr_scene, nullptr, nullptr, analytic_lut);
   in.scene_color = &tonemapped;
   in.hdr_scene_color = &hdr_scene;
   in.one_over_pre_exposure = 1.0 / p.pre_exposure;
@@ -156,6 +156,11 @@ Result<Image> visualize_hdr_stage(const ParamBlock& p, const Image& hdr_scene, b
   const grading::FilmParams film{p.film_slope, p.film_toe, p.film_shoulder, p.film_black_clip,
                                  p.film_white_clip};
   in.tone_curve = [film](const Vec3& c) { return grading::film_tone_map(c, film); };
+  return in;
+}
+
+// VisualizeHDR's image over `tonemapped` with its printed numbers.
+Image visualize_hdr_image(const visualize::VisualizeHdrInputs& in) {
   visualize::VisualizeHdrResult r = visualize::visualize_hdr(in);
   const auto& t = r.text;
   r.image.values = {{"meter_luminance", t.meter_luminance},
@@ -167,6 +172,13 @@ Result<Image> visualize_hdr_stage(const ParamBlock& p, const Image& hdr_scene, b
                     {"average_luminance_px", t.average_luminance_px},
                     {"average_scene_luminance", in.eye.average_scene_luminance}};
   return r.image;
+}
+
+}  // namespace
+
+Result<Image> visualize_hdr_stage(const ParamBlock& p, const Image& hdr_scene, bool analytic_lut) {
+  const Image tonemapped = baked_tonemap_image(p, hdr_scene, nullptr, nullptr, analytic_lut);
+  return visualize_hdr_image(visualize_inputs(p, hdr_scene, tonemapped));
 }
 
 DeviceInfo ReferenceEngine::device() const {
@@ -220,25 +232,29 @@ Result<Image> run_ue55(const ResolvedCase& c, bool analytic_lut) {
       return out;
     }
     case StageId::kVisualizeHdr: {
-      auto out = visualize_hdr_stage(c.params, c.input, analytic_lut);
-      if (out && c.device_allowances && !analytic_lut) {
-        // The background and the meters pass the Tonemap pass's colour through unchanged
-        // (visualize_hdr.glsl: `return scene`, `out_c = scene`): where the output is that colour,
-        // its range is the Tonemap pass's device range (tonemap_image's device overload). The
-        // panel, the overlays and the meters' swatches have none.
-        const BakedLut device = bake_lut_device(c.params, c.device);
-        const Image tm = tonemap_image(c.params, c.input, nullptr, nullptr, &device, nullptr,
-                                       &device, c.device.sub_texel_bits);
-        for (const AdmissibleRange& r : tm.device_admissible) {
-          const double* o = &out->data[r.pixel * 4];
-          const double* t = &tm.data[r.pixel * 4];
-          bool same = true;
-          for (int ch = 0; ch < 4; ++ch)
-            same = same && (o[ch] == t[ch] || (std::isnan(o[ch]) && std::isnan(t[ch])));
-          if (same) out->device_admissible.push_back(r);
-        }
-        out->device_allowances = tm.device_allowances;
+      if (!c.device_allowances || analytic_lut) {
+        return visualize_hdr_stage(c.params, c.input, analytic_lut);
       }
+      // The tonemapped scene with the Tonemap pass's device ranges (tonemap_image's device
+      // overload; its values are the tight pass's), carried through VisualizeHDR's own steps with
+      // the ranges of the histogram pass and the panel (reference/visualize_device.h).
+      const BakedLut device = bake_lut_device(c.params, c.device);
+      const Image tm = tonemap_image(c.params, c.input, nullptr, nullptr, &device, nullptr, &device,
+                                     c.device.sub_texel_bits);
+      const Image tight = baked_tonemap_image(c.params, c.input, nullptr, nullptr, false);
+      const visualize::VisualizeHdrInputs in = visualize_inputs(c.params, c.input, tight);
+      Image out = visualize_hdr_image(in);
+      // tm's ranges are around its own values; the tight scene's values are included too.
+      std::vector<AdmissibleRange> scene_ranges = tm.device_admissible;
+      visualize::VisualizeDeviceInputs d;
+      d.in = &in;
+      d.reference = &out;
+      d.scene_ranges = &scene_ranges;
+      d.exposure = c.params.exposure;
+      d.pre_exposure = c.params.pre_exposure;
+      out.device_admissible = visualize::visualize_hdr_device_ranges(d);
+      out.device_allowances = tm.device_allowances;
+      out.device_allowances.push_back("shader arithmetic (the Vulkan precision table's bounds)");
       return out;
     }
     default:
