@@ -161,17 +161,19 @@ inline Image nearest_admissible(const Image& reference, const Image& candidate) 
 }
 
 // A whole stage's reference as a test compares it with the GPU's output `got`: ReferenceEngine's
-// output on a float32-exact device (the tight bounds, unchanged); elsewhere the stage's device
-// ranges for the device's precision (ResolvedCase::device_allowances, as `hdrconform run` judges
-// a case after its tight miss: runner/run.cpp judge_with_device_allowances), nearest `got`.
+// output on a float32-exact device (the tight bounds, unchanged); elsewhere (`derived`) the
+// stage's device ranges for `device`'s precision (ResolvedCase::device_allowances, as
+// `hdrconform run` judges a case after its tight miss: runner/run.cpp
+// judge_with_device_allowances), nearest `got`.
 inline Result<Image> stage_reference(ref::ReferenceEngine& reference, ResolvedCase rc,
-                                     const Image& got) {
-  if (!exact_device()) {
-    rc.device = test_device().precision;
+                                     const Image& got, bool derived = !exact_device(),
+                                     const DevicePrecision& device = test_device().precision) {
+  if (derived) {
+    rc.device = device;
     rc.device_allowances = true;
   }
   auto want = reference.run(rc);
-  if (!want || exact_device()) return want;
+  if (!want || !derived) return want;
   return nearest_admissible(*want, got);
 }
 

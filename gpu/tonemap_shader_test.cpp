@@ -8,8 +8,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <limits>
 #include <random>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -567,6 +569,47 @@ TEST_P(TonemapEndToEnd, StageMatchesReference) {
   EXPECT_LE(err.code.max(), code_bound(e.device).stage) << code_bound(e.device).why;
   RecordProperty("code_max", std::to_string(err.code.max()));
   RecordProperty("code_p999", std::to_string(err.code.percentile(0.999)));
+}
+
+// The derived bounds still see a defect: with the device ranges of a device with 8 sub-texel bits
+// and float16 rounding either way (the branch a device that is not float32-exact takes), the
+// stage of this device is within the stage bound, and the same stage with PQ's m2 made 1.005·m2
+// in the shaper and the LUT's encode (lib/st2084.glsl pq_from_nits) is not.
+TEST(TonemapShader, DerivedBoundsStillRejectAPlantedDefect) {
+  const EndToEnd e{3, 2, 0, 0, 32};
+  const hdrc::ResolvedCase rc = tonemap_case(e, scene_colours(128, 32, 5));
+  hdrc::gpu::testing::ShaderDirCopy dir("tonemap_planted_pq");
+  {
+    std::ifstream in(std::string(hdrc::gpu::default_shader_dir()) + "/lib/st2084.glsl");
+    std::stringstream text;
+    text << in.rdbuf();
+    std::string source = text.str();
+    const std::string from = "PQ_C3 * lm)), PQ_M2);";
+    const size_t at = source.find(from);
+    ASSERT_NE(at, std::string::npos);
+    source.replace(at, from.size(), "PQ_C3 * lm)), PQ_M2 * 1.005);");
+    dir.write("lib/st2084.glsl", source);
+  }
+  hdrc::DevicePrecision device;
+  device.sub_texel_bits = 8;
+  device.fp16_rte = false;
+  hdrc::ref::ReferenceEngine reference;
+  double code_max[2] = {0, 0};
+  for (int planted : {0, 1}) {
+    hdrc::gpu::VulkanOptions o;
+    if (planted) o.shader_dir = dir.path();
+    hdrc::gpu::VulkanEngine gpu(o);
+    ASSERT_TRUE(gpu.init().ok());
+    auto got = gpu.run(rc);
+    ASSERT_TRUE(got.ok()) << got.error().to_string();
+    auto want = hdrc::gpu::testing::stage_reference(reference, rc, *got, /*derived=*/true, device);
+    ASSERT_TRUE(want.ok()) << want.error().to_string();
+    code_max[planted] = compare(e, *want, *got).code.max();
+  }
+  std::printf("derived bounds, device 3 stage: code max %.4g clean, %.4g planted (bound %.3g)\n",
+              code_max[0], code_max[1], code_bound(3).stage);
+  EXPECT_LE(code_max[0], code_bound(3).stage);
+  EXPECT_GT(code_max[1], code_bound(3).stage);
 }
 
 // The sampler's filter weights, measured: a probe in place of tonemap.comp reads the LUT that
