@@ -15,11 +15,13 @@
 #include <functional>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "core/shader_interface.h"
+#include "gpu/device_bounds_test.h"
 #include "gpu/shader_probe.h"
 #include "gpu/vulkan_engine.h"
 #include "reference/aces/aces_common.h"
@@ -602,7 +604,13 @@ TEST(GradingShader, LatticeCoordinateMatchesReference) {
         for (int g = 0; g < n; ++g)
           for (int r = 0; r < n; ++r) inputs.push_back({double(r), double(g), double(b), 0.0});
       const auto gpu = run_on_gpu(*engine, p, inputs);
-      const double bound = layout == 0 ? std::ldexp(1.0, -24) : 4.0 * n * std::ldexp(1.0, -24);
+      // Elsewhere than on a float32-exact device the volume layout's division may be 2.5 ULP off
+      // ("Precision and Operation of SPIR-V Instructions", OpFDiv): 2.5 ulp of the result, under
+      // 2.5·2^-24 for results below 1.
+      const bool exact = hdrc::gpu::testing::exact_device();
+      const double bound = layout == 1 ? 4.0 * n * std::ldexp(1.0, -24)
+                           : exact     ? std::ldexp(1.0, -24)
+                                       : 2.5 * std::ldexp(1.0, -24);
       double worst = 0.0;
       for (size_t i = 0; i < inputs.size(); ++i) {
         const Vec3 want = hdrc::ref::lattice_coordinate(layout, n, int(inputs[i][0]),
@@ -756,6 +764,18 @@ TEST(GradingShader, StageStoresTexelFunctionInEveryFormatAndLayout) {
           for (int g = 0; g < n; ++g)
             for (int r = 0; r < n; ++r) texels.push_back({double(r), double(g), double(b), 0.0});
         const auto want = run_on_gpu(*probe, rc.params, texels);
+        // Elsewhere than on a float32-exact device two compilations of the texel function (the
+        // stage's and the probe's) may fuse different a·b + c ("Precision and Operation of SPIR-V
+        // Instructions"): a float32 texel that is not the probe's bits is then held to what a
+        // conformant device may store there (the reference's device range of the stage,
+        // ResolvedCase::device_allowances).
+        std::optional<hdrc::Image> ranged;
+        if (format == 2 && !hdrc::gpu::testing::exact_device()) {
+          hdrc::ref::ReferenceEngine reference;
+          auto r = hdrc::gpu::testing::stage_reference(reference, rc, *got);
+          ASSERT_TRUE(r.ok()) << r.error().to_string();
+          ranged = std::move(*r);
+        }
         for (size_t i = 0; i < texels.size(); ++i) {
           const int r = int(texels[i][0]), g = int(texels[i][1]), b = int(texels[i][2]);
           for (int c = 0; c < 3; ++c) {
@@ -763,6 +783,11 @@ TEST(GradingShader, StageStoresTexelFunctionInEveryFormatAndLayout) {
             bool ok;
             if (format == 2) {
               ok = (std::isnan(v) && std::isnan(o)) || o == v;
+              if (!ok && ranged) {
+                // nearest_admissible left o itself where o is inside the texel's range.
+                const double in_range = ranged->px(r + n * b, g)[c];
+                ok = (std::isnan(in_range) && std::isnan(o)) || o == in_range;
+              }
             } else if (format == 1) {
               ok = (std::isnan(v) && std::isnan(o)) ||
                    std::fabs(o - v) <=

@@ -16,6 +16,7 @@
 #include <utility>
 
 #include "core/cube/cube.h"
+#include "gpu/device_bounds_test.h"
 #include "gpu/shader_probe.h"
 #include "reference/ue_lut_blend.h"
 
@@ -150,6 +151,14 @@ double lookup_bound(const UeLutTexture& t) {
           step = std::fmax(step, std::fabs(t.at(x + 1, y)[c] - t.at(x, y)[c]));
         if (y != 15) step = std::fmax(step, std::fabs(t.at(x, y + 1)[c] - t.at(x, y)[c]));
       }
+  // Elsewhere than on a float32-exact device the weight may be either grid value around the exact
+  // one ("Texel Filtering": the rounding to subTexelPrecisionBits is not specified;
+  // device_allowance .h linear_tap_box), a whole step 2^-bits on each of the two filtered axes.
+  if (!hdrc::gpu::testing::exact_device())
+    return 2.0 * step *
+               hdrc::gpu::testing::weight_precision(
+                   hdrc::gpu::testing::test_device().precision.sub_texel_bits) +
+           1e-6;
   return step / 512.0 + 1e-6;
 }
 double blend_bound(const UeLutTexture& t) {

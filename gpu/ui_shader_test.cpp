@@ -14,10 +14,12 @@
 #include <string>
 #include <vector>
 
+#include "gpu/device_bounds_test.h"
 #include "gpu/shader_probe.h"
 #include "reference/color/gamma_correction.h"
 #include "reference/color/st2084.h"
 #include "reference/reference_engine.h"
+#include "reference/ue_pixel_device.h"
 #include "reference/ui/color_deficiency.h"
 #include "reference/ui/composite.h"
 
@@ -199,14 +201,27 @@ Measured measure(hdrc::gpu::testing::Probe& probe, const Config& c, const Image&
   auto got = probe.run(rc);
   EXPECT_TRUE(got.ok()) << got.error().to_string();
   if (!got.ok()) return m;
+  Image reference(scene.width, scene.height);
   for (int i = 0; i < n; ++i) {
     const double* s = &scene.data[i * 4];
     const double* u = &ui_layer.data[i * 4];
     const ui::Vec4 want =
         ui::composite_pixel({s[0], s[1], s[2], s[3]}, {u[0], u[1], u[2], u[3]}, up);
+    for (int ch = 0; ch < 4; ++ch) reference.data[i * 4 + ch] = want[ch];
+  }
+  // Elsewhere than on a float32-exact device: within the composite's device ranges
+  // (reference/ue_pixel_device.h ui_composite_device_ranges: the back buffer's PQ decode and the
+  // encode within the precision table's bounds, kShaderNoise for the steps between), nearest the
+  // GPU's value; the bounds below then measure what lies outside them.
+  if (!hdrc::gpu::testing::exact_device()) {
+    reference.device_admissible =
+        hdrc::ref::ue_device::ui_composite_device_ranges(rc.params, scene, ui_layer, reference);
+    reference = hdrc::gpu::testing::nearest_admissible(reference, *got);
+  }
+  for (int i = 0; i < n; ++i) {
     for (int ch = 0; ch < 4; ++ch) {
       const double g = got->data[i * 4 + ch];
-      const double r = want[ch];
+      const double r = reference.data[i * 4 + ch];
       if (!std::isfinite(r) || !std::isfinite(g)) {
         const bool same = (std::isnan(r) && std::isnan(g)) || (std::isinf(r) && g == r);
         ++(same ? m.nonfinite_consistent : m.nonfinite_mismatch);

@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "gpu/device_bounds_test.h"
 #include "gpu/shader_compiler.h"
 #include "gpu/shader_probe.h"
 #include "reference/unity_urp/unity_urp.h"
@@ -234,6 +235,36 @@ Vec3 reference_fn(Fn fn, const Vec3& x, const ParamBlock& p) {
   return {};
 }
 
+// What a conformant device may compute for `fn` at `x` beyond a float32-exact one, where the test
+// derives it (the precision table, "Precision and Operation of SPIR-V Instructions"; reference/
+// color/spirv_precision.h): LogC's encode c·(log2(a·x + b)·log10(2)) + d with log2's 3 ULP
+// (2^-21 absolute inside [0.5, 2]) and every a·b + c fused or not; UNORM8's k/255 with OpFDiv's
+// 2.5 ULP (k is exact: roundEven of a correctly rounded product away from ties). Elsewhere, and on
+// a float32-exact device, the reference value itself: the tight bound alone.
+hdrc::ref::Range3 device_range(Fn fn, const Vec3& x, const Vec3& want) {
+  namespace sp = hdrc::ref::spirv;
+  hdrc::ref::Range3 r = hdrc::ref::Range3::point(want);
+  if (hdrc::gpu::testing::exact_device()) return r;
+  for (int c = 0; c < 3; ++c) {
+    sp::Interval v = sp::Interval::point(want[c]);
+    if (fn == kLogcEncode) {
+      const auto& k = urp::kUnityLogC;
+      const sp::Interval t = sp::mul_add(sp::Interval::point(k.a), sp::Interval::point(x[c]),
+                                         sp::Interval::point(k.b));
+      if (!(t.lo > 0)) continue;
+      const sp::Interval l = sp::mul(sp::log2(t), sp::Interval::point(0.30102999566398120));
+      v = sp::mul_add(sp::Interval::point(k.c), l, sp::Interval::point(k.d));
+    } else if (fn == kRoundToUnorm8) {
+      v = sp::div(sp::Interval::point(std::nearbyint(want[c] * 255.0)), sp::Interval::point(255.0));
+    } else {
+      continue;
+    }
+    r.lo[c] = std::min(v.lo, want[c]);
+    r.hi[c] = std::max(v.hi, want[c]);
+  }
+  return r;
+}
+
 // Runs `fn` on the GPU over `inputs` (each rounded to float, as the engine uploads them) and
 // returns the error statistics against the reference: |gpu − ref| / max(largest |ref| of the
 // pixel, floor). Relative to the pixel's largest channel, as float32 noise is (core/image.h
@@ -257,9 +288,13 @@ ErrorStats measure(hdrc::gpu::testing::Probe& probe, Fn fn, const std::vector<Ve
     const Vec3 want = reference_fn(fn, x, rc.params);
     const double scale =
         std::max({std::fabs(want[0]), std::fabs(want[1]), std::fabs(want[2]), floor});
+    const hdrc::ref::Range3 range = device_range(fn, x, want);
     for (int c = 0; c < 3; ++c) {
       const double g = got->data[i * 4 + c];
-      const double e = g == want[c] ? 0.0 : std::fabs(g - want[c]) / scale;
+      // On a float32-exact device |g − want|; elsewhere the distance outside the device range.
+      const double e = g == want[c]              ? 0.0
+                       : std::isnan(g - want[c]) ? std::fabs(g - want[c]) / scale
+                                                 : hdrc::gpu::testing::outside(range, c, g) / scale;
       // NaN on either side is an infinite error (!(e <= bound) fails).
       stats.add(std::isnan(e) ? INFINITY : e);
       if (worst && e > largest) {
@@ -618,16 +653,37 @@ void grade_and_compare(UrpStageEngine& engine, const BakeCase& c, double bound_r
   auto strip = engine.bake(s, c.lut_format);
   ASSERT_TRUE(strip.ok()) << strip.error().to_string();
   const Image want = urp::grade_image(in, p);
+  // Elsewhere than on a float32-exact device: the distance outside ApplyColorGrading's device
+  // range (unity_urp.h apply_color_grading_device_range: the weight boxes of subTexelPrecisionBits,
+  // "Texel Filtering", and kFloat32Noise for the coordinate), over the strip as a conformant
+  // device may bake it (bake_lut_strip_device_range) for the reference, over the GPU's own strip
+  // for the lookup.
+  const bool exact = hdrc::gpu::testing::exact_device();
+  const hdrc::DevicePrecision& device = hdrc::gpu::testing::test_device().precision;
+  urp::StripRange baked, own_strip{*strip, *strip};
+  if (!exact) baked = urp::bake_lut_strip_device_range(p, device);
   ErrorStats vs_reference, vs_lookup;
   for (int x = 0; x < in.width; ++x) {
     const double* i = in.px(x, 0);
     const Vec3 own = urp::apply_color_grading(*strip, p, {i[0], i[1], i[2]});
     const double* w = want.px(x, 0);
     const double scale = std::max({std::fabs(w[0]), std::fabs(w[1]), std::fabs(w[2]), 1e-3});
+    hdrc::ref::Range3 r_ref, r_own;
+    if (!exact) {
+      r_ref = urp::apply_color_grading_device_range(baked, p, {i[0], i[1], i[2]},
+                                                    device.sub_texel_bits);
+      r_own = urp::apply_color_grading_device_range(own_strip, p, {i[0], i[1], i[2]},
+                                                    device.sub_texel_bits);
+    }
     for (int ch = 0; ch < 3; ++ch) {
       const double g = got->px(x, 0)[ch];
-      vs_reference.add(std::fabs(g - w[ch]) / scale);
-      vs_lookup.add(std::fabs(g - own[ch]) / scale);
+      if (exact) {
+        vs_reference.add(std::fabs(g - w[ch]) / scale);
+        vs_lookup.add(std::fabs(g - own[ch]) / scale);
+      } else {
+        vs_reference.add(hdrc::gpu::testing::outside(r_ref, ch, g) / scale);
+        vs_lookup.add(hdrc::gpu::testing::outside(r_own, ch, g) / scale);
+      }
     }
     EXPECT_EQ(got->px(x, 0)[3], 0.5);
   }
@@ -768,9 +824,17 @@ TEST(UnityUrpShader, NonFiniteInputsFollowTheReference) {
       const Vec3 want = urp::apply_color_grading(*strip, p, v[x]);
       const double scale =
           std::max({std::fabs(want[0]), std::fabs(want[1]), std::fabs(want[2]), 1e-3});
+      // Elsewhere than on a float32-exact device: the distance outside the lookup's device range
+      // over the GPU's own strip (the weight boxes of subTexelPrecisionBits, "Texel Filtering").
+      hdrc::ref::Range3 range = hdrc::ref::Range3::point(want);
+      if (!hdrc::gpu::testing::exact_device())
+        range = urp::apply_color_grading_device_range(
+            urp::StripRange{*strip, *strip}, p, v[x],
+            hdrc::gpu::testing::test_device().precision.sub_texel_bits);
       for (int ch = 0; ch < 3; ++ch) {
         const double g = got->px(x, 0)[ch];
-        if (!std::isfinite(want[ch]) || !(std::fabs(g - want[ch]) <= 1e-4 * scale)) {
+        if (!std::isfinite(want[ch]) ||
+            !(hdrc::gpu::testing::outside(range, ch, g) <= 1e-4 * scale)) {
           ++mismatches;
           ADD_FAILURE() << c.grading << " " << c.tonemapping << ": input (" << v[x][0] << ", "
                         << v[x][1] << ", " << v[x][2] << ") ch " << ch << " reference " << want[ch]

@@ -13,6 +13,7 @@
 #include <sstream>
 #include <string>
 
+#include "gpu/device_bounds_test.h"
 #include "gpu/engine_test_cases.h"
 #include "gpu/shader_probe.h"
 #include "gpu/vulkan_engine.h"
@@ -94,6 +95,12 @@ TEST(VulkanReuse, PipelinesAreCreatedOncePerShader) {
 // defaults, which the engine then cannot specialise), for each effect on and off, each LUT layout
 // and devices with each shaper and post conversion.
 TEST(VulkanReuse, SpecialisedTonemapEqualsTheUnspecialisedPass) {
+  // Bit equality of two compilations holds on a float32-exact device only: elsewhere a compiler
+  // that folds the specialisation constants may fuse a·b + c where the other compilation did not
+  // ("Precision and Operation of SPIR-V Instructions": fused or not unless NoContraction). Each
+  // compilation is judged against the reference's device ranges there (TonemapEndToEnd).
+  HDRC_SKIP_IF(hdrc::gpu::testing::not_exact_reason(
+      "two compilations of one pass are bit-equal only where no a*b + c may be fused"));
   hdrc::gpu::testing::ShaderDirCopy plain("unspecialised");
   {
     std::ifstream in(fs::path(hdrc::gpu::default_shader_dir()) / "lib/tonemap_variant.glsl");
