@@ -45,8 +45,15 @@ struct StripBounds {
 // correctly rounded steps, 0.5 ULP each of values up to twice the larger sample, 2.5 ULP of it in
 // all; spirv_precision.h). NaN texels make the
 // channel's NaN admissible.
+//
+// `snap_weights`: each of a tap's four bilinear weights (the products (1 − α)(1 − β), α(1 − β),
+// ...) also snaps to the 2^-bits grid, either way and each on its own (their sum need not stay 1):
+// the specification's "Sub-texel values calculated during image sampling will snap to these
+// locations when generating the filtered results" (VkPhysicalDeviceLimits::subTexelPrecisionBits)
+// read for every sub-texel value of the filter, the weights included, not only the fractions α and
+// β.
 inline Range3 strip_lookup_device_range(const StripBounds& s, const Range3& t, int bits,
-                                        double coord_noise) {
+                                        double coord_noise, bool snap_weights = false) {
   const int n = s.size;
   const int width = n * n;
   // The candidate coordinates per axis, in texel units: both ends of the coordinate's range
@@ -106,8 +113,15 @@ inline Range3 strip_lookup_device_range(const StripBounds& s, const Range3& t, i
                   const double tl = at(*s.lo, xs[j], ys[j], c), th = at(*s.hi, xs[j], ys[j], c);
                   if (std::isnan(tl) || std::isnan(th)) nan[c] = true;
                   least[c] = std::fmin(least[c], tl);
-                  lo += ws[j] * tl;
-                  hi += ws[j] * th;
+                  if (snap_weights) {
+                    const double g = std::ldexp(1.0, bits);
+                    const double wl = std::floor(ws[j] * g) / g, wh = std::ceil(ws[j] * g) / g;
+                    lo += std::fmin(wl * tl, wh * tl);
+                    hi += std::fmax(wl * th, wh * th);
+                  } else {
+                    lo += ws[j] * tl;
+                    hi += ws[j] * th;
+                  }
                 }
                 s_lo[k][c] = std::fmin(s_lo[k][c], lo);
                 s_hi[k][c] = std::fmax(s_hi[k][c], hi);

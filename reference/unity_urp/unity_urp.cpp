@@ -7,6 +7,7 @@
 
 #include "reference/color/d3d_math.h"
 #include "reference/color/device_allowance.h"
+#include "reference/color/spirv_precision.h"
 #include "reference/color/strip_device_range.h"
 #include "reference/operators/operators.h"
 
@@ -595,17 +596,389 @@ double store_high(int lut_format, const DevicePrecision& d, double v) {
 }
 }  // namespace
 
+// ---------------------------------------------------------------------------------------------
+// The bake's texel range on a conformant device: ColorGrade evaluated in interval arithmetic with
+// the Vulkan specification's bound of every float32 operation (spirv_precision.h, "Precision and
+// Operation of SPIR-V Instructions"), step by step as gpu/shaders/unity_urp/lib/unity_grade.glsl
+// runs it. A dark channel of a bright texel is a difference of large terms (the LMS matrices of the
+// white balance, the saturation lerp): its range is the subtraction of its inputs' ranges, which a
+// relative noise of the texel's largest channel does not bound (PositivePow(x, 1/2.2) of split
+// toning then opens a channel near 0 by the slope of x^(1/2.2)).
+
+namespace {
+
+using spirv::Interval;
+
+// A constant as the reference holds it (double) or the shader does (its float32 rounding).
+Interval konst(double v) {
+  const double f = static_cast<float>(v);
+  return {std::fmin(v, f), std::fmax(v, f)};
+}
+Interval ipt(double v) {
+  return Interval::point(v);
+}
+Interval hull(Interval a, Interval b) {
+  return {std::fmin(a.lo, b.lo), std::fmax(a.hi, b.hi)};
+}
+Interval imax(Interval a, Interval b) {
+  return {std::fmax(a.lo, b.lo), std::fmax(a.hi, b.hi)};
+}
+Interval imin(Interval a, Interval b) {
+  return {std::fmin(a.lo, b.lo), std::fmin(a.hi, b.hi)};
+}
+Interval iclamp(Interval a, double lo, double hi) {
+  return {std::clamp(a.lo, lo, hi), std::clamp(a.hi, lo, hi)};
+}
+Interval iabs(Interval a) {
+  if (a.lo >= 0) return a;
+  if (a.hi <= 0) return {-a.hi, -a.lo};
+  return {0.0, std::fmax(-a.lo, a.hi)};
+}
+bool finite(Interval a) {
+  return std::isfinite(a.lo) && std::isfinite(a.hi);
+}
+// exp2 with −Inf admitted (exp2(−Inf) = 0).
+Interval iexp2(Interval x) {
+  if (std::isnan(x.lo) || std::isnan(x.hi)) return {0.0, HUGE_VAL};
+  if (!finite(x)) {
+    if (x.hi == -HUGE_VAL) return {0.0, 0.0};
+    const double lo = x.lo == -HUGE_VAL ? 0.0 : std::fmax(spirv::exp2({x.lo, x.lo}).lo, 0.0);
+    const double hi = x.hi == HUGE_VAL ? HUGE_VAL : spirv::exp2({x.hi, x.hi}).hi;
+    return {lo, hi};
+  }
+  Interval r = spirv::exp2(x);
+  return {std::fmax(r.lo, 0.0), r.hi};  // a device's exp2 is never negative: IEEE ordering
+}
+// log2 of x ≥ 0 (the argument's lower end at or below 0 admits −Inf: log2_d3d(0) = −Inf).
+Interval ilog2(Interval x) {
+  if (x.hi <= 0) return {-HUGE_VAL, -HUGE_VAL};
+  if (x.lo <= 0) return {-HUGE_VAL, spirv::log2({x.hi, x.hi}).hi};
+  return spirv::log2(x);
+}
+// Common.hlsl PositivePow / pow_d3d(|x|, y), y > 0: 0 at 0, else exp2(y·log2|x|); nondecreasing
+// in |x|.
+Interval ipow(Interval x, double y) {
+  x = iabs(x);
+  const Interval r = iexp2(spirv::mul(ilog2(x), konst(y)));
+  return {x.lo == 0 ? 0.0 : r.lo, x.hi == 0 ? 0.0 : r.hi};
+}
+// sign(x)·pow(|x|, y): nondecreasing, odd.
+Interval signed_pow(Interval x, double y) {
+  auto end = [&](double v, bool low) {
+    if (v == 0) return 0.0;
+    const Interval r = ipow(ipt(v), y);
+    return v > 0 ? (low ? r.lo : r.hi) : (low ? -r.hi : -r.lo);
+  };
+  return {end(x.lo, true), end(x.hi, false)};
+}
+// sqrt: inherited from 1.0 / inversesqrt(x), inversesqrt 2 ULP (spirvenv-op-prec). x ≥ 0.
+Interval isqrt(Interval x) {
+  x = {std::fmax(x.lo, 0.0), std::fmax(x.hi, 0.0)};
+  if (x.hi == 0) return {0.0, 0.0};
+  const Interval rs =
+      spirv::widen_ulp({1.0 / std::sqrt(x.hi), x.lo > 0 ? 1.0 / std::sqrt(x.lo) : HUGE_VAL}, 2.0);
+  Interval r =
+      x.lo > 0 ? spirv::div(ipt(1.0), rs) : Interval{0.0, spirv::div(ipt(1.0), {rs.lo, rs.lo}).hi};
+  return {std::fmax(r.lo, 0.0), r.hi};
+}
+
+// The specification's bounds (spirv_precision.h) with unbounded ends kept: an infinite end stays
+// as it is (no ULP to widen by), and a product of 0 and an unbounded end is 0 (the end stands for
+// "arbitrarily large", not for an infinite value).
+double widen_end(double v, double n, bool up) {
+  if (!std::isfinite(v)) return v;
+  return up ? v + n * spirv::ulp32(v) : v - n * spirv::ulp32(v);
+}
+Interval widen(Interval r, double n) {
+  return {widen_end(r.lo, n, false), widen_end(r.hi, n, true)};
+}
+double prod(double a, double b) {
+  return a == 0 || b == 0 ? 0.0 : a * b;
+}
+Interval iadd(Interval a, Interval b) {
+  return widen({a.lo + b.lo, a.hi + b.hi}, 0.5);
+}
+Interval isub(Interval a, Interval b) {
+  return widen({a.lo - b.hi, a.hi - b.lo}, 0.5);
+}
+Interval imul_exact(Interval a, Interval b) {
+  const double q[4] = {prod(a.lo, b.lo), prod(a.lo, b.hi), prod(a.hi, b.lo), prod(a.hi, b.hi)};
+  return {*std::min_element(q, q + 4), *std::max_element(q, q + 4)};
+}
+Interval imul(Interval a, Interval b) {
+  return widen(imul_exact(a, b), 0.5);
+}
+// a·b + c, fused or not: the unfused bound contains the fused one (spirv_precision.h mul_add).
+Interval imad(Interval a, Interval b, Interval c) {
+  return iadd(imul(a, b), c);
+}
+// OpFDiv, 2.5 ULP; b must not contain 0 (the callers divide by constants and by ranges above 0).
+Interval idiv(Interval a, Interval b) {
+  const double q[4] = {a.lo / b.lo, a.lo / b.hi, a.hi / b.lo, a.hi / b.hi};
+  return widen({*std::min_element(q, q + 4), *std::max_element(q, q + 4)}, 2.5);
+}
+
+using IV3 = std::array<Interval, 3>;
+
+IV3 mat_mul(const Mat3& m, const IV3& v) {
+  IV3 out;
+  for (int i = 0; i < 3; ++i)
+    out[i] = imad(konst(m(i, 2)), v[2], imad(konst(m(i, 1)), v[1], imul(konst(m(i, 0)), v[0])));
+  return out;
+}
+Interval idot(const IV3& v, const Vec3& w) {
+  return imad(konst(w[2]), v[2], imad(konst(w[1]), v[1], imul(konst(w[0]), v[0])));
+}
+
+// LogCToLinear: (pow10_d3d((x − d)/c) − b)/a, pow10_d3d(y) = exp2(y·LOG2_OF_10).
+Interval linear_from_logc_dev(Interval x) {
+  const LogCParams& k = kUnityLogC;
+  const Interval y = idiv(isub(x, konst(k.d)), konst(k.c));
+  const Interval p = iexp2(imul(y, konst(std::log2(10.0))));
+  return idiv(isub(p, konst(k.b)), konst(k.a));
+}
+// LinearToLogC: c·(log2_d3d(max(a·x + b, 0))·LOG10_OF_2) + d.
+Interval logc_from_linear_dev(Interval x) {
+  const LogCParams& k = kUnityLogC;
+  Interval arg = imad(konst(k.a), x, konst(k.b));
+  arg = imax(arg, ipt(0.0));
+  const Interval l = imul(ilog2(arg), konst(std::log10(2.0)));
+  return imad(konst(k.c), l, konst(k.d));
+}
+
+// SoftLight: both branches where blend ≥ 0.5 is undecided.
+Interval soft_light_dev(Interval base, Interval blend) {
+  base = {std::fmax(base.lo, 0.0), std::fmax(base.hi, 0.0)};
+  auto r1 = [&] {
+    return iadd(imul(imul(ipt(2.0), base), blend),
+                imul(imul(base, base), isub(ipt(1.0), imul(ipt(2.0), blend))));
+  };
+  auto r2 = [&] {
+    return iadd(imul(isqrt(base), isub(imul(ipt(2.0), blend), ipt(1.0))),
+                imul(imul(ipt(2.0), base), isub(ipt(1.0), blend)));
+  };
+  if (blend.lo >= 0.5) return r2();
+  if (blend.hi < 0.5) return r1();
+  return hull(r1(), r2());
+}
+
+// smoothstep_d3d(a, b, x) over an interval x.
+Interval smoothstep_dev(double a, double b, Interval x) {
+  if (a == b) {
+    // (x − a)/0: ±Inf or NaN; saturate: 1 above a, 0 at or below it.
+    return {x.lo > a ? 1.0 : 0.0, x.hi > a ? 1.0 : 0.0};
+  }
+  Interval t = idiv(isub(x, konst(a)), isub(konst(b), konst(a)));
+  t = iclamp(t, 0.0, 1.0);
+  return iclamp(imul(imul(t, t), isub(ipt(3.0), imul(ipt(2.0), t))), 0.0, 1.0);
+}
+
+// saturate(|frac(t)·6 − 3| − 1) over t, exactly: piecewise linear with corners at multiples of 1/6.
+Interval hsv_channel(Interval t) {
+  auto f = [](double v) {
+    return std::clamp(std::fabs((v - std::floor(v)) * 6.0 - 3.0) - 1.0, 0.0, 1.0);
+  };
+  if (!finite(t) || t.hi - t.lo >= 1.0) return {0.0, 1.0};
+  double lo = std::fmin(f(t.lo), f(t.hi)), hi = std::fmax(f(t.lo), f(t.hi));
+  for (double k = std::floor(t.lo * 6.0) + 1; k / 6.0 < t.hi; k += 1) {
+    lo = std::fmin(lo, f(k / 6.0));
+    hi = std::fmax(hi, f(k / 6.0));
+  }
+  // The float32 steps after t: fract (x − floor x, 0.5 ULP of t), ·6 (the ULP scaled by 6, 0.5
+  // ULP of 6), − 3 (0.5 ULP of 3), − 1 (0.5 ULP of 2).
+  const double big = std::fmax(std::fabs(t.lo), std::fabs(t.hi));
+  const double e =
+      3.0 * spirv::ulp32(big) + 0.5 * (spirv::ulp32(6.0) + spirv::ulp32(3.0) + spirv::ulp32(2.0));
+  return {std::fmax(lo - e, 0.0), std::fmin(hi + e, 1.0)};
+}
+
+// Steps 10: RgbToHsv (every branch of its two step()s the ranges leave undecided), the hue offset
+// and RotateHue, HsvToRgb. HsvToRgb is 1-periodic in the hue, so RotateHue's ±1 changes only the
+// rounding of the hue (0.5 ULP of values up to 2): the hue is carried unwrapped.
+IV3 hue_shift_dev(const IV3& c, const ParamBlock& p) {
+  const Interval everything = {-HUGE_VAL, HUGE_VAL};
+  IV3 out;
+  bool any = false;
+  const Interval r = c[0], g = c[1], b = c[2];
+  for (const bool gb : {true, false}) {
+    if (gb && !(g.hi >= b.lo)) continue;
+    if (!gb && !(g.lo < b.hi)) continue;
+    const std::array<Interval, 4> pv =
+        gb ? std::array<Interval, 4>{g, b, ipt(0.0), konst(-1.0 / 3.0)}
+           : std::array<Interval, 4>{b, g, ipt(-1.0), konst(2.0 / 3.0)};
+    for (const bool rp : {true, false}) {
+      if (rp && !(r.hi >= pv[0].lo)) continue;
+      if (!rp && !(r.lo < pv[0].hi)) continue;
+      const std::array<Interval, 4> q = rp ? std::array<Interval, 4>{r, pv[1], pv[2], pv[0]}
+                                           : std::array<Interval, 4>{pv[0], pv[1], pv[3], r};
+      // Within the branch q.x is the largest of q.x, q.y, q.w, so d = q.x − min(q.w, q.y) ≥ 0 and
+      // |q.w − q.y| ≤ d exactly, and so after rounding (monotone): the ranges, taken channel by
+      // channel, are narrowed to what the branch implies.
+      Interval d = isub(q[0], imin(q[3], q[1]));
+      if (d.hi < 0) continue;  // the branch cannot be taken
+      d.lo = std::fmax(d.lo, 0.0);
+      Interval num = isub(q[3], q[1]);
+      num = {std::fmax(num.lo, -d.hi), std::fmin(num.hi, d.hi)};
+      const Interval e = konst(1.0e-4);
+      const Interval den = imad(ipt(6.0), d, e);
+      const Interval den2 = iadd(q[0], e);
+      if (!(den.lo > 0) || !(den2.lo > 0)) return {everything, everything, everything};
+      const Interval h = iabs(iadd(q[2], idiv(num, den)));
+      const Interval s = idiv(d, den2);
+      const Interval v = q[0];
+      Interval hue = iadd(h, konst(p.urp_hue_sat_con[0]));
+      hue = {hue.lo - 0.5 * spirv::ulp32(2.0), hue.hi + 0.5 * spirv::ulp32(2.0)};
+      const double kk[3] = {1.0, 2.0 / 3.0, 1.0 / 3.0};
+      for (int i = 0; i < 3; ++i) {
+        const Interval f = hsv_channel(iadd(hue, konst(kk[i])));
+        // lerp_d3d(1, f, s) = 1 + s·(f − 1), then v·that.
+        const Interval l = imad(s, isub(f, ipt(1.0)), ipt(1.0));
+        const Interval o = imul(v, l);
+        out[i] = any ? hull(out[i], o) : o;
+      }
+      any = true;
+    }
+  }
+  if (!any) return {everything, everything, everything};
+  return out;
+}
+
+// Step 12 (HDR): t = clamp(c·rcp(Max3(c) + 1), 0, 127/128), t·rcp(1 − Max3(t)). Exactly c_i while
+// Max3(c) ≤ 127, else 128·min(c_i/(Max3 + 1), 127/128): nondecreasing in c_i ≥ 0, nonincreasing in
+// Max3, evaluated at the box's corners. Rounding: Max3 + 1 (0.5 ULP), rcp (OpFDiv, 2.5), the
+// product (0.5) give t within 3.5 ULP of t, relative 3.5·2^-23; 1 − Max3(t) (0.5 ULP) carries Max3
+// (t)'s error divided by 1 − Max3(t), then rcp (2.5) and the last product (0.5): relative
+// 3.5·2^-23·tmax/(1 − tmax) + 7·2^-23 of the output.
+IV3 hdr_curves_dev(const IV3& c) {
+  Interval m = imax(imax(c[0], c[1]), c[2]);
+  m = {std::fmax(m.lo, 0.0), std::fmax(m.hi, 0.0)};
+  auto exact = [](double ci, double mx) {
+    return std::clamp(ci / (mx + 1), 0.0, kCurveCap) / (1.0 - std::fmin(mx / (mx + 1), kCurveCap));
+  };
+  const double tmax = std::fmin(m.hi / (m.hi + 1), kCurveCap);
+  const double rel = 0x1p-23 * (3.5 * tmax / (1 - tmax) + 7.0);
+  IV3 out;
+  for (int i = 0; i < 3; ++i) {
+    const double lo = exact(c[i].lo, m.hi), hi = exact(c[i].hi, m.lo);
+    out[i] = {lo - rel * std::fabs(lo), hi + rel * std::fabs(hi)};
+  }
+  return out;
+}
+
+// LutBuilderHdr ColorGrade / LutBuilderLdr FragLutBuilderLdr (grading in Rec.709: not ACES) over
+// the lattice code, as unity_grade.glsl's steps.
+IV3 grade_dev(const Vec3& code, const ParamBlock& p, bool hdr) {
+  IV3 c;
+  for (int i = 0; i < 3; ++i) {
+    // urp_lattice_code: texel / float(size − 1), one division.
+    const Interval t = spirv::widen_ulp(ipt(code[i]), 2.5);
+    c[i] = hdr ? linear_from_logc_dev(t) : t;
+  }
+  // White balance: LMS matrix, the balance, back.
+  c = mat_mul(kLinearToLms, c);
+  for (int i = 0; i < 3; ++i) c[i] = imul(c[i], ipt(p.urp_color_balance[i]));
+  c = mat_mul(kLmsToLinear, c);
+  // Contrast in LogC.
+  for (int i = 0; i < 3; ++i) {
+    const Interval l = imad(isub(logc_from_linear_dev(c[i]), konst(kAcesccMidgray)),
+                            ipt(p.urp_hue_sat_con[2]), konst(kAcesccMidgray));
+    c[i] = linear_from_logc_dev(l);
+  }
+  // Colour filter, max(0, ·).
+  for (int i = 0; i < 3; ++i) c[i] = imax(imul(c[i], ipt(p.urp_color_filter[i])), ipt(0.0));
+  // Split toning.
+  {
+    IV3 g;
+    for (int i = 0; i < 3; ++i) g[i] = ipow(c[i], 1.0 / 2.2);
+    IV3 gs;
+    for (int i = 0; i < 3; ++i) gs[i] = iclamp(g[i], 0.0, 1.0);
+    const Interval luma =
+        iclamp(iadd(idot(gs, kRec709RgbToY), ipt(p.urp_split_shadows[3])), 0.0, 1.0);
+    for (int i = 0; i < 3; ++i) {
+      const Interval sh =
+          imad(isub(ipt(1.0), luma), isub(ipt(p.urp_split_shadows[i]), ipt(0.5)), ipt(0.5));
+      const Interval hi = imad(luma, isub(ipt(p.urp_split_highlights[i]), ipt(0.5)), ipt(0.5));
+      c[i] = ipow(soft_light_dev(soft_light_dev(g[i], sh), hi), 2.2);
+    }
+  }
+  // Channel mixer.
+  {
+    const IV3 in = c;
+    c[0] = idot(in, v3(p.urp_channel_mixer_red));
+    c[1] = idot(in, v3(p.urp_channel_mixer_green));
+    c[2] = idot(in, v3(p.urp_channel_mixer_blue));
+  }
+  // Shadows / midtones / highlights.
+  {
+    const Interval luma = idot(c, kRec709RgbToY);
+    const auto& lim = p.urp_sha_hi_limits;
+    const Interval ws = isub(ipt(1.0), smoothstep_dev(lim[0], lim[1], luma));
+    const Interval wh = smoothstep_dev(lim[2], lim[3], luma);
+    const Interval wm = isub(isub(ipt(1.0), ws), wh);
+    for (int i = 0; i < 3; ++i)
+      c[i] = iadd(iadd(imul(imul(c[i], ipt(p.urp_shadows[i])), ws),
+                       imul(imul(c[i], ipt(p.urp_midtones[i])), wm)),
+                  imul(imul(c[i], ipt(p.urp_highlights[i])), wh));
+  }
+  // Lift, gamma, gain.
+  for (int i = 0; i < 3; ++i)
+    c[i] = signed_pow(imad(c[i], ipt(p.urp_gain[i]), ipt(p.urp_lift[i])), p.urp_gamma[i]);
+  c = hue_shift_dev(c, p);
+  // Saturation: luma + k·(c − luma).
+  {
+    const Interval luma = idot(c, kRec709RgbToY);
+    for (int i = 0; i < 3; ++i) c[i] = imad(ipt(p.urp_hue_sat_con[1]), isub(c[i], luma), luma);
+  }
+  if (hdr) {
+    c = hdr_curves_dev(c);
+    for (int i = 0; i < 3; ++i) c[i] = imax(c[i], ipt(0.0));
+  } else {
+    for (int i = 0; i < 3; ++i) c[i] = iclamp(iclamp(c[i], 0.0, kCurveCap), 0.0, 1.0);
+  }
+  return c;
+}
+
+}  // namespace
+
+Range3 lut_texel_device_range(const Vec3& code, const ParamBlock& p) {
+  const Vec3 v = lut_texel(code, p, kUnityLogC);
+  double big = 0;
+  for (int c = 0; c < 3; ++c)
+    if (std::isfinite(v[c])) big = std::fmax(big, std::fabs(v[c]));
+  const double e = kFloat32Noise * big;
+  Range3 r;
+  for (int c = 0; c < 3; ++c) {
+    r.lo[c] = v[c] - e;
+    r.hi[c] = v[c] + e;
+    r.nan[c] = std::isnan(v[c]);
+  }
+  if (grades_in_aces(p)) return r;  // ACES spaces and the ACES tone map: not derived yet
+  const bool hdr = grading_mode(p) == GradingMode::kHighDynamicRange;
+  IV3 dev = grade_dev(code, p, hdr);
+  if (hdr && tonemap_mode(p) == TonemapMode::kNeutral)
+    for (Interval& i : dev) {
+      // NeutralTonemap is nondecreasing per channel: its value at the ends, with kFloat32Noise
+      // for its own arithmetic.
+      const double a = operators::unity_neutral(i.lo), z = operators::unity_neutral(i.hi);
+      i = {a - kFloat32Noise * std::fabs(a), z + kFloat32Noise * std::fabs(z)};
+    }
+  for (int c = 0; c < 3; ++c)
+    if (!std::isnan(v[c]) && !std::isnan(dev[c].lo) && !std::isnan(dev[c].hi)) {
+      r.lo[c] = std::fmin(r.lo[c], dev[c].lo);
+      r.hi[c] = std::fmax(r.hi[c], dev[c].hi);
+    }
+  return r;
+}
+
 StripRange bake_lut_strip_device_range(const ParamBlock& p, const DevicePrecision& d) {
   const int n = p.lut_size;
   StripRange s{Image(n * n, n), Image(n * n, n)};
   for (int b = 0; b < n; ++b)
     for (int g = 0; g < n; ++g)
       for (int r = 0; r < n; ++r) {
-        const Vec3 v = lut_texel(lattice_code(n, r, g, b), p, kUnityLogC);
-        double big = 0;
-        for (int c = 0; c < 3; ++c)
-          if (std::isfinite(v[c])) big = std::fmax(big, std::fabs(v[c]));
-        const double e = kFloat32Noise * big;
+        const Vec3 code = lattice_code(n, r, g, b);
+        const Vec3 v = lut_texel(code, p, kUnityLogC);
+        const Range3 range = lut_texel_device_range(code, p);
         double* lo = s.lo.px(r + n * b, g);
         double* hi = s.hi.px(r + n * b, g);
         for (int c = 0; c < 3; ++c) {
@@ -614,8 +987,8 @@ StripRange bake_lut_strip_device_range(const ParamBlock& p, const DevicePrecisio
             lo[c] = hi[c] = q;
             continue;
           }
-          lo[c] = std::fmin(q, store_low(p.lut_format, d, v[c] - e));
-          hi[c] = std::fmax(q, store_high(p.lut_format, d, v[c] + e));
+          lo[c] = std::fmin(q, store_low(p.lut_format, d, range.lo[c]));
+          hi[c] = std::fmax(q, store_high(p.lut_format, d, range.hi[c]));
         }
         lo[3] = hi[3] = 1.0;
       }
@@ -623,7 +996,8 @@ StripRange bake_lut_strip_device_range(const ParamBlock& p, const DevicePrecisio
 }
 
 Range3 apply_color_grading_device_range(const StripRange& bounds, const ParamBlock& p,
-                                        const Vec3& scene_linear, int sub_texel_bits) {
+                                        const Vec3& scene_linear, int sub_texel_bits,
+                                        bool snap_weights) {
   Vec3 x = scene_linear;
   for (double& c : x) c *= p.urp_post_exposure;
   const Vec3 coord = grading_mode(p) == GradingMode::kHighDynamicRange
@@ -632,7 +1006,7 @@ Range3 apply_color_grading_device_range(const StripRange& bounds, const ParamBlo
   // ApplyLut2D's sampling is strip_lookup_device_range's: with scaleOffset = (1/W, 1/H, H − 1),
   // u·W − 0.5 = uvw.x·(H − 1) + H·floor(uvw.z·(H − 1)), v·H − 0.5 = uvw.y·(H − 1).
   return strip_lookup_device_range({&bounds.lo, &bounds.hi, p.lut_size}, Range3::point(coord),
-                                   sub_texel_bits, kFloat32Noise);
+                                   sub_texel_bits, kFloat32Noise, snap_weights);
 }
 
 }  // namespace hdrc::ref::unity_urp

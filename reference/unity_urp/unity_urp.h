@@ -216,9 +216,18 @@ Image grade_image(const Image& input, const ParamBlock& p);
 // ---------------------------------------------------------------------------------------------
 // Device allowances (docs/precision.md, "Device allowances").
 
-// What a conformant device with precision `d` may hold in each texel of the internal LUT: the
-// bake's value ± kFloat32Noise of its largest channel (the float32 arithmetic of ColorGrade and the
-// tone map: logs, pows, the HSV round trip), then the storage format's neighbours either way
+// What a conformant device may compute for lut_texel(code, p) before storage. Grading in Rec.709
+// (LDR grading; HDR grading with tone mapping None or Neutral): ColorGrade evaluated in interval
+// arithmetic with the Vulkan specification's bound of every float32 operation
+// (reference/color/spirv_precision.h), step by step as gpu/shaders/unity_urp/lib/unity_grade.glsl
+// runs it: each channel's range carries its inputs' ranges through the matrices, the pows and
+// the saturation's subtraction; RgbToHsv takes every branch its step()s leave undecided; Neutral
+// at the ends with kFloat32Noise for its own arithmetic. Always at least the texel ± kFloat32Noise
+// of its largest channel (all of it under ACES grading, not yet derived step by step).
+Range3 lut_texel_device_range(const Vec3& code, const ParamBlock& p);
+
+// What a conformant device with precision `d` may hold in each texel of the internal LUT:
+// lut_texel_device_range, then the storage format's neighbours either way
 // (device_allowance.h: RGBA16F rounds by the device's float16 rounding mode unless d.fp16_rte,
 // UNORM to either of the two nearest codes, float32 to either neighbour). Contains
 // bake_lut_strip(p) texel by texel.
@@ -233,6 +242,7 @@ StripRange bake_lut_strip_device_range(const ParamBlock& p, const DevicePrecisio
 // two bilinear taps and the lerp (reference/color/strip_device_range.h). Contains
 // apply_color_grading of the reference strip.
 Range3 apply_color_grading_device_range(const StripRange& bounds, const ParamBlock& p,
-                                        const Vec3& scene_linear, int sub_texel_bits);
+                                        const Vec3& scene_linear, int sub_texel_bits,
+                                        bool snap_weights = false);
 
 }  // namespace hdrc::ref::unity_urp

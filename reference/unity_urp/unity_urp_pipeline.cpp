@@ -61,6 +61,10 @@ Result<Image> reference(const ResolvedCase& c, bool /*analytic_lut*/) {
   // Device allowances: the texels' ranges (the bake stage's own output), or ApplyColorGrading's
   // range per pixel over them.
   const StripRange bounds = bake_lut_strip_device_range(c.params, c.device);
+  // A device's own texture unit may snap its bilinear weights to the sub-texel grid too
+  // (strip_device_range.h, snap_weights; the H200's lookups do); the worst-case model's filter is
+  // the suite's own in-shader filter, which snaps the fractions only (gpu/, --device-model worst).
+  const bool snap_weights = c.device.model.empty();
   for (int y = 0; y < out.height; ++y)
     for (int x = 0; x < out.width; ++x) {
       const double* o = out.px(x, y);
@@ -73,19 +77,24 @@ Result<Image> reference(const ResolvedCase& c, bool /*analytic_lut*/) {
       } else {
         const double* in = c.input.px(x, y);
         r = apply_color_grading_device_range(bounds, c.params, {in[0], in[1], in[2]},
-                                             c.device.sub_texel_bits);
+                                             c.device.sub_texel_bits, snap_weights);
       }
       r.include({o[0], o[1], o[2]});
       // Alpha: 1 in the bake, the input's in the grade.
       out.device_admissible.push_back(
           to_admissible(static_cast<size_t>(y) * out.width + x, r, o[3], o[3], std::isnan(o[3])));
     }
-  out.device_allowances = {"LUT storage rounding (either neighbour)",
-                           "shader noise (kFloat32Noise of the bake and the LUT coordinate)"};
+  out.device_allowances = {
+      "LUT storage rounding (either neighbour)",
+      grades_in_aces(c.params)
+          ? "shader noise (kFloat32Noise of the bake and the LUT coordinate)"
+          : "shader arithmetic (the bake's grade in interval arithmetic on Vulkan's float32 "
+            "bounds, kFloat32Noise of the LUT coordinate)"};
   if (!bake)
-    out.device_allowances.insert(
-        out.device_allowances.begin(),
-        "filter weights (" + std::to_string(c.device.sub_texel_bits) + " sub-texel bits)");
+    out.device_allowances.insert(out.device_allowances.begin(),
+                                 "filter weights (" + std::to_string(c.device.sub_texel_bits) +
+                                     " sub-texel bits" +
+                                     (snap_weights ? ", each weight snapped" : "") + ")");
   return out;
 }
 

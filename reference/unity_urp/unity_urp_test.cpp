@@ -20,6 +20,7 @@
 
 #include "core/case.h"
 #include "reference/color/device_allowance.h"
+#include "reference/color/strip_device_range.h"
 #include "reference/color/ue_matrices.h"
 #include "reference/unity_urp/unity_urp_pipeline.h"
 #include "reference/unity_urp/unity_urp_settings.h"
@@ -732,6 +733,94 @@ TEST(UnityUrpDevice, BakeBoundsHoldBothStorageNeighbours) {
     if (p.lut_format == 3) {
       EXPECT_GT(outside, texels * 9 / 10) << outside << " / " << texels;
     }
+  }
+}
+
+// The graded look of cases/unity_urp/graded_look.json (every control off its default), HDR
+// grading, no tone mapping.
+ParamBlock graded_look() {
+  SettingValues s = new_settings();
+  EXPECT_TRUE(s.set_choice("GradingMode", "HighDynamicRange").ok());
+  EXPECT_TRUE(s.set_choice("Tonemapping.mode", "None").ok());
+  const struct {
+    const char* name;
+    std::array<double, 4> v;
+    int n;
+  } values[] = {{"WhiteBalance.temperature", {20, 0, 0, 0}, 1},
+                {"WhiteBalance.tint", {-10, 0, 0, 0}, 1},
+                {"ColorAdjustments.contrast", {25, 0, 0, 0}, 1},
+                {"ColorAdjustments.colorFilter", {1, 0.95, 0.9, 1}, 4},
+                {"ColorAdjustments.hueShift", {-20, 0, 0, 0}, 1},
+                {"ColorAdjustments.saturation", {15, 0, 0, 0}, 1},
+                {"SplitToning.shadows", {0.35, 0.45, 0.6, 1}, 4},
+                {"SplitToning.highlights", {0.6, 0.5, 0.4, 1}, 4},
+                {"SplitToning.balance", {-20, 0, 0, 0}, 1},
+                {"ChannelMixer.redOutGreenIn", {-10, 0, 0, 0}, 1},
+                {"ShadowsMidtonesHighlights.shadows", {1, 0.95, 1.05, 0.1}, 4},
+                {"LiftGammaGain.lift", {1, 1, 1.05, 0.02}, 4},
+                {"LiftGammaGain.gamma", {1, 1, 1, 0.1}, 4},
+                {"LiftGammaGain.gain", {1.02, 1, 0.98, 0}, 4}};
+  for (const auto& v : values) EXPECT_TRUE(s.set(v.name, v.v, v.n).ok()) << v.name;
+  return derive(s);
+}
+
+// Bilinear weights snapped to the 2^-bits grid, by hand (reference/color/strip_device_range.h,
+// snap_weights): a 2-edge strip (4 x 2 texels) holding 1 in texel (1, 0) of slice 0 and 0
+// elsewhere, read at t = (0.6, 0.05, 0): α = 0.6 and β = 0.05 snap to [153, 154]/256 and
+// [12, 13]/256 (8 bits), so the weight α(1 − β) of texel (1, 0) lies in [153·243, 154·244]/65536
+// = [0.5673370, 0.5733643]; snapped on its own it is [145, 147]/256 = [0.56640625, 0.57421875].
+// The slice lerp adds 2.5 ULP of the larger sample (2.5·2^-24 < 1.5e-7).
+TEST(UnityUrpDevice, SnappedWeightsByHand) {
+  Image lo(4, 2), hi(4, 2);
+  lo.px(1, 0)[0] = hi.px(1, 0)[0] = 1.0;
+  const hdrc::ref::Range3 t = hdrc::ref::Range3::point({0.6, 0.05, 0.0});
+  const hdrc::ref::Range3 axis = hdrc::ref::strip_lookup_device_range({&lo, &hi, 2}, t, 8, 0.0);
+  EXPECT_NEAR(axis.lo[0], 153.0 * 243 / 65536, 2e-7);
+  EXPECT_NEAR(axis.hi[0], 154.0 * 244 / 65536, 2e-7);
+  const hdrc::ref::Range3 snapped =
+      hdrc::ref::strip_lookup_device_range({&lo, &hi, 2}, t, 8, 0.0, true);
+  EXPECT_NEAR(snapped.lo[0], 145.0 / 256, 2e-7);
+  EXPECT_NEAR(snapped.hi[0], 147.0 / 256, 2e-7);
+}
+
+// The HDR curves' rounding by hand (lut_texel_device_range): at the defaults (HDR, no tone map)
+// the white lattice code (1, 1, 1) decodes to 58.8566 (LogC^-1(1) above), which FastTonemap maps
+// to 58.8566/59.8566 = 0.98329, under the cap 127/128: the texel is 58.8566 again, and t's
+// rounding (Max3 + 1, rcp, product: 3.5 ULP, relative 3.5·2^-23) carried through 1 − t
+// (divided by 1 − t = 1/59.8566) and the last rcp and product (7·2^-23 in all) give
+// 2^-23·(3.5·58.8566 + 7) = 2.539e-5 of 58.8566 = 1.494e-3 either way, at least.
+TEST(UnityUrpDevice, CurvesRoundingByHand) {
+  const ParamBlock p = defaults("HighDynamicRange", "None");
+  const hdrc::ref::Range3 r = urp::lut_texel_device_range({1, 1, 1}, p);
+  const Vec3 v = urp::lut_texel({1, 1, 1}, p);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(v[c], 58.8566, 1e-3);  // the white balance's float32 coefficients move it
+    EXPECT_LE(r.lo[c], v[c] - 1.494e-3);
+    EXPECT_GE(r.hi[c], v[c] + 1.494e-3);
+    EXPECT_LT(r.hi[c] - r.lo[c], 1e-3 * v[c]);  // a grey: RgbToHsv's hue is open, s·v = d tiny
+  }
+}
+
+// The H200's value (2026-11-27, docs/precision.md) in unity_urp/graded_look/
+// gradingmode1_mode0_postexposure0_hue_sweep at (18, 3): scene (15.5831203, 9.34987259, 0), graded
+// (57.84375, 1.9765625, 0.193969727) against the reference's (57.8382562, 1.97031513,
+// 0.176768041). Its blue is texel (27, 24)'s 6.2085 by a weight of 0.03124 = 8/256 where the
+// exact weight is 0.6330·0.0450 = 0.0285 and the axis boxes allow at most 0.6367·0.0469 = 0.0298:
+// the product snapped to the 8-bit grid. Inside the ranges with snapped weights, outside without.
+TEST(UnityUrpDevice, H200GradedLookPixelNeedsSnappedWeights) {
+  ParamBlock p = graded_look();
+  hdrc::DevicePrecision d;
+  d.sub_texel_bits = 8;
+  d.fp16_rte = true;
+  const urp::StripRange b = urp::bake_lut_strip_device_range(p, d);
+  const Vec3 in = {15.5831203, 9.34987259, 0};
+  const Vec3 h200 = {57.84375, 1.9765625, 0.193969727};
+  const hdrc::ref::Range3 axis = urp::apply_color_grading_device_range(b, p, in, 8, false);
+  const hdrc::ref::Range3 snapped = urp::apply_color_grading_device_range(b, p, in, 8, true);
+  EXPECT_GT(h200[2], axis.hi[2]);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_LE(snapped.lo[c], h200[c]) << c;
+    EXPECT_GE(snapped.hi[c], h200[c]) << c;
   }
 }
 
