@@ -591,8 +591,13 @@ TEST(Pipelines, PlantedDefectsFailOnTheWorstCaseDevice) {
        "pq_grading/luts/display1_backbuffer0_lutpq_identity_33_random"},
       {"lib/ue_lut_blend.glsl", "return mix(rg0, rg1, frac_w);",
        "return mix(rg0, rg1, frac_w).bgr;", "lut/user_lut/storage/dev9_*",
-       // (the blend cases are known limits of the model: cases/known_limits.json)
        "lut/user_lut/storage/dev9_fmt1_layout0"},
+      // The blend's own lookup range (reference/ue_lut_blend.h blend_user_luts_device_range) must
+      // not absorb the half-texel offset or the dropped neutral weight.
+      {"lib/ue_lut_blend.glsl", "gamma_color * (15.0 / 16.0) + 0.5 / 16.0",
+       "gamma_color * (15.0 / 16.0)", "lut/user_lut/blend4/dev0", "lut/user_lut/blend4/dev0"},
+      {"lib/ue_lut_blend.glsl", "vec3 blended = P.lut_weights.x * g;", "vec3 blended = vec3(0.0);",
+       "lut/user_lut/blend3/dev9", "lut/user_lut/blend3/dev9"},
   };
   for (const Row& row : rows) {
     std::string out;
