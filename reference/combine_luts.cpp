@@ -502,6 +502,20 @@ Range3 device_texel_range(const ParamBlock& p, const grading::InverseGamma& inve
   for (int c = 0; c < 3; ++c)
     if (std::isfinite(pq_in[c])) scale = std::fmax(scale, std::fabs(pq_in[c]));
   const double e = kShaderNoise * scale;
+  // The same noise where the upstream arithmetic ends, before the output matrices (GradedColor
+  // through ToAP1 and AP1 → output for device 7, the ACES output's AP1 nits through AP1 → output
+  // for 3-4), carried through them as exact interval products (noise_range.h apply_matrix): a
+  // row with cancelling coefficients turns its inputs' noise into more than kShaderNoise of its
+  // dark output.
+  Range3 before{};
+  const bool matrices = device == 7 || device <= 4;
+  if (matrices) {
+    const Vec3& upstream = device == 7 ? t.graded : t.aces_nits;
+    before = Range3::point(upstream);
+    widen_noise(upstream, kShaderNoise, &before);
+    before = device == 7 ? apply_matrix(to_output, apply_matrix(p.wcs_to_ap1, before))
+                         : apply_matrix(to_output, before);
+  }
   for (int c = 0; c < 3; ++c) {
     if (!std::isfinite(pq_in[c])) {
       r.lo[c] = r.hi[c] = st2084::pq_from_nits(pq_in[c]);
@@ -509,6 +523,10 @@ Range3 device_texel_range(const ParamBlock& p, const grading::InverseGamma& inve
       continue;
     }
     double lo = pq_in[c] - e, hi = pq_in[c] + e;
+    if (matrices && std::isfinite(before.lo[c]) && std::isfinite(before.hi[c])) {
+      lo = std::fmin(lo, before.lo[c]);
+      hi = std::fmax(hi, before.hi[c]);
+    }
     if (lo < 0) r.nan[c] = true;  // PQ (pow) of a negative value: NaN
     if (hi < 0) {
       r.lo[c] = r.hi[c] = d3d::kNaN;
