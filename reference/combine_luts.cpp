@@ -466,14 +466,22 @@ Range3 widen_relative(Range3 r, double k) {
 // reference/color/noise_range.h, from the same table), on the value the device's encode takes,
 // carried through the encode: PQ (devices 3-7) with the specification's bounds on its own steps
 // (pq_encode_on_device), the SDR encodes as nondecreasing maps plus their pow's own error.
+// `blend_film`: FilmColorNoGamma's range from the user-LUT blend's device range (film devices with
+// BLENDCOUNT > 1), admitted besides the widened point.
 Range3 device_texel_range(const ParamBlock& p, const grading::InverseGamma& inverse_gamma,
-                          const CombineLutsTrace& t) {
+                          const CombineLutsTrace& t, const Range3* blend_film = nullptr) {
   const int device = p.output_device;
   const Mat3& to_output = p.ap1_to_output;
   Range3 r;
   if (device <= 2 || device == 9) {
     r = Range3::point(t.film);
     widen_noise(t.film, kShaderNoise, &r);
+    if (blend_film) {
+      for (int c = 0; c < 3; ++c) {
+        r.lo[c] = std::fmin(r.lo[c], blend_film->lo[c]);
+        r.hi[c] = std::fmax(r.hi[c], blend_film->hi[c]);
+      }
+    }
     if (device == 9) return apply_matrix(to_output, apply_matrix(p.wcs_to_ap1, r));
     r = sdr_encode_range(p, inverse_gamma, r);
     if (device == 2) {
@@ -494,6 +502,20 @@ Range3 device_texel_range(const ParamBlock& p, const grading::InverseGamma& inve
   for (int c = 0; c < 3; ++c)
     if (std::isfinite(pq_in[c])) scale = std::fmax(scale, std::fabs(pq_in[c]));
   const double e = kShaderNoise * scale;
+  // The same noise where the upstream arithmetic ends, before the output matrices (GradedColor
+  // through ToAP1 and AP1 → output for device 7, the ACES output's AP1 nits through AP1 → output
+  // for 3-4), carried through them as exact interval products (noise_range.h apply_matrix): a
+  // row with cancelling coefficients turns its inputs' noise into more than kShaderNoise of its
+  // dark output.
+  Range3 before{};
+  const bool matrices = device == 7 || device <= 4;
+  if (matrices) {
+    const Vec3& upstream = device == 7 ? t.graded : t.aces_nits;
+    before = Range3::point(upstream);
+    widen_noise(upstream, kShaderNoise, &before);
+    before = device == 7 ? apply_matrix(to_output, apply_matrix(p.wcs_to_ap1, before))
+                         : apply_matrix(to_output, before);
+  }
   for (int c = 0; c < 3; ++c) {
     if (!std::isfinite(pq_in[c])) {
       r.lo[c] = r.hi[c] = st2084::pq_from_nits(pq_in[c]);
@@ -501,6 +523,10 @@ Range3 device_texel_range(const ParamBlock& p, const grading::InverseGamma& inve
       continue;
     }
     double lo = pq_in[c] - e, hi = pq_in[c] + e;
+    if (matrices && std::isfinite(before.lo[c]) && std::isfinite(before.hi[c])) {
+      lo = std::fmin(lo, before.lo[c]);
+      hi = std::fmax(hi, before.hi[c]);
+    }
     if (lo < 0) r.nan[c] = true;  // PQ (pow) of a negative value: NaN
     if (hi < 0) {
       r.lo[c] = r.hi[c] = d3d::kNaN;
@@ -543,6 +569,49 @@ void store_either_way(int lut_format, bool fp16_rte, const Range3& r, Vec3* lo, 
   }
 }
 
+// FilmColorNoGamma's range on a device from the user-LUT blend's (BLENDCOUNT > 1): the blend's
+// range (blend_user_luts_device_range, from FilmColor before the blend: the film tone curve of
+// the trace's ColorCorrected) through r.Color's polynomial a·x² + b·x + c (its extremes at the
+// ends and, inside, the vertex −b/2a) and the fade (ColorScale, then the lerp to OverlayColor:
+// linear per channel), then widened by kShaderNoise of the largest channel for that arithmetic
+// (noise_range.h).
+Range3 blend_film_range(const ParamBlock& p, const UeLutSet& luts, int bits,
+                        const grading::FilmPathParams& film, const WorkingColorSpace& wcs,
+                        const grading::Fade& fade, const CombineLutsTrace& t) {
+  const Vec3 film_color = grading::film_color(t.color_corrected, film, wcs);
+  const Range3 b = blend_user_luts_device_range(film_color, p, luts, bits);
+  const grading::MappingPolynomial poly{p.mapping_polynomial[0], p.mapping_polynomial[1],
+                                        p.mapping_polynomial[2]};
+  auto polynomial = [&](double x) { return poly.a * (x * x) + poly.b * x + poly.c; };
+  Range3 r;
+  double scale = 0;
+  for (int c = 0; c < 3; ++c) {
+    double lo = std::fmin(polynomial(b.lo[c]), polynomial(b.hi[c]));
+    double hi = std::fmax(polynomial(b.lo[c]), polynomial(b.hi[c]));
+    if (poly.a != 0) {
+      const double vertex = -poly.b / (2 * poly.a);
+      if (vertex > b.lo[c] && vertex < b.hi[c]) {
+        lo = std::fmin(lo, polynomial(vertex));
+        hi = std::fmax(hi, polynomial(vertex));
+      }
+    }
+    // apply_fade: lerp(x·ColorScale, OverlayColor.rgb, OverlayColor.a), per channel.
+    const double alpha = fade.overlay_color[3];
+    auto faded = [&](double x) {
+      return x * fade.color_scale[c] * (1 - alpha) + fade.overlay_color[c] * alpha;
+    };
+    r.lo[c] = std::fmin(faded(lo), faded(hi));
+    r.hi[c] = std::fmax(faded(lo), faded(hi));
+    scale = std::fmax(scale, std::fmax(std::fabs(r.lo[c]), std::fabs(r.hi[c])));
+  }
+  const double e = kShaderNoise * scale;
+  for (int c = 0; c < 3; ++c) {
+    r.lo[c] -= e;
+    r.hi[c] += e;
+  }
+  return r;
+}
+
 }  // namespace
 
 BakedLut bake_lut_device(const ParamBlock& p, const DevicePrecision& device, const UeLutSet* luts) {
@@ -552,6 +621,17 @@ BakedLut bake_lut_device(const ParamBlock& p, const DevicePrecision& device, con
                                             p.inverse_gamma[2]};
   std::vector<Vec3> lo(lut.texels.size()), hi(lut.texels.size());
   std::vector<uint8_t> flags(lut.texels.size(), BakedLut::kAmbiguous);
+  // The user-LUT blend (film devices, BLENDCOUNT > 1): its lookups' weight boxes and pow pair.
+  const int d = p.output_device;
+  const bool blend = luts && p.lut_blend_count > 1 && (d <= 2 || d == 9);
+  grading::FilmPathParams film;
+  film.blue_correction = p.blue_correction;
+  film.tone_curve_amount = p.tone_curve_amount;
+  film.film = {p.film_slope, p.film_toe, p.film_shoulder, p.film_black_clip, p.film_white_clip};
+  const WorkingColorSpace wcs = working_color_space(p);
+  const grading::Fade fade{
+      {p.color_scale[0], p.color_scale[1], p.color_scale[2]},
+      {p.overlay_color[0], p.overlay_color[1], p.overlay_color[2], p.overlay_color[3]}};
   for (int b = 0; b < n; ++b)
     for (int g = 0; g < n; ++g)
       for (int r = 0; r < n; ++r) {
@@ -559,7 +639,11 @@ BakedLut bake_lut_device(const ParamBlock& p, const DevicePrecision& device, con
         CombineLutsTrace t;
         const Vec3 v =
             combine_luts_texel(p, lattice_coordinate(p.lut_layout, n, r, g, b), &t, luts);
-        Range3 range = scale(device_texel_range(p, inverse_gamma, t), 1.0 / kLutScale);
+        Range3 blend_film;
+        if (blend)
+          blend_film = blend_film_range(p, *luts, device.sub_texel_bits, film, wcs, fade, t);
+        Range3 range = scale(device_texel_range(p, inverse_gamma, t, blend ? &blend_film : nullptr),
+                             1.0 / kLutScale);
         range.include(v);
         store_either_way(p.lut_format, device.fp16_rte, range, &lo[i], &hi[i], &flags[i]);
         // The tight range (and the stored point) stay admissible.

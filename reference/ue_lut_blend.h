@@ -17,6 +17,8 @@
 
 #include "core/image.h"
 #include "core/shader_interface.h"
+#include "reference/color/noise_range.h"
+#include "reference/color/spirv_precision.h"
 #include "reference/color/vec.h"
 
 namespace hdrc::ref {
@@ -69,5 +71,30 @@ UeLutSet ue_lut_set(const std::array<Image, kUserLutSlots>& strips);
 // blend_user_luts with the host's table: BLENDCOUNT P.lut_blend_count, LUTWeights
 // (P.lut_weights, P.lut_weight_4), Textures_i = luts.slots[i − 1].
 Vec3 blend_user_luts(const Vec3& film_color, const ParamBlock& p, const UeLutSet& luts);
+
+// The same lookup as a conformant Vulkan device may evaluate it, over a coordinate interval per
+// axis (docs/precision.md, "Device allowances"): the shader's slice arithmetic (w = UVW.z·16 − 0.5,
+// FracW, U = (UVW.x + IntW)/16 and U + 1/16) within the bounds of the Vulkan specification's
+// "Precision and Operation of SPIR-V Instructions" (spirv_precision.h; both IntW a rounded w may
+// floor to), each hardware bilinear sample with the sub-texel weight box of "Texel Filtering"
+// (subTexelPrecisionBits `bits`, device_allowance.h linear_tap_box; both texel pairs where the
+// coordinate interval crosses a texel centre) at its corners, and the shader's lerp by FracW
+// (shader arithmetic: FracW's interval, not a filter weight). Per channel: [min, max] of what the
+// device may return; the texels are the texture's values (points).
+Range3 unwrapped_texture3d_sample_device(const UeLutTexture& lut,
+                                         const std::array<spirv::Interval, 3>& uvw, int bits);
+
+// blend_user_luts (BLENDCOUNT ≥ 2) as a conformant device may evaluate it: FilmColor widened by
+// the upstream arithmetic's allowance (kShaderNoise of its largest channel, noise_range.h), the
+// saturate, LinearToSrgb's pow pair (pow(x, 1/2.4)·1.055 − 0.055 or 12.92·x), UVW's multiply-add,
+// unwrapped_texture3d_sample_device, the weighted sum and sRGBToLinear (its clamp, then
+// pow(c/1.055 + 0.0521327, 2.4) or c/12.92), each step within the specification's bounds
+// (spirv_precision.h). Per channel: the range of the blend's linear result. count ≤ 1: FilmColor's
+// point.
+Range3 blend_user_luts_device_range(const Vec3& film_color, int count,
+                                    const std::array<double, 5>& weights,
+                                    const std::array<const UeLutTexture*, 4>& luts, int bits);
+Range3 blend_user_luts_device_range(const Vec3& film_color, const ParamBlock& p,
+                                    const UeLutSet& luts, int bits);
 
 }  // namespace hdrc::ref

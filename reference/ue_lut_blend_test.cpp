@@ -212,6 +212,88 @@ TEST(UeLutBlend, LookupMatchesOpenColorIO) {
   }
 }
 
+// The device lookup's sub-texel weight box (Vulkan spec, "Texel Filtering": the weight keeps
+// subTexelPrecisionBits fraction bits, rounding unspecified), hand-computed on the identity strip
+// (texel (r + 16 b, g) = (r, g, b)/15). UVW = (3.8/16, 6/16, 2.75/16): w = 2.75 − 0.5 = 2.25, so
+// IntW = 2, FracW = 0.25; the first sample's x = (3.8/16 + 2)·256/16 − 0.5 = 35.3 (texels 35, 36 =
+// red 3 and 4 of slice 2, weight 0.3), the second's 51.3 (slice 3, the same weight); y = 6 − 0.5
+// = 5.5 (weight 0.5, on every grid). Red = (3 + box(0.3))/15, green 5.5/15, blue (2 + 0.25)/15.
+TEST(UeLutBlend, DeviceSampleBoxesTheSubTexelWeight) {
+  using hdrc::ref::spirv::Interval;
+  const UeLutTexture t = strip_of(identity);
+  const std::array<Interval, 3> uvw = {Interval::point(3.8 / 16), Interval::point(6.0 / 16),
+                                       Interval::point(2.75 / 16)};
+  // 8 bits: 0.3·256 = 76.8 → [76, 77]/256 = [0.296875, 0.30078125].
+  hdrc::ref::Range3 r = hdrc::ref::unwrapped_texture3d_sample_device(t, uvw, 8);
+  constexpr double kArith = 1e-6;  // the shader's own add/sub/mul roundings (float32 ulps)
+  EXPECT_NEAR(r.lo[0], 3.296875 / 15, kArith);
+  EXPECT_NEAR(r.hi[0], 3.30078125 / 15, kArith);
+  EXPECT_NEAR(r.lo[1], 5.5 / 15, kArith);
+  EXPECT_NEAR(r.hi[1], 5.5 / 15, kArith);
+  EXPECT_NEAR(r.lo[2], 2.25 / 15, kArith);
+  EXPECT_NEAR(r.hi[2], 2.25 / 15, kArith);
+  // 4 bits (the core minimum): 0.3·16 = 4.8 → [4, 5]/16 = [0.25, 0.3125].
+  r = hdrc::ref::unwrapped_texture3d_sample_device(t, uvw, 4);
+  EXPECT_NEAR(r.lo[0], 3.25 / 15, kArith);
+  EXPECT_NEAR(r.hi[0], 3.3125 / 15, kArith);
+  // The exact lookup lies inside.
+  const Vec3 exact = hdrc::ref::unwrapped_texture3d_sample(t, {3.8 / 16, 6.0 / 16, 2.75 / 16});
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_LE(r.lo[c], exact[c]);
+    EXPECT_GE(r.hi[c], exact[c]);
+  }
+}
+
+// A coordinate interval across a texel centre takes both texel pairs: UVW.x in 0.28125 ± 1e-6
+// puts x at (0.28125 + 2)·16 − 0.5 = 36 ± 1.6e-5, texel 36 = red 4 of slice 2. Texels 35, 36 with
+// weights in [255/256, 1] give red (3 + [0.99609375, 1])/15; texels 36, 37 with [0, 1/256] give
+// (4 + [0, 0.00390625])/15: together [3.99609375, 4.00390625]/15.
+TEST(UeLutBlend, DeviceSampleAcrossATexelCentreTakesBothPairs) {
+  using hdrc::ref::spirv::Interval;
+  const UeLutTexture t = strip_of(identity);
+  const std::array<Interval, 3> uvw = {Interval{0.28125 - 1e-6, 0.28125 + 1e-6},
+                                       Interval::point(6.0 / 16), Interval::point(2.75 / 16)};
+  const hdrc::ref::Range3 r = hdrc::ref::unwrapped_texture3d_sample_device(t, uvw, 8);
+  EXPECT_NEAR(r.lo[0], 3.99609375 / 15, 1e-6);
+  EXPECT_NEAR(r.hi[0], 4.00390625 / 15, 1e-6);
+}
+
+// The whole blend on a device contains the exact blend. Its width, hand-computed at FilmColor
+// 0.5 grey through the identity LUT at full weight: the upstream allowance e = 2^-15 · 0.5 =
+// 1.53e-5 moves sRGB by e · 1.055/2.4 · 0.5^(1/2.4 − 1) = 1.01e-5 each way; UVW = 0.73535 · 15/16
+// + 1/32 = 0.72064 puts red and green at texel 11.03 (weight 0.030 · 256 = 7.7: box [7, 8]/256,
+// one 2^-8 step of the 1/15 texel difference, 2.60e-4) and blue at slice weight 0.03 (no box:
+// the shader's lerp). The pow pair's and the arithmetic's bounds add a few float32 ulps (5e-6).
+TEST(UeLutBlend, DeviceRangeContainsTheBlendAndIsTheBoxWide) {
+  const UeLutTexture d = strip_of(identity);
+  const std::array<double, 5> w = {0.0, 1.0, 0.0, 0.0, 0.0};
+  const std::array<const UeLutTexture*, 4> luts = {&d, nullptr, nullptr, nullptr};
+  for (const Vec3& f : {kF, Vec3{0.001, 0.05, 0.97}, Vec3{0.0, 1.0, 0.3}, Vec3{0.5, 0.5, 0.5}}) {
+    const Vec3 exact = hdrc::ref::blend_user_luts(f, 2, w, luts);
+    const hdrc::ref::Range3 r = hdrc::ref::blend_user_luts_device_range(f, 2, w, luts, 8);
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_LE(r.lo[c], exact[c]) << "channel " << c << " of " << f[c];
+      EXPECT_GE(r.hi[c], exact[c]) << "channel " << c << " of " << f[c];
+    }
+  }
+  const hdrc::ref::Range3 r =
+      hdrc::ref::blend_user_luts_device_range({0.5, 0.5, 0.5}, 2, w, luts, 8);
+  auto srgb_width = [&](int c) {
+    return hdrc::ref::linear_to_srgb(r.hi[c]) - hdrc::ref::linear_to_srgb(r.lo[c]);
+  };
+  constexpr double kBox = 1.0 / (256 * 15), kUpstream = 2 * 1.01e-5, kUlps = 5e-6;
+  for (int c = 0; c < 2; ++c) {
+    EXPECT_GE(srgb_width(c), kBox) << "channel " << c;
+    EXPECT_LE(srgb_width(c), kBox + kUpstream + kUlps) << "channel " << c;
+  }
+  EXPECT_GE(srgb_width(2), kUpstream - kUlps);
+  EXPECT_LE(srgb_width(2), kUpstream + kUlps);
+  // BLENDCOUNT 1: the input's point.
+  const hdrc::ref::Range3 one = hdrc::ref::blend_user_luts_device_range(kF, 1, w, luts, 8);
+  EXPECT_EQ(one.lo, kF);
+  EXPECT_EQ(one.hi, kF);
+}
+
 TEST(UeLutBlend, Unorm8Storage) {
   EXPECT_EQ(hdrc::ref::unorm8_from_value(std::nan("")), 0);
   EXPECT_EQ(hdrc::ref::unorm8_from_value(-1.0), 0);
