@@ -24,7 +24,9 @@
 #include "core/atomic_file.h"
 #include "core/utf8.h"
 #include "reference/reference_engine.h"
+#include "runner/descendants.h"
 #include "runner/export.h"
+#include "runner/json_read.h"
 #include "runner/provenance.h"
 #include "runner/results.h"
 
@@ -177,6 +179,15 @@ CommandResult run_command(const std::vector<std::string>& argv, const std::strin
   std::vector<char*> args;
   for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
+  // Its environment, with the token every process it starts inherits (runner/descendants.h).
+  const std::string token = new_command_token();
+  const std::string token_entry = std::string(kCommandTokenVar) + "=" + token;
+  const std::string token_prefix = std::string(kCommandTokenVar) + "=";
+  std::vector<char*> env;
+  for (char** e = environ; e && *e; ++e)
+    if (std::strncmp(*e, token_prefix.c_str(), token_prefix.size()) != 0) env.push_back(*e);
+  env.push_back(const_cast<char*>(token_entry.c_str()));
+  env.push_back(nullptr);
   int pipe_fd[2];
   if (::pipe2(pipe_fd, O_CLOEXEC) != 0) {
     r.error = std::string("pipe failed: ") + std::strerror(errno);
@@ -201,7 +212,7 @@ CommandResult run_command(const std::vector<std::string>& argv, const std::strin
     setrlimit(RLIMIT_FSIZE, &fl);
     const struct rlimit no_core = {0, 0};
     setrlimit(RLIMIT_CORE, &no_core);
-    execvp(args[0], args.data());
+    execvpe(args[0], args.data(), env.data());
     const char msg[] = "hdrconform: exec failed\n";
     (void)!write(2, msg, sizeof msg - 1);
     _exit(127);
@@ -233,8 +244,11 @@ CommandResult run_command(const std::vector<std::string>& argv, const std::strin
       break;
     }
   }
-  // The whole group goes, on a normal exit too: nothing it started outlives the case.
+  // The whole group goes, on a normal exit too, and then every process it started that left the
+  // group (setsid) or was orphaned (a double fork): the runner is their subreaper, and they carry
+  // the command's token (runner/descendants.h). Nothing it started outlives the case.
   kill(-pid, SIGKILL);
+  kill_command_processes(token, pid);
   int status = 0;
   while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
   }
@@ -295,6 +309,8 @@ std::vector<std::string> sandbox_argv(const std::vector<std::string>& argv,
 
 Status CandidateCommandEngine::init() {
   if (argv_.empty()) return Error{"", "--candidate-cmd", "the command template is empty", ""};
+  // The command's orphans are re-parented to us, to be killed at the case's end.
+  if (Status st = become_subreaper(); !st) return st;
   if (sandbox_ && sandbox_program().empty())
     return Error{"", "--sandbox",
                  "bubblewrap (bwrap) is not installed, so candidate commands cannot be sandboxed",
@@ -386,7 +402,8 @@ Result<Image> CandidateCommandEngine::run(const ResolvedCase& c) {
   if (!r.error.empty())
     why = r.error;
   else if (r.timed_out)
-    why = "timed out after " + format_number(timeout_s_) + " s (killed with its process group)";
+    why = "timed out after " + format_number(timeout_s_) +
+          " s (killed with every process it started)";
   else if (r.signal == SIGXFSZ)
     why = "wrote a file over the size limit of " + std::to_string(kMaxImageFileBytes) +
           " bytes (killed by SIGXFSZ)";
