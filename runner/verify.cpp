@@ -437,70 +437,15 @@ Result<Image> CandidateCommandEngine::run(const ResolvedCase& c) {
 }
 
 std::vector<KnownLimit> load_candidate_limits(const std::string& path, std::vector<Error>* errors) {
-  using json = nlohmann::ordered_json;
-  std::vector<KnownLimit> out;
-  std::ifstream f(path);
-  if (!f) {
-    errors->push_back(Error{path, "", "cannot open the candidate limits file", ""});
-    return out;
+  // Bounded like every JSON input (runner/json_read.h): a regular file, its size and nesting
+  // checked before parsing, an overflowing number an error; the form is known_limits.json's.
+  auto doc = read_json_file<nlohmann::ordered_json>(path, "candidate limits file");
+  if (!doc) {
+    errors->push_back(doc.error());
+    return {};
   }
-  const std::string text((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
-  json doc;
-  try {
-    doc = json::parse(text);
-  } catch (const json::parse_error& e) {
-    errors->push_back(Error{path, "", std::string("malformed JSON: ") + e.what(), ""});
-    return out;
-  }
-  const char* form = "{\"limits\": [{\"cases\", \"engine\", \"reason\"}, ...]}";
-  if (!doc.is_object() || !doc.contains("limits") || !doc["limits"].is_array()) {
-    errors->push_back(Error{path, "/limits", "expected an array of limits", form});
-    return out;
-  }
-  for (auto it = doc.begin(); it != doc.end(); ++it)
-    if (it.key() != "limits" && it.key() != "description" && it.key() != "$schema")
-      errors->push_back(Error{path, "/" + it.key(), "unknown key \"" + it.key() + "\"",
-                              "limits, description, $schema"});
-  const json& limits = doc["limits"];
-  if (limits.size() > 10000) {
-    errors->push_back(Error{path, "/limits", "more than 10000 limits", ""});
-    return out;
-  }
-  for (size_t i = 0; i < limits.size(); ++i) {
-    const json& l = limits[i];
-    const std::string ptr = "/limits/" + std::to_string(i);
-    if (!l.is_object()) {
-      errors->push_back(Error{path, ptr, "expected an object, got " + l.dump(), form});
-      continue;
-    }
-    for (auto it = l.begin(); it != l.end(); ++it)
-      if (it.key() != "cases" && it.key() != "engine" && it.key() != "reason")
-        errors->push_back(Error{path, ptr + "/" + it.key(), "unknown key \"" + it.key() + "\"",
-                                "cases, engine, reason"});
-    KnownLimit k;
-    bool ok = true;
-    for (const char* key : {"cases", "engine", "reason"}) {
-      if (!l.contains(key) || !l[key].is_string() || l[key].get<std::string>().empty()) {
-        errors->push_back(Error{path, ptr + "/" + key,
-                                std::string("missing ") + key +
-                                    (l.contains(key) ? ", got " + l[key].dump() : std::string()),
-                                "a non-empty string"});
-        ok = false;
-        continue;
-      }
-      const std::string v = l[key].get<std::string>();
-      if (std::string(key) == "cases") k.cases = v;
-      if (std::string(key) == "engine") k.engine = v;
-      if (std::string(key) == "reason") k.reason = v;
-    }
-    if (!k.engine.empty() && k.engine != "candidate-cmd" && k.engine != "candidate-dir") {
-      errors->push_back(Error{path, ptr + "/engine", "unknown engine \"" + k.engine + "\"",
-                              "candidate-cmd, candidate-dir"});
-      ok = false;
-    }
-    if (ok) out.push_back(k);
-  }
-  return out;
+  return parse_known_limits(*doc, path, {"candidate-cmd", "candidate-dir"},
+                            /*device_key=*/false, errors);
 }
 
 std::string reproduce_command(const RunReport& r, const std::string& case_id) {
