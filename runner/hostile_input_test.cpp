@@ -642,6 +642,18 @@ std::vector<Row> rows() {
        2,
        {"has no {output}"}});
   add({"report_missing_dir", nullptr, "report {T}/none", 2, {"results.json"}});
+  // A read-only command writes nothing into a folder that is not a run's output (issue 29: report
+  // CASES left CASES/.lock).
+  add({"report_cases_folder_writes_nothing",
+       nullptr,
+       "report {T}/cases",
+       2,
+       {"{T}/cases/results.json", "cannot open"}});
+  add({"report_foreign_results_writes_nothing",
+       [](const fs::path& t) { write(t / "other/results.json", "[1, 2]"); },
+       "report {T}/other",
+       2,
+       {"{T}/other/results.json", "/cases"}});
   add({"report_results_overflow",
        [](const fs::path& t) { write(t / "out/results.json", R"({"cases": [1e999]})"); },
        "report {T}/out",
