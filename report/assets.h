@@ -14,4 +14,8 @@ struct Asset {
 
 const std::vector<Asset>& assets();
 
+// The JSON schemas the runner validates inputs against (runner/results.schema.json), embedded the
+// same way (report/CMakeLists.txt); `name` is the file name.
+const std::vector<Asset>& schemas();
+
 }  // namespace hdrc::report

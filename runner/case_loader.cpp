@@ -1339,43 +1339,59 @@ LoadedCases load_cases(const std::string& cases_dir, const std::string& suite) {
   return result;
 }
 
-std::vector<KnownLimit> load_known_limits(const std::string& cases_dir,
-                                          std::vector<Error>* errors) {
+std::vector<KnownLimit> parse_known_limits(const json& doc, const std::string& file,
+                                           const std::vector<std::string>& engines, bool device_key,
+                                           std::vector<Error>* errors) {
   std::vector<KnownLimit> out;
-  const fs::path file = fs::path(cases_dir) / "known_limits.json";
-  if (!config_file_present(file)) return out;
-  Parser p(file.generic_string(), cases_dir, errors);
-  auto parsed = read_json_file<json>(file.generic_string(), "known limits file");
-  if (!parsed) {
-    errors->push_back(parsed.error());
+  Parser p(file, "", errors);
+  const std::string form = std::string("{\"limits\": [{\"cases\", \"engine\", ") +
+                           (device_key ? "\"device\" (optional), " : "") + "\"reason\"}, ...]}";
+  if (!doc.is_object()) {
+    p.fail("", "expected " + form + ", got " + json_type(doc) + " " + show(doc));
     return out;
   }
-  json doc = std::move(*parsed);
-  if (!doc.is_object() || !doc.contains("limits") || !doc["limits"].is_array()) {
-    p.fail(
-        "/limits",
-        "expected {\"limits\": [{\"cases\", \"engine\", \"device\" (optional), \"reason\"}, ...]}");
+  p.check_keys(doc, "", {"$schema", "description", "limits"});
+  const auto limits = doc.find("limits");
+  if (limits == doc.end() || !limits->is_array()) {
+    p.fail("/limits",
+           limits == doc.end() ? "missing limits, expected " + form
+                               : "expected an array of limits, got " + show(*limits),
+           form);
     return out;
   }
-  for (size_t i = 0; i < doc["limits"].size(); ++i) {
-    const json& l = doc["limits"][i];
+  if (limits->size() > kMaxKnownLimits) {
+    p.fail("/limits", "more than " + std::to_string(kMaxKnownLimits) + " limits");
+    return out;
+  }
+  std::vector<std::string> keys = {"cases", "engine", "reason"};
+  if (device_key) keys.push_back("device");
+  for (size_t i = 0; i < limits->size(); ++i) {
+    const json& l = (*limits)[i];
     const std::string ptr = "/limits/" + std::to_string(i);
     if (!l.is_object()) {
-      p.fail(ptr, "expected an object");
+      p.fail(ptr, "expected an object, got " + json_type(l) + " " + show(l), form);
       continue;
     }
-    p.check_keys(l, ptr, {"cases", "engine", "device", "reason"});
+    p.check_keys(l, ptr, keys);
     KnownLimit k;
-    if (l.contains("device")) {
-      if (!l["device"].is_string() || l["device"].get<std::string>().empty())
-        p.fail(ptr + "/device", "expected a non-empty glob over the candidate device's name",
-               "e.g. \"*worst-case device model\"");
-      else
+    bool ok = true;
+    if (device_key && l.contains("device")) {
+      if (!l["device"].is_string() || l["device"].get<std::string>().empty()) {
+        p.fail(
+            ptr + "/device",
+            "expected a non-empty glob over the candidate device's name, got " + show(l["device"]),
+            "e.g. \"*worst-case device model\"");
+        ok = false;
+      } else {
         k.device = l["device"].get<std::string>();
+      }
     }
     for (const char* key : {"cases", "engine", "reason"}) {
       if (!l.contains(key) || !l[key].is_string() || l[key].get<std::string>().empty()) {
-        p.fail(ptr + "/" + key, std::string("missing ") + key, "a non-empty string");
+        p.fail(ptr + "/" + key,
+               std::string("missing ") + key + (l.contains(key) ? ", got " + show(l[key]) : ""),
+               std::string(key) == "engine" ? join(engines) : "a non-empty string");
+        ok = false;
         continue;
       }
       const std::string v = l[key].get<std::string>();
@@ -1383,11 +1399,28 @@ std::vector<KnownLimit> load_known_limits(const std::string& cases_dir,
       if (std::string(key) == "engine") k.engine = v;
       if (std::string(key) == "reason") k.reason = v;
     }
-    if (!k.engine.empty() && k.engine != "vulkan" && k.engine != "reference")
-      p.fail(ptr + "/engine", "unknown engine \"" + k.engine + "\"", "vulkan, reference");
-    out.push_back(k);
+    if (!k.engine.empty() && std::find(engines.begin(), engines.end(), k.engine) == engines.end()) {
+      p.fail(ptr + "/engine",
+             "unknown engine \"" + k.engine + "\"" + did_you_mean(k.engine, engines),
+             join(engines));
+      ok = false;
+    }
+    if (ok) out.push_back(k);
   }
   return out;
+}
+
+std::vector<KnownLimit> load_known_limits(const std::string& cases_dir,
+                                          std::vector<Error>* errors) {
+  const fs::path file = fs::path(cases_dir) / "known_limits.json";
+  if (!config_file_present(file)) return {};
+  auto parsed = read_json_file<json>(file.generic_string(), "known limits file");
+  if (!parsed) {
+    errors->push_back(parsed.error());
+    return {};
+  }
+  return parse_known_limits(*parsed, file.generic_string(), {"vulkan", "reference"},
+                            /*device_key=*/true, errors);
 }
 
 Result<ResolvedCase> resolve_case(const Case& c) {

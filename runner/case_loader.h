@@ -6,6 +6,7 @@
 
 #include <map>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -87,6 +88,17 @@ struct KnownLimit {
 
 // Reads `cases_dir`/known_limits.json (absent: none). Errors are located like case errors.
 std::vector<KnownLimit> load_known_limits(const std::string& cases_dir, std::vector<Error>* errors);
+
+inline constexpr size_t kMaxKnownLimits = 10000;
+
+// The limits of a parsed limits file (cases/known_limits.json, `verify --candidate-limits`):
+// {"limits": [{"cases", "engine", "device" (when `device_key`), "reason"}, ...]}, with "$schema"
+// and "description" beside "limits"; `engines` the valid engine names. Every error names `file`,
+// the JSON pointer, the value and the valid choices; only valid limits are returned.
+std::vector<KnownLimit> parse_known_limits(const nlohmann::ordered_json& doc,
+                                           const std::string& file,
+                                           const std::vector<std::string>& engines, bool device_key,
+                                           std::vector<Error>* errors);
 
 // Glob match (`*`, `?`, `[...]`) of a case id.
 bool matches_filter(const std::string& id, const std::string& glob);

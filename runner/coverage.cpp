@@ -170,8 +170,11 @@ CoverageSpec load_coverage_spec(const std::string& cases_dir, std::vector<Error>
           it.key() != "with")
         fail(ptr + "/" + it.key(), "unknown key '" + it.key() + "'",
              "name, stages, full, of, with");
-    req.name = r.value("name", "");
-    if (req.name.empty()) fail(ptr + "/name", "a requirement needs a name", "a non-empty string");
+    if (r.contains("name") && r["name"].is_string()) req.name = r["name"].get<std::string>();
+    if (req.name.empty())
+      fail(ptr + "/name",
+           "a requirement needs a name" + (r.contains("name") ? ", got " + show(r["name"]) : ""),
+           "a non-empty string");
     if (!r.contains("stages") || !r["stages"].is_array() || r["stages"].empty()) {
       fail(ptr + "/stages", "expected a non-empty array of stages", stage_names(pl));
     } else {

@@ -23,6 +23,8 @@
 #include "runner/case_loader.h"
 #include "runner/golden_compare.h"
 #include "runner/json_read.h"
+#include "runner/results.h"
+#include "runner/tolerance.h"
 
 namespace hdrc {
 
@@ -193,8 +195,35 @@ bool float_close(float a, float b, int ulps) {
   return std::llabs(static_cast<long long>(ia) - ib) <= ulps;
 }
 
+// A golden sidecar (goldens update writes it): bounded like every JSON input, and a field of
+// another type than the one written is an error naming it, so that the readers below may take
+// .value() of any of them.
 Result<json> read_json(const std::string& path) {
-  return read_json_file<json>(path, "golden sidecar");
+  auto doc = read_json_file<json>(path, "golden sidecar");
+  if (!doc || !doc->is_object()) return doc;
+  for (const char* key :
+       {"case", "stage", "case_hash", "input_hash", "output_hash", "reference_version", "date"})
+    if (auto it = doc->find(key); it != doc->end() && !it->is_string())
+      return Error{path, std::string("/") + key,
+                   std::string("expected a string, got ") + it->type_name() + " " + it->dump(),
+                   "a string, as `hdrconform goldens update` writes it"};
+  for (const char* key : {"width", "height"})
+    if (auto it = doc->find(key); it != doc->end() && !it->is_number_integer())
+      return Error{path, std::string("/") + key,
+                   std::string("expected an integer, got ") + it->type_name() + " " + it->dump(),
+                   "an integer, as `hdrconform goldens update` writes it"};
+  if (auto it = doc->find("values"); it != doc->end()) {
+    if (!it->is_object())
+      return Error{path, "/values",
+                   std::string("expected an object of name: number, got ") + it->type_name(),
+                   "an object of name: number"};
+    for (auto v = it->begin(); v != it->end(); ++v)
+      if (!v->is_number())
+        return Error{path, "/values/" + escape_pointer_token(v.key()),
+                     std::string("expected a number, got ") + v->type_name() + " " + v->dump(),
+                     "a number"};
+  }
+  return doc;
 }
 
 const char* kChannel = "RGBA";
@@ -284,7 +313,9 @@ GoldenCheck check_golden(const std::string& goldens_dir, const Case& c,
   auto side = read_json(paths.sidecar);
   if (!side || !side->is_object()) {
     out.outcome = GoldenCheck::kStale;
-    out.message = "unreadable golden sidecar " + paths.sidecar + "; recreate it with: " + cmd;
+    out.message = "unreadable golden sidecar " +
+                  (side ? paths.sidecar + ": not a JSON object" : side.error().to_string()) +
+                  "; recreate it with: " + cmd;
     return out;
   }
   const json& s = *side;
@@ -551,7 +582,7 @@ GoldenRunSummary check_run_against_goldens(const std::vector<Case>& cases,
   report["reference_version"] = reference_version();
   json entries = json::array();
   std::pair<double, std::string> largest{0.0, ""};  // the largest deviation and its case
-  auto results = read_json(out_dir + "/results.json");
+  auto results = read_results_json(out_dir + "/results.json");  // this run's
   std::map<std::string, const json*> by_id;
   if (results && results->contains("cases") && (*results)["cases"].is_array())
     for (const json& e : (*results)["cases"])

@@ -105,6 +105,7 @@ struct Row {
   int code;
   std::vector<std::string> expect;  // substrings of the combined output
   std::string writable = "out";     // the folder of T the command may change
+  int settle_s = 0;  // seconds waited after the command before T is compared (late writers)
 };
 
 std::string subst(std::string s, const fs::path& t) {
@@ -641,6 +642,18 @@ std::vector<Row> rows() {
        2,
        {"has no {output}"}});
   add({"report_missing_dir", nullptr, "report {T}/none", 2, {"results.json"}});
+  // A read-only command writes nothing into a folder that is not a run's output (issue 29: report
+  // CASES left CASES/.lock).
+  add({"report_cases_folder_writes_nothing",
+       nullptr,
+       "report {T}/cases",
+       2,
+       {"{T}/cases/results.json", "cannot open"}});
+  add({"report_foreign_results_writes_nothing",
+       [](const fs::path& t) { write(t / "other/results.json", "[1, 2]"); },
+       "report {T}/other",
+       2,
+       {"{T}/other/results.json", "/cases"}});
   add({"report_results_overflow",
        [](const fs::path& t) { write(t / "out/results.json", R"({"cases": [1e999]})"); },
        "report {T}/out",
@@ -785,6 +798,51 @@ std::vector<Row> rows() {
        kVerifyCmd,
        1,
        {"exited with status 3"}});
+  // Descendants cannot outlive verify (issue 29): a child that leaves the command's process
+  // group (setsid), or also clears its environment (and with it the command's token), and writes
+  // into the cases folder seconds later. It is killed at the case's end (or, without the token,
+  // before the run is published), so the folder is unchanged long after verify returned.
+  const std::string late_append = "sleep 2; echo late >> {T}/cases/base.json";
+  add({"cmd_setsid_child_appends_later",
+       script("cp " + ref_image().string() + " \"$1\"; setsid sh -c '" + late_append +
+              "' </dev/null >/dev/null 2>&1 &"),
+       kVerifyCmd,
+       0,
+       {"1 passed"},
+       "out",
+       4});
+  add({"cmd_setsid_grandchild_appends_later",
+       script("cp " + ref_image().string() + " \"$1\"; (setsid sh -c '(" + late_append +
+              ") &' </dev/null >/dev/null 2>&1 &)"),
+       kVerifyCmd,
+       0,
+       {"1 passed"},
+       "out",
+       4});
+  add({"cmd_setsid_env_cleared_child_appends_later",
+       script("cp " + ref_image().string() +
+              " \"$1\"; setsid env -i sh -c 'sleep 6; echo late >> " +
+              "{T}/cases/base.json' </dev/null >/dev/null 2>&1 &"),
+       kVerifyCmd,
+       0,
+       {"1 passed"},
+       "out",
+       8});
+  add({"cmd_setsid_child_after_timeout",
+       script("setsid sh -c '" + late_append + "' </dev/null >/dev/null 2>&1 & sleep 30"),
+       kVerifyCmd + " --timeout 1",
+       1,
+       {"timed out", "killed with every process it started"},
+       "out",
+       4});
+  add({"cmd_setsid_child_appends_during_case",
+       script("setsid sh -c 'echo now >> {T}/cases/base.json' </dev/null >/dev/null 2>&1 & "
+              "sleep 1; cp " +
+              ref_image().string() + " \"$1\""),
+       kVerifyCmd,
+       1,
+       {"changed while the run ran", "base.json (changed)", "not published"},
+       "*"});
   add({"cmd_writes_2gib",
        script("head -c 2147483648 /dev/zero > \"$1\""),
        kVerifyCmd,
@@ -904,6 +962,7 @@ TEST_P(HostileInput, ClearErrorNoCrashNoHangNothingOutsideChanged) {
   const auto repo_before = hdrc::tree_digest(std::string(HDRC_SOURCE_DIR) + "/cases");
   const auto before = snapshot(t, row.writable);
   const Ran r = run_limited(subst(row.args, t));
+  if (row.settle_s > 0) ::sleep(static_cast<unsigned>(row.settle_s));
   SCOPED_TRACE(r.out.substr(0, 3000));
   EXPECT_NE(r.code, 137) << "hang: killed after the time limit";
   EXPECT_LT(r.code, 128) << "crash: killed by a signal";

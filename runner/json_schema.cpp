@@ -15,7 +15,8 @@ constexpr size_t kMaxErrors = 100;
 
 class Validator {
  public:
-  Validator(const json& root, std::string file) : root_(root), file_(std::move(file)) {}
+  Validator(const json& root, std::string file, bool required)
+      : root_(root), file_(std::move(file)), required_(required) {}
 
   void check(const json& v, const json& schema, const std::string& at, int depth) {
     if (errors.size() >= kMaxErrors) return;
@@ -25,7 +26,7 @@ class Validator {
       return;
     }
     if (!schema.is_object()) return fail(at, "the schema here is not an object", "");
-    for (const char* unsupported : {"patternProperties", "allOf", "if", "not", "dependentRequired",
+    for (const char* unsupported : {"patternProperties", "if", "not", "dependentRequired",
                                     "dependentSchemas", "prefixItems", "contains", "pattern"})
       if (schema.contains(unsupported))
         return fail(at,
@@ -57,11 +58,13 @@ class Validator {
       if (schema.contains("maximum") && !(d <= schema["maximum"].get<double>()))
         fail(at, brief(v) + " is above the maximum " + schema["maximum"].dump(), "");
     }
+    if (schema.contains("allOf"))  // every sub-schema, its errors as they are
+      for (const auto& sub : schema["allOf"]) check(v, sub, at, depth + 1);
     for (const char* key : {"oneOf", "anyOf"}) {
       if (!schema.contains(key)) continue;
       size_t matched = 0;
       for (const auto& sub : schema[key]) {
-        Validator probe(root_, file_);
+        Validator probe(root_, file_, required_);
         probe.check(v, sub, at, depth + 1);
         matched += probe.errors.empty();
       }
@@ -80,7 +83,7 @@ class Validator {
 
  private:
   void check_object(const json& v, const json& schema, const std::string& at, int depth) {
-    if (schema.contains("required"))
+    if (required_ && schema.contains("required"))
       for (const auto& k : schema["required"])
         if (!v.contains(k.get<std::string>()))
           fail(at + "/" + k.get<std::string>(),
@@ -154,12 +157,14 @@ class Validator {
 
   const json& root_;
   std::string file_;
+  bool required_;
 };
 
 }  // namespace
 
-std::vector<Error> validate_json(const json& doc, const json& schema, const std::string& file) {
-  Validator v(schema, file);
+std::vector<Error> validate_json(const json& doc, const json& schema, const std::string& file,
+                                 bool check_required) {
+  Validator v(schema, file, check_required);
   v.check(doc, schema, "", 0);
   return v.errors;
 }

@@ -515,6 +515,13 @@ int main(int argc, char** argv) {
   }
 
   if (*report_cmd) {
+    // Nothing is written into a folder that holds no run's results (`report CASES` used to leave
+    // CASES/.lock): its results.json is read before the lock is taken, and read again under it.
+    if (auto doc = hdrc::read_results_json(hdrc::published_run_dir(report_dir) + "/results.json");
+        !doc) {
+      std::fprintf(stderr, "error: %s\n", doc.error().to_string().c_str());
+      return hdrc::kExitBadInput;
+    }
     auto lock = hdrc::OutputLock::take(report_dir);  // not while a run publishes there
     if (!lock) {
       std::fprintf(stderr, "error: %s\n", lock.error().to_string().c_str());

@@ -73,7 +73,7 @@ int merge_runs(const std::string& out_dir, const std::vector<std::string>& shard
   for (const auto& d : shard_dirs) {
     if (fs::exists(out_dir) && fs::equivalent(out_dir, d, ec))
       return refuse("OUT " + out_dir + " is also a shard directory; merge into a new directory");
-    auto doc = read_results_json(d + "/results.json");
+    auto doc = read_given_results_json(d + "/results.json");  // schema-checked: typed below
     if (!doc) return refuse(doc.error().to_string());
     docs.push_back(std::move(*doc));
   }

@@ -12,6 +12,7 @@
 #include <random>
 
 #include "core/utf8.h"
+#include "runner/descendants.h"
 #include "runner/goldens.h"
 #include "runner/json_read.h"
 #include "runner/run.h"
@@ -287,6 +288,9 @@ Status OutputSet::publish() {
                    std::string("the run is incomplete (no ") + required + "); it is not published",
                    ""};
   }
+  // Every process a candidate command started is gone before the folders are hashed: one that
+  // escaped its case's kill could write after the check (runner/descendants.h).
+  if (is_subreaper()) kill_all_descendants();
   for (const auto& [dir, before] : digests_) {
     const auto changes = digest_changes(before, tree_digest(dir));
     if (changes.empty()) continue;

@@ -11,9 +11,11 @@
 
 #include "core/atomic_file.h"
 #include "core/utf8.h"
+#include "report/assets.h"
 #include "report/html_report.h"
 #include "runner/export.h"
 #include "runner/json_read.h"
+#include "runner/json_schema.h"
 #include "runner/verify.h"
 
 namespace hdrc {
@@ -418,15 +420,43 @@ Result<nlohmann::ordered_json> read_results_json(const std::string& path) {
   return std::move(*doc);
 }
 
+Status check_results_schema(const nlohmann::ordered_json& doc, const std::string& file) {
+  static const json schema = [] {
+    for (const report::Asset& a : report::schemas())
+      if (a.name == "results.schema.json") return json::parse(a.contents);
+    return json();
+  }();
+  // Every value present is checked; a missing one is its reader's default (a results.json of
+  // an older build, or one written by hand, may leave fields out).
+  const std::vector<Error> errors = validate_json(doc, schema, file, /*check_required=*/false);
+  if (errors.empty()) return {};
+  Error e = errors.front();
+  e.message += " (a results.json's values are as runner/results.schema.json describes them";
+  if (errors.size() > 1)
+    e.message += "; " + std::to_string(errors.size() - 1) + " more error" +
+                 (errors.size() > 2 ? "s" : "") + " after this one";
+  e.message += ")";
+  return e;
+}
+
+Result<nlohmann::ordered_json> read_given_results_json(const std::string& path) {
+  auto doc = read_results_json(path);
+  if (!doc) return doc.error();
+  if (Status st = check_results_schema(*doc, path); !st) return st.error();
+  return doc;
+}
+
 Status record_goldens(nlohmann::ordered_json& doc, const std::string& out_dir) {
-  std::ifstream gf(out_dir + "/goldens.json", std::ios::binary);
   json g = json::object();
-  if (gf) {
-    std::stringstream ss;
-    ss << gf.rdbuf();
-    g = json::parse(ss.str(), nullptr, /*allow_exceptions=*/false);
-    if (g.is_discarded() || !g.is_object())
-      return Error{out_dir + "/goldens.json", "", "not a JSON object", ""};
+  std::error_code ec;
+  if (std::filesystem::exists(std::filesystem::symlink_status(out_dir + "/goldens.json", ec))) {
+    // Bounded like every JSON input (runner/json_read.h), although this run wrote it.
+    auto read = read_json_file<json>(out_dir + "/goldens.json", "golden check (goldens.json)");
+    if (!read) return read.error();
+    g = std::move(*read);
+    if (!g.is_object())
+      return Error{out_dir + "/goldens.json", "",
+                   "not a JSON object, got " + std::string(g.type_name()), ""};
   }
   json summary = {{"checked", 0}, {"match", 0}, {"missing", 0}, {"stale", 0}, {"regression", 0}};
   json cases = json::array();

@@ -27,6 +27,16 @@ std::string case_page_path(const std::string& case_id);
 // Reads and parses a results.json; errors name the file (and /cases when it is not an array).
 Result<nlohmann::ordered_json> read_results_json(const std::string& path);
 
+// A results.json the user names (`--rerun-failed DIR`, `--timings FILE`, `merge`'s shards):
+// read_results_json, then every value present checked against runner/results.schema.json
+// (embedded in the binary; a missing field is left to its reader's default), so that every field
+// its readers use has the type and the values the schema gives. The first error names the file,
+// the JSON pointer, the value and the valid choices, and counts the others.
+Result<nlohmann::ordered_json> read_given_results_json(const std::string& path);
+
+// The schema check of read_given_results_json, for a document already read from `file`.
+Status check_results_schema(const nlohmann::ordered_json& doc, const std::string& file);
+
 // `run`'s golden check (runner/goldens.h: check_run_against_goldens wrote OUT/goldens.json) as
 // test results: adds "goldens" (counts, one entry per checked case) and summary.golden_failed to
 // the results document.

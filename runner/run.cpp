@@ -1,7 +1,5 @@
 #include "runner/run.h"
 
-#include "runner/dither.h"
-
 #include <algorithm>
 #include <cmath>
 #include <ctime>
@@ -14,8 +12,10 @@
 
 #include "core/pipeline.h"
 #include "runner/case_loader.h"
+#include "runner/dither.h"
 #include "runner/goldens.h"
 #include "runner/json_read.h"
+#include "runner/results.h"
 
 namespace hdrc {
 
@@ -133,12 +133,17 @@ Status use_shard_timings(const std::string& path, const std::string& out_dir) {
       if (!path.empty()) return text.error();
       return {};  // an unreadable results.json left in --out: static costs
     }
-    auto parsed = parse_json_text<nlohmann::json>(file, *text);
-    const nlohmann::json doc = parsed ? std::move(*parsed) : nlohmann::json();
+    auto parsed = parse_json_text<nlohmann::ordered_json>(file, *text);
+    if (!parsed && !path.empty()) return parsed.error();
+    const nlohmann::ordered_json doc = parsed ? std::move(*parsed) : nlohmann::ordered_json();
     if (!doc.is_object() || !doc.contains("cases") || !doc["cases"].is_array()) {
       if (!path.empty()) return Error{file, "/cases", "not a results.json with a cases array", ""};
       return {};  // a broken results.json left in --out: static costs
     }
+    // --timings FILE is checked against runner/results.schema.json, as every results.json named
+    // on the command line; one left in --out is only read where its types fit.
+    if (!path.empty())
+      if (Status st = check_results_schema(doc, file); !st) return st.error();
     // --out's own results only when they are a whole run: a shard's would balance by its cases
     // alone, and the other shards (with other --out folders) would plan differently.
     if (path.empty() && doc.contains("shard") && !doc["shard"].is_null()) {

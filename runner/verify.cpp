@@ -24,7 +24,9 @@
 #include "core/atomic_file.h"
 #include "core/utf8.h"
 #include "reference/reference_engine.h"
+#include "runner/descendants.h"
 #include "runner/export.h"
+#include "runner/json_read.h"
 #include "runner/provenance.h"
 #include "runner/results.h"
 
@@ -177,6 +179,15 @@ CommandResult run_command(const std::vector<std::string>& argv, const std::strin
   std::vector<char*> args;
   for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
+  // Its environment, with the token every process it starts inherits (runner/descendants.h).
+  const std::string token = new_command_token();
+  const std::string token_entry = std::string(kCommandTokenVar) + "=" + token;
+  const std::string token_prefix = std::string(kCommandTokenVar) + "=";
+  std::vector<char*> env;
+  for (char** e = environ; e && *e; ++e)
+    if (std::strncmp(*e, token_prefix.c_str(), token_prefix.size()) != 0) env.push_back(*e);
+  env.push_back(const_cast<char*>(token_entry.c_str()));
+  env.push_back(nullptr);
   int pipe_fd[2];
   if (::pipe2(pipe_fd, O_CLOEXEC) != 0) {
     r.error = std::string("pipe failed: ") + std::strerror(errno);
@@ -201,7 +212,7 @@ CommandResult run_command(const std::vector<std::string>& argv, const std::strin
     setrlimit(RLIMIT_FSIZE, &fl);
     const struct rlimit no_core = {0, 0};
     setrlimit(RLIMIT_CORE, &no_core);
-    execvp(args[0], args.data());
+    execvpe(args[0], args.data(), env.data());
     const char msg[] = "hdrconform: exec failed\n";
     (void)!write(2, msg, sizeof msg - 1);
     _exit(127);
@@ -233,8 +244,11 @@ CommandResult run_command(const std::vector<std::string>& argv, const std::strin
       break;
     }
   }
-  // The whole group goes, on a normal exit too: nothing it started outlives the case.
+  // The whole group goes, on a normal exit too, and then every process it started that left the
+  // group (setsid) or was orphaned (a double fork): the runner is their subreaper, and they carry
+  // the command's token (runner/descendants.h). Nothing it started outlives the case.
   kill(-pid, SIGKILL);
+  kill_command_processes(token, pid);
   int status = 0;
   while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
   }
@@ -295,6 +309,8 @@ std::vector<std::string> sandbox_argv(const std::vector<std::string>& argv,
 
 Status CandidateCommandEngine::init() {
   if (argv_.empty()) return Error{"", "--candidate-cmd", "the command template is empty", ""};
+  // The command's orphans are re-parented to us, to be killed at the case's end.
+  if (Status st = become_subreaper(); !st) return st;
   if (sandbox_ && sandbox_program().empty())
     return Error{"", "--sandbox",
                  "bubblewrap (bwrap) is not installed, so candidate commands cannot be sandboxed",
@@ -386,7 +402,8 @@ Result<Image> CandidateCommandEngine::run(const ResolvedCase& c) {
   if (!r.error.empty())
     why = r.error;
   else if (r.timed_out)
-    why = "timed out after " + format_number(timeout_s_) + " s (killed with its process group)";
+    why = "timed out after " + format_number(timeout_s_) +
+          " s (killed with every process it started)";
   else if (r.signal == SIGXFSZ)
     why = "wrote a file over the size limit of " + std::to_string(kMaxImageFileBytes) +
           " bytes (killed by SIGXFSZ)";
@@ -420,70 +437,15 @@ Result<Image> CandidateCommandEngine::run(const ResolvedCase& c) {
 }
 
 std::vector<KnownLimit> load_candidate_limits(const std::string& path, std::vector<Error>* errors) {
-  using json = nlohmann::ordered_json;
-  std::vector<KnownLimit> out;
-  std::ifstream f(path);
-  if (!f) {
-    errors->push_back(Error{path, "", "cannot open the candidate limits file", ""});
-    return out;
+  // Bounded like every JSON input (runner/json_read.h): a regular file, its size and nesting
+  // checked before parsing, an overflowing number an error; the form is known_limits.json's.
+  auto doc = read_json_file<nlohmann::ordered_json>(path, "candidate limits file");
+  if (!doc) {
+    errors->push_back(doc.error());
+    return {};
   }
-  const std::string text((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
-  json doc;
-  try {
-    doc = json::parse(text);
-  } catch (const json::parse_error& e) {
-    errors->push_back(Error{path, "", std::string("malformed JSON: ") + e.what(), ""});
-    return out;
-  }
-  const char* form = "{\"limits\": [{\"cases\", \"engine\", \"reason\"}, ...]}";
-  if (!doc.is_object() || !doc.contains("limits") || !doc["limits"].is_array()) {
-    errors->push_back(Error{path, "/limits", "expected an array of limits", form});
-    return out;
-  }
-  for (auto it = doc.begin(); it != doc.end(); ++it)
-    if (it.key() != "limits" && it.key() != "description" && it.key() != "$schema")
-      errors->push_back(Error{path, "/" + it.key(), "unknown key \"" + it.key() + "\"",
-                              "limits, description, $schema"});
-  const json& limits = doc["limits"];
-  if (limits.size() > 10000) {
-    errors->push_back(Error{path, "/limits", "more than 10000 limits", ""});
-    return out;
-  }
-  for (size_t i = 0; i < limits.size(); ++i) {
-    const json& l = limits[i];
-    const std::string ptr = "/limits/" + std::to_string(i);
-    if (!l.is_object()) {
-      errors->push_back(Error{path, ptr, "expected an object, got " + l.dump(), form});
-      continue;
-    }
-    for (auto it = l.begin(); it != l.end(); ++it)
-      if (it.key() != "cases" && it.key() != "engine" && it.key() != "reason")
-        errors->push_back(Error{path, ptr + "/" + it.key(), "unknown key \"" + it.key() + "\"",
-                                "cases, engine, reason"});
-    KnownLimit k;
-    bool ok = true;
-    for (const char* key : {"cases", "engine", "reason"}) {
-      if (!l.contains(key) || !l[key].is_string() || l[key].get<std::string>().empty()) {
-        errors->push_back(Error{path, ptr + "/" + key,
-                                std::string("missing ") + key +
-                                    (l.contains(key) ? ", got " + l[key].dump() : std::string()),
-                                "a non-empty string"});
-        ok = false;
-        continue;
-      }
-      const std::string v = l[key].get<std::string>();
-      if (std::string(key) == "cases") k.cases = v;
-      if (std::string(key) == "engine") k.engine = v;
-      if (std::string(key) == "reason") k.reason = v;
-    }
-    if (!k.engine.empty() && k.engine != "candidate-cmd" && k.engine != "candidate-dir") {
-      errors->push_back(Error{path, ptr + "/engine", "unknown engine \"" + k.engine + "\"",
-                              "candidate-cmd, candidate-dir"});
-      ok = false;
-    }
-    if (ok) out.push_back(k);
-  }
-  return out;
+  return parse_known_limits(*doc, path, {"candidate-cmd", "candidate-dir"},
+                            /*device_key=*/false, errors);
 }
 
 std::string reproduce_command(const RunReport& r, const std::string& case_id) {
