@@ -198,39 +198,12 @@ VkDebugUtilsMessengerCreateInfoEXT messenger_info(Messages* messages) {
   return mi;
 }
 
-// Keeps the Vulkan drivers loaded for the rest of the process. The loader unloads a driver's
-// library when the process's last instance is destroyed and loads it again for the next one.
-// NVIDIA's (580.159, H200, measured 2026-11-27: docs/precision.md, "The default suite on a real
-// GPU") then fails: in gpu_tests, which makes and destroys engines test after test, the first nine
-// tests ran and every vkCreateInstance after them returned VK_ERROR_INCOMPATIBLE_DRIVER (105 tests
-// failed); with this anchor the same binary ran all 129 in one process. (A three-cycle probe in a
-// small process did not fail: the reload's failure depends on the process.) One instance that is
-// never destroyed keeps every driver mapped. It enumerates no physical device, so lavapipe starts
-// no threads for it; the handle stays reachable from this static, so LeakSanitizer ignores it.
-void keep_drivers_loaded() {
-  static const VkInstance anchor = [] {
-    VkApplicationInfo app{};
-    app.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO;
-    app.pApplicationName = "hdrconform (driver anchor)";
-    app.apiVersion = VK_API_VERSION_1_1;
-    VkInstanceCreateInfo ci{};
-    ci.sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO;
-    ci.pApplicationInfo = &app;
-    VkInstance handle = VK_NULL_HANDLE;
-    // A failure here is reported by the real instance's creation, which follows.
-    if (vkCreateInstance(&ci, nullptr, &handle) != VK_SUCCESS) handle = VK_NULL_HANDLE;
-    return handle;
-  }();
-  (void)anchor;
-}
-
-// `messages` non-null: the validation layer, synchronisation validation and the debug-utils
-// extension are enabled, and instance creation itself is reported to `messages`.
-Result<VkInstance> create_instance(Messages* messages) {
-  keep_drivers_loaded();
+// A Vulkan instance named `name`; `messages` as for create_instance. The drivers are not anchored
+// (keep_drivers_loaded makes its anchor with this).
+Result<VkInstance> create_instance_unanchored(Messages* messages, const char* name) {
   VkApplicationInfo app{};
   app.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO;
-  app.pApplicationName = "hdrconform";
+  app.pApplicationName = name;
   app.apiVersion = VK_API_VERSION_1_1;
   VkInstanceCreateInfo ci{};
   ci.sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO;
@@ -270,6 +243,31 @@ Result<VkInstance> create_instance(Messages* messages) {
                  ""};
   if (r != VK_SUCCESS) return vk_error("vkCreateInstance(&ci, nullptr, &instance)", r);
   return instance;
+}
+
+// Keeps the Vulkan drivers loaded for the rest of the process. The loader unloads a driver's
+// library when the process's last instance is destroyed and loads it again for the next one.
+// NVIDIA's (580.159, H200, measured 2026-11-27: docs/precision.md, "The default suite on a real
+// GPU") then fails: in gpu_tests, which makes and destroys engines test after test, the first nine
+// tests ran and every vkCreateInstance after them returned VK_ERROR_INCOMPATIBLE_DRIVER (105 tests
+// failed); with this anchor the same binary ran all 130 in one process. (A three-cycle probe in a
+// small process did not fail: the reload's failure depends on the process.) One instance that is
+// never destroyed keeps every driver mapped. It enumerates no physical device, so lavapipe starts
+// no threads for it; the handle stays reachable from this static, so LeakSanitizer ignores it.
+void keep_drivers_loaded() {
+  // A failure here is reported by the real instance's creation, which follows.
+  static const VkInstance anchor = [] {
+    auto handle = create_instance_unanchored(nullptr, "hdrconform (driver anchor)");
+    return handle ? *handle : VK_NULL_HANDLE;
+  }();
+  (void)anchor;
+}
+
+// `messages` non-null: the validation layer, synchronisation validation and the debug-utils
+// extension are enabled, and instance creation itself is reported to `messages`.
+Result<VkInstance> create_instance(Messages* messages) {
+  keep_drivers_loaded();
+  return create_instance_unanchored(messages, "hdrconform");
 }
 
 // The precision properties the device allowances are derived from (core/device_precision.h):

@@ -996,10 +996,7 @@ TEST_P(HostileInput, ClearErrorNoCrashNoHangNothingOutsideChanged) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Table, HostileInput, ::testing::ValuesIn(rows()), [](const auto& info) {
-  std::string n = info.param.name;
-  for (char& c : n)
-    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-  return n;
+  return hdrc::test::gtest_param_name(info.param.name);
 });
 
 TEST(HostileInput, TableHasAtLeast100Rows) {

@@ -345,10 +345,7 @@ TEST_P(JsonReaders, ClearErrorNoCrashNoHangNothingOutsideOutChanged) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Table, JsonReaders, ::testing::ValuesIn(rows()), [](const auto& info) {
-  std::string n = info.param.name;
-  for (char& c : n)
-    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-  return n;
+  return hdrc::test::gtest_param_name(info.param.name);
 });
 
 // Every reader gets the whole hostile set, and the table stays at its size.

@@ -15,9 +15,9 @@
 #include <unistd.h>
 
 #include <array>
+#include <cctype>
 #include <chrono>
 #include <cstdio>
-#include <cstdlib>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -62,6 +62,14 @@ inline bool vulkan_optional() {
   if (!v) return false;
   const std::string s = v;
   return !(s.empty() || s == "0" || s == "false" || s == "no");
+}
+
+// A table row's name as a gtest parameter name: every character that is not a letter or digit
+// becomes '_' (INSTANTIATE_TEST_SUITE_P's name generator).
+inline std::string gtest_param_name(std::string name) {
+  for (char& c : name)
+    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+  return name;
 }
 
 // A fresh, empty folder for this process: TMP/hdrc_<name>_<pid>.
