@@ -49,8 +49,14 @@ cd "$build"
 # 192 s and 33 s of the 1,330 s the sanitized tests took); and the test that loads Khronos'
 # validation layer, whose memory LeakSanitizer sees as leaked once the loader has unloaded it
 # (14.6 KB from an "<unknown module>"; see above for why a layer cannot be preloaded), and the
-# hygiene tests that load it (Hygiene.*Validation*).
+# hygiene tests that load it (Hygiene.*Validation*). Also left out, as measured on 2026-11-27 (the
+# stage then took 1,561 s of a 1,785 s test command): the H200 figures checked against the
+# VisualizeHDR ranges (VisualizeDevice.H200*, 157 s under ASan: 17 whole cases' reference ranges;
+# their code is unit-tested in reference/visualize_device_test.cpp), the reader rows that plant a
+# sparse file over a size limit (*_too_big, 15-18 s each: the row hashes the 64-256 MiB it planted
+# to prove nothing else changed) and the unwrapped-coordinate replay under the worst-case model
+# (Pipelines.WorstCaseDevice*, 44 s, a planted-defect replay like Pipelines.Planted*).
 # The unit tests run as GoogleTest shards (CMakeLists.txt, hdrc_discover_tests), so the tests left
 # out are named to GoogleTest; a filter of the caller's own replaces this one.
-export GTEST_FILTER="${GTEST_FILTER:--*DevicesThreeAndFourOnlyOverTheWholeSuite*:*ThreeShardsMergedEqualOneUnshardedRun*:*ValidationLayerIsClean*:Hygiene.*Validation*:Pipelines.Planted*:DitherPlanted.*}"
+export GTEST_FILTER="${GTEST_FILTER:--*DevicesThreeAndFourOnlyOverTheWholeSuite*:*ThreeShardsMergedEqualOneUnshardedRun*:*ValidationLayerIsClean*:Hygiene.*Validation*:Pipelines.Planted*:DitherPlanted.*:VisualizeDevice.H200*:*_too_big:Pipelines.WorstCaseDevice*}"
 exec ctest --output-on-failure -j"$(nproc)" -L 'unit|conformance|fuzz' "$@"
