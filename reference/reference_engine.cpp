@@ -236,20 +236,18 @@ Result<Image> run_ue55(const ResolvedCase& c, bool analytic_lut) {
         return visualize_hdr_stage(c.params, c.input, analytic_lut);
       }
       // The tonemapped scene with the Tonemap pass's device ranges (tonemap_image's device
-      // overload; its values are the tight pass's), carried through VisualizeHDR's own steps with
-      // the ranges of the histogram pass and the panel (reference/visualize_device.h).
+      // overload; its values are the tight pass's, so it is the scene VisualizeHDR shows), carried
+      // through VisualizeHDR's own steps with the ranges of the histogram pass and the panel
+      // (reference/visualize_device.h).
       const BakedLut device = bake_lut_device(c.params, c.device);
       const Image tm = tonemap_image(c.params, c.input, nullptr, nullptr, &device, nullptr, &device,
                                      c.device.sub_texel_bits);
-      const Image tight = baked_tonemap_image(c.params, c.input, nullptr, nullptr, false);
-      const visualize::VisualizeHdrInputs in = visualize_inputs(c.params, c.input, tight);
+      const visualize::VisualizeHdrInputs in = visualize_inputs(c.params, c.input, tm);
       Image out = visualize_hdr_image(in);
-      // tm's ranges are around its own values; the tight scene's values are included too.
-      std::vector<AdmissibleRange> scene_ranges = tm.device_admissible;
       visualize::VisualizeDeviceInputs d;
       d.in = &in;
       d.reference = &out;
-      d.scene_ranges = &scene_ranges;
+      d.scene_ranges = &tm.device_admissible;
       d.exposure = c.params.exposure;
       d.pre_exposure = c.params.pre_exposure;
       out.device_admissible = visualize::visualize_hdr_device_ranges(d);

@@ -133,8 +133,8 @@ std::string unknown_option_hint(const CLI::App& app, int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg.size() < 3 || arg.compare(0, 2, "--") != 0) continue;
-    const std::string name =
-        arg.substr(2, arg.find('=') == std::string::npos ? std::string::npos : arg.find('=') - 2);
+    const size_t eq = arg.find('=');  // --name=value
+    const std::string name = arg.substr(2, eq == std::string::npos ? eq : eq - 2);
     if (std::find(known.begin(), known.end(), name) != known.end()) continue;
     const std::string where = sub == &app ? "hdrconform" : "'" + sub->get_name() + "'";
     // A prefix of one option, or within 2 edits (a typo, not another word: "--bogus" is 3 edits

@@ -13,6 +13,8 @@ packages=(
 # The sanitizer build and the fuzzers (scripts/sanitize.sh, fuzz/): clang with its ASan, UBSan and
 # libFuzzer runtimes (Debian puts those in libclang-rt-14-dev, which `clang` does not pull in).
 packages+=(clang libclang-rt-14-dev)
+# The real-GPU check (scripts/gpu-check.py), which CTest's gpu_check.lavapipe runs end to end.
+packages+=(python3)
 # The report's browser test (report/browser_test): Debian's Chromium, and Node.js with npm unless
 # a node/npm is already on the PATH (e.g. NodeSource's nodejs, which bundles npm and conflicts
 # with Debian's npm package).

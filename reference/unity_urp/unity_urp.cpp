@@ -571,27 +571,19 @@ namespace {
 double half_toward_zero(double v) {
   return v >= 0 ? half_round_down(v) : half_round_up(v);
 }
-// The storage neighbours of [lo, hi] in `lut_format` (quantize_texel's formats).
-double store_low(int lut_format, const DevicePrecision& d, double v) {
+// The storage neighbour of `v` in `lut_format` (quantize_texel's formats), the lower one for the
+// low end of a range and the upper one for its high end (`up`).
+double store_end(int lut_format, const DevicePrecision& d, double v, bool up) {
   switch (lut_format) {
-    case 1:
-      return d.fp16_rte ? quantize_texel(1, v)
-                        : std::fmin(quantize_texel(1, v), half_toward_zero(v));
+    case 1: {
+      const double q = quantize_texel(1, v);
+      if (d.fp16_rte) return q;
+      return up ? std::fmax(q, half_toward_zero(v)) : std::fmin(q, half_toward_zero(v));
+    }
     case 3:
-      return unorm_floor(v, 255.0);
+      return up ? unorm_ceil(v, 255.0) : unorm_floor(v, 255.0);
     default:
-      return float_round_down(v);
-  }
-}
-double store_high(int lut_format, const DevicePrecision& d, double v) {
-  switch (lut_format) {
-    case 1:
-      return d.fp16_rte ? quantize_texel(1, v)
-                        : std::fmax(quantize_texel(1, v), half_toward_zero(v));
-    case 3:
-      return unorm_ceil(v, 255.0);
-    default:
-      return float_round_up(v);
+      return up ? float_round_up(v) : float_round_down(v);
   }
 }
 }  // namespace
@@ -987,8 +979,8 @@ StripRange bake_lut_strip_device_range(const ParamBlock& p, const DevicePrecisio
             lo[c] = hi[c] = q;
             continue;
           }
-          lo[c] = std::fmin(q, store_low(p.lut_format, d, range.lo[c]));
-          hi[c] = std::fmax(q, store_high(p.lut_format, d, range.hi[c]));
+          lo[c] = std::fmin(q, store_end(p.lut_format, d, range.lo[c], false));
+          hi[c] = std::fmax(q, store_end(p.lut_format, d, range.hi[c], true));
         }
         lo[3] = hi[3] = 1.0;
       }

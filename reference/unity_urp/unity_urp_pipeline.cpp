@@ -65,7 +65,6 @@ Result<Image> reference(const ResolvedCase& c, bool /*analytic_lut*/) {
   // lookups fit a filter that also snaps each bilinear weight (strip_device_range.h,
   // snap_weights), but that is a measurement of one device, not a bound the specification states,
   // so it is not applied (docs/precision.md, "A device's own filter").
-  const bool snap_weights = false;
   for (int y = 0; y < out.height; ++y)
     for (int x = 0; x < out.width; ++x) {
       const double* o = out.px(x, y);
@@ -78,7 +77,7 @@ Result<Image> reference(const ResolvedCase& c, bool /*analytic_lut*/) {
       } else {
         const double* in = c.input.px(x, y);
         r = apply_color_grading_device_range(bounds, c.params, {in[0], in[1], in[2]},
-                                             c.device.sub_texel_bits, snap_weights);
+                                             c.device.sub_texel_bits);
       }
       r.include({o[0], o[1], o[2]});
       // Alpha: 1 in the bake, the input's in the grade.
@@ -92,10 +91,9 @@ Result<Image> reference(const ResolvedCase& c, bool /*analytic_lut*/) {
           : "shader arithmetic (the bake's grade in interval arithmetic on Vulkan's float32 "
             "bounds, kFloat32Noise of the LUT coordinate)"};
   if (!bake)
-    out.device_allowances.insert(out.device_allowances.begin(),
-                                 "filter weights (" + std::to_string(c.device.sub_texel_bits) +
-                                     " sub-texel bits" +
-                                     (snap_weights ? ", each weight snapped" : "") + ")");
+    out.device_allowances.insert(
+        out.device_allowances.begin(),
+        "filter weights (" + std::to_string(c.device.sub_texel_bits) + " sub-texel bits)");
   return out;
 }
 
