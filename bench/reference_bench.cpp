@@ -9,7 +9,7 @@
 #include <cstring>
 #include <random>
 
-#include "reference/color/st2084.h"
+#include "color/st2084.h"
 #include "reference/combine_luts.h"
 #include "reference/tonemap.h"
 #include "reference/ue_cpp/resolve.h"

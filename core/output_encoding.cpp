@@ -2,8 +2,8 @@
 
 #include <cmath>
 
-#include "reference/color/gamma_correction.h"
-#include "reference/color/st2084.h"
+#include "color/gamma_correction.h"
+#include "color/st2084.h"
 
 namespace hdrc {
 

@@ -6,7 +6,7 @@
 #include <string>
 
 #include "core/stage.h"
-#include "reference/color/vec.h"
+#include "color/vec.h"
 
 namespace hdrc {
 

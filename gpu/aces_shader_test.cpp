@@ -29,7 +29,7 @@
 #include "reference/aces/aces_common.h"
 #include "reference/aces/aces_output.h"
 #include "reference/aces/aces_params.h"
-#include "reference/color/st2084.h"
+#include "color/st2084.h"
 #include "reference/color/ue_matrices.h"
 #include "reference/combine_luts.h"
 #include "reference/ue_cpp/resolve.h"

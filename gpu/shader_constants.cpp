@@ -3,7 +3,7 @@
 #include <cstdio>
 #include <limits>
 
-#include "reference/color/st2084.h"
+#include "color/st2084.h"
 #include "reference/color/ue_log_shaper.h"
 #include "reference/color/ue_matrices.h"
 #include "reference/grading/expand_gamut.h"

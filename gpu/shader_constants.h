@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "reference/color/vec.h"
+#include "color/vec.h"
 
 namespace hdrc::gpu {
 

@@ -21,7 +21,7 @@
 #include <vector>
 
 #include "gpu/shader_probe.h"
-#include "reference/color/d3d_math.h"
+#include "color/d3d_math.h"
 #include "reference/color/ue_matrices.h"
 #include "reference/combine_luts.h"
 #include "reference/tonemap.h"

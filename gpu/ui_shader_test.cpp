@@ -16,8 +16,8 @@
 
 #include "gpu/device_bounds_test.h"
 #include "gpu/shader_probe.h"
-#include "reference/color/gamma_correction.h"
-#include "reference/color/st2084.h"
+#include "color/gamma_correction.h"
+#include "color/st2084.h"
 #include "reference/reference_engine.h"
 #include "reference/ue_pixel_device.h"
 #include "reference/ui/color_deficiency.h"
@@ -76,7 +76,7 @@ TEST(UiShader, ConstantsEqualTheReference) {
   for (int c = 0; c < 3; ++c)
     e.push_back({"UI_REC2020_LUMA_WEIGHTS[" + std::to_string(c) + "]", ui::kRec2020LumaWeights[c]});
   e.push_back({"SRGB_MIN_NORMAL_CLAMP", hdrc::ref::kMinNormal});
-  // sRGBToLinear's literals: reference/color/gamma_correction.h srgb_to_linear writes them inline
+  // sRGBToLinear's literals: color/gamma_correction.h srgb_to_linear writes them inline
   // (c > 0.04045 ? pow(c * (1.0 / 1.055) + 0.0521327, 2.4) : c * (1.0 / 12.92)); the functional
   // test below pins the function itself.
   e.push_back({"SRGB_DECODE_THRESHOLD", 0.04045});

@@ -6,13 +6,13 @@
 #include <cmath>
 
 #include "reference/aces/aces_output.h"
-#include "reference/color/d3d_math.h"
+#include "color/d3d_math.h"
 #include "reference/color/device_allowance.h"
 #include "reference/color/fast_paths.h"
-#include "reference/color/gamma_correction.h"
+#include "color/gamma_correction.h"
 #include "reference/color/linear_tap.h"
 #include "reference/color/noise_range.h"
-#include "reference/color/st2084.h"
+#include "color/st2084.h"
 #include "reference/color/ue_matrices.h"
 #include "reference/grading/color_correct.h"
 #include "reference/grading/color_polynomial.h"

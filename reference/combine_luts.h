@@ -11,7 +11,7 @@
 #include "reference/aces/aces_output.h"
 #include "reference/color/noise_range.h"
 #include "reference/color/ue_matrices.h"
-#include "reference/color/vec.h"
+#include "color/vec.h"
 #include "reference/grading/color_correct.h"
 #include "reference/grading/color_polynomial.h"
 #include "reference/grading/film_tonemap.h"

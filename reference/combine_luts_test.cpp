@@ -6,7 +6,7 @@
 
 #include <cmath>
 
-#include "reference/color/st2084.h"
+#include "color/st2084.h"
 #include "reference/lut_shaper.h"
 #include "reference/ue_cpp/resolve.h"
 

@@ -3,8 +3,8 @@
 // Decode: PostProcessCombineLUTs.usf: CombineLUTsCommon (spec §4.3).
 #pragma once
 
-#include "reference/color/d3d_math.h"
-#include "reference/color/st2084.h"
+#include "color/d3d_math.h"
+#include "color/st2084.h"
 #include "reference/color/ue_log_shaper.h"
 
 namespace hdrc::ref {

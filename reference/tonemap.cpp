@@ -4,9 +4,9 @@
 #include <cmath>
 #include <optional>
 
-#include "reference/color/d3d_math.h"
+#include "color/d3d_math.h"
 #include "reference/color/device_allowance.h"
-#include "reference/color/st2084.h"
+#include "color/st2084.h"
 #include "reference/color/ue_matrices.h"
 #include "reference/lut_shaper.h"
 

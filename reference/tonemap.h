@@ -5,7 +5,7 @@
 
 #include "core/image.h"
 #include "core/shader_interface.h"
-#include "reference/color/vec.h"
+#include "color/vec.h"
 #include "reference/combine_luts.h"
 
 namespace hdrc::ref {

@@ -5,7 +5,7 @@
 
 #include "core/case.h"
 #include "reference/color/device_allowance.h"
-#include "reference/color/gamma_correction.h"
+#include "color/gamma_correction.h"
 #include "reference/color/linear_tap.h"
 
 namespace hdrc::ref {

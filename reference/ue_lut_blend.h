@@ -19,7 +19,7 @@
 #include "core/shader_interface.h"
 #include "reference/color/noise_range.h"
 #include "reference/color/spirv_precision.h"
-#include "reference/color/vec.h"
+#include "color/vec.h"
 
 namespace hdrc::ref {
 

@@ -17,7 +17,7 @@
 
 #include "core/cube/cube.h"
 #include "core/cube/ocio_oracle.h"
-#include "reference/color/gamma_correction.h"
+#include "color/gamma_correction.h"
 
 namespace {
 

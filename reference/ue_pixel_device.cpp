@@ -5,7 +5,7 @@
 
 #include "reference/color/device_allowance.h"
 #include "reference/color/noise_range.h"
-#include "reference/color/st2084.h"
+#include "color/st2084.h"
 #include "reference/color/ue_log_shaper.h"
 #include "reference/lut_shaper.h"
 #include "reference/reference_engine.h"

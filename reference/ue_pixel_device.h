@@ -16,7 +16,7 @@
 #include "core/shader_interface.h"
 #include "core/stage.h"
 #include "reference/color/spirv_precision.h"
-#include "reference/color/vec.h"
+#include "color/vec.h"
 
 namespace hdrc::ref::ue_device {
 

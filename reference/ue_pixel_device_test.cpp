@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-#include "reference/color/st2084.h"
+#include "color/st2084.h"
 #include "reference/lut_shaper.h"
 
 namespace hdrc::ref::ue_device {

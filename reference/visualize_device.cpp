@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <limits>
 
-#include "reference/color/d3d_math.h"
+#include "color/d3d_math.h"
 #include "reference/color/noise_range.h"
 #include "reference/color/spirv_precision.h"
 #include "reference/ue_pixel_device.h"

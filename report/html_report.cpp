@@ -21,7 +21,7 @@
 #include "core/settings.h"
 #include "core/stage.h"
 #include "core/utf8.h"
-#include "reference/color/st2084.h"
+#include "color/st2084.h"
 #include "reference/visualize/histogram.h"
 #include "report/assets.h"
 #include "report/images.h"

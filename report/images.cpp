@@ -8,7 +8,7 @@
 #include <cmath>
 #include <cstring>
 
-#include "reference/color/st2084.h"
+#include "color/st2084.h"
 #include "reference/color/ue_matrices.h"
 
 namespace hdrc::report {

@@ -4,8 +4,8 @@
 #include <cmath>
 #include <cstdio>
 
-#include "reference/color/gamma_correction.h"
-#include "reference/color/st2084.h"
+#include "color/gamma_correction.h"
+#include "color/st2084.h"
 #include "reference/color/ue_log_shaper.h"
 #include "reference/color/ue_matrices.h"
 #include "runner/tolerance.h"

@@ -27,7 +27,7 @@
 #include "core/image.h"
 #include "core/output_encoding.h"
 #include "core/shader_interface.h"
-#include "reference/color/vec.h"
+#include "color/vec.h"
 
 namespace hdrc {
 

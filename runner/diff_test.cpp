@@ -9,7 +9,7 @@
 #include <limits>
 
 #include "core/pipeline.h"
-#include "reference/color/st2084.h"
+#include "color/st2084.h"
 #include "reference/color/ue_matrices.h"
 
 namespace {

@@ -13,7 +13,7 @@
 #include <sstream>
 
 #include "core/pipeline.h"
-#include "reference/color/d3d_math.h"
+#include "color/d3d_math.h"
 #include "reference/combine_luts.h"
 #include "reference/lut_shaper.h"
 #include "reference/reference_engine.h"

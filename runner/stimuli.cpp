@@ -7,7 +7,7 @@
 #include <sstream>
 
 #include "core/nearest.h"
-#include "reference/color/st2084.h"
+#include "color/st2084.h"
 #include "reference/color/ue_matrices.h"
 
 namespace hdrc {

@@ -6,7 +6,7 @@
 // follows ACESlib.RRT_Common.ctl / ACESlib.Utilities_Color.ctl of aces-dev v1.3. Spec §4.8 step 2
 // and §5.1 step 1.
 //
-// Non-finite values follow D3D HLSL (reference/color/d3d_math.h): HLSL min/max are IEEE-754-2008
+// Non-finite values follow D3D HLSL (color/d3d_math.h): HLSL min/max are IEEE-754-2008
 // minNum/maxNum (a NaN operand yields the other operand), which is what std::fmin/std::fmax and
 // their inlined equivalents d3d::min_num/max_num do; comparisons with NaN are false; clamp(x, a,
 // b) is min(max(x, a), b) and therefore maps NaN to a.
@@ -15,8 +15,8 @@
 #include <cmath>
 #include <numbers>
 
-#include "reference/color/d3d_math.h"
-#include "reference/color/vec.h"
+#include "color/d3d_math.h"
+#include "color/vec.h"
 
 namespace hdrc::ref::aces {
 

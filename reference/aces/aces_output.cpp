@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "reference/aces/aces_common.h"
-#include "reference/color/d3d_math.h"
+#include "color/d3d_math.h"
 #include "reference/color/ue_matrices.h"
 
 namespace hdrc::ref::aces {

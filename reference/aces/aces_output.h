@@ -8,7 +8,7 @@
 // The 5.5 `outputTransform(aces, TsParams, ...)` overload is reconstructed [R]: the 5.0 body with
 // the parameters given and Y_MIN = Min.y, Y_MAX = Max.y (decisions D2).
 //
-// Non-finite values (D3D HLSL semantics, reference/color/d3d_math.h): any NaN or ±Inf channel in
+// Non-finite values (D3D HLSL semantics, color/d3d_math.h): any NaN or ±Inf channel in
 // the AP0 input makes compressColor return NaN in every channel, and the unconditional
 // lerp(aces, compressed, GamutCompression) keeps that NaN even for GamutCompression = 0
 // (0·NaN = NaN); rrt_sweeteners' glow then multiplies all channels by NaN and its
@@ -20,7 +20,7 @@
 #include <array>
 
 #include "reference/aces/aces_params.h"
-#include "reference/color/vec.h"
+#include "color/vec.h"
 
 namespace hdrc::ref::aces {
 

@@ -17,7 +17,7 @@
 #include "reference/aces/aces_common.h"
 #include "reference/aces/aces_output.h"
 #include "reference/aces/aces_params.h"
-#include "reference/color/d3d_math.h"
+#include "color/d3d_math.h"
 #include "reference/color/ue_matrices.h"
 
 namespace {

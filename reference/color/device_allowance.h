@@ -22,7 +22,7 @@
 #include "reference/color/linear_tap.h"
 #include "reference/color/noise_range.h"
 #include "reference/color/spirv_precision.h"
-#include "reference/color/st2084.h"
+#include "color/st2084.h"
 
 namespace hdrc::ref {
 

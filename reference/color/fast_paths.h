@@ -7,7 +7,7 @@
 
 #include <atomic>
 
-#include "reference/color/d3d_math.h"
+#include "color/d3d_math.h"
 
 namespace hdrc::ref {
 

@@ -12,7 +12,7 @@
 #include <cmath>
 
 #include "core/image.h"
-#include "reference/color/vec.h"
+#include "color/vec.h"
 
 namespace hdrc::ref {
 

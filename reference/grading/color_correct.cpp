@@ -2,7 +2,7 @@
 
 #include <cstring>
 
-#include "reference/color/d3d_math.h"
+#include "color/d3d_math.h"
 #include "reference/color/fast_paths.h"
 #include "reference/color/ue_matrices.h"
 #include "reference/grading/hlsl_ops.h"

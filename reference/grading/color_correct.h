@@ -9,7 +9,7 @@
 
 #include <array>
 
-#include "reference/color/vec.h"
+#include "color/vec.h"
 
 namespace hdrc::ref::grading {
 

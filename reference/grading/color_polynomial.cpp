@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "reference/color/d3d_math.h"
+#include "color/d3d_math.h"
 #include "reference/color/fast_paths.h"
 #include "reference/grading/hlsl_ops.h"
 

@@ -6,7 +6,7 @@
 // same block is in the 4.27 and 5.8 copies — docs/ue55-decisions.md D1).
 #pragma once
 
-#include "reference/color/vec.h"
+#include "color/vec.h"
 
 namespace hdrc::ref::grading {
 

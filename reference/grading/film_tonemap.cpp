@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "reference/color/d3d_math.h"
+#include "color/d3d_math.h"
 #include "reference/grading/film_common.h"
 #include "reference/grading/hlsl_ops.h"
 

@@ -1,12 +1,12 @@
 // The few HLSL intrinsics the CombineLUTs grading code uses, with the D3D semantics UE relies on,
-// in double. Shared by the grading modules; the non-finite rules follow reference/color/d3d_math.h
+// in double. Shared by the grading modules; the non-finite rules follow color/d3d_math.h
 // and docs/ue55-decisions.md (D-NaN).
 #pragma once
 
 #include <cmath>
 
-#include "reference/color/d3d_math.h"
-#include "reference/color/vec.h"
+#include "color/d3d_math.h"
+#include "color/vec.h"
 
 namespace hdrc::ref::grading::hlsl {
 

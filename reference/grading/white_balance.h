@@ -11,7 +11,7 @@
 #pragma once
 
 #include "reference/color/ue_matrices.h"
-#include "reference/color/vec.h"
+#include "color/vec.h"
 
 namespace hdrc::ref::grading {
 

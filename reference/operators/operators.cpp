@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "reference/color/d3d_math.h"
+#include "color/d3d_math.h"
 #include "reference/color/device_allowance.h"
 #include "reference/color/ue_matrices.h"
 #include "reference/grading/hlsl_ops.h"

@@ -19,7 +19,7 @@
 
 #include "core/shader_interface.h"
 #include "reference/color/spirv_precision.h"
-#include "reference/color/vec.h"
+#include "color/vec.h"
 #include "reference/grading/film_tonemap.h"
 
 namespace hdrc::ref::operators {

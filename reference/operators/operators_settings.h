@@ -1,5 +1,5 @@
 // The `operators` pipeline's user-facing settings and their host derivation into the parameter
-// block (the op_* fields of reference/operators/operators_params.h and the UE block's film_*).
+// block (the op_* fields of interface/operators_params.h and the UE block's film_*).
 //
 //   hdrc::SettingValues s(&operators_setting_table(), &operators_setting_choices);
 //   s.set_choice("Operator", "Hable");

@@ -6,10 +6,10 @@
 #include <cmath>
 
 #include "core/cube/cube.h"
-#include "reference/color/d3d_math.h"
+#include "color/d3d_math.h"
 #include "reference/color/device_allowance.h"
 #include "reference/color/linear_tap.h"
-#include "reference/color/st2084.h"
+#include "color/st2084.h"
 #include "reference/color/strip_device_range.h"
 #include "reference/grading/film_tonemap.h"
 #include "reference/operators/operators.h"

@@ -9,7 +9,7 @@
 //   d   = HDR: UE's FilmToneMap(g) | SDR: Narkowicz's ACES fit(g)
 //   out = the back buffer's encoding of d     PQ | scRGB | sRGB (as stored) | gamma 2.2
 //
-// One definition each: PQ is reference/color/st2084.h (pq_from_nits / nits_from_pq), the display
+// One definition each: PQ is color/st2084.h (pq_from_nits / nits_from_pq), the display
 // mappings are the `operators` pipeline's (operators::ue_filmic with UE's Default FilmToneMap
 // parameters, operators::aces_narkowicz). GPU mirror: gpu/shaders/pq_grading/lib/pq_grading.glsl.
 #pragma once
@@ -26,7 +26,7 @@
 #include "core/shader_interface.h"
 #include "reference/color/noise_range.h"
 #include "reference/color/spirv_precision.h"
-#include "reference/color/vec.h"
+#include "color/vec.h"
 
 namespace hdrc::ref::pq_grading {
 

@@ -59,7 +59,7 @@ Loaded load(const std::string& file, double amplify, Display display, BackBuffer
 }
 
 // ST 2084's published signal values (ITU-R BT.2100 / BT.2390 tables, as
-// reference/color/st2084_test.cpp cites them): 100 cd/m² → 0.508078 (10-bit full-range code 520),
+// color/st2084_test.cpp cites them): 100 cd/m² → 0.508078 (10-bit full-range code 520),
 // 1000 cd/m² → 0.751827 (769), 10000 → 1. With
 // Amplify 1 (ExposureFract 1e-4) a scene value s reaches PQ as s · 1e-4 · 10000 = s nits.
 TEST(PqGrading, PqEncodeMatchesPublishedValues) {

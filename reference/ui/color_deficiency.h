@@ -9,7 +9,7 @@
 // color_deficiency.cpp; the correction ("daltonisation") is UE's RGB-space error redistribution.
 #pragma once
 
-#include "reference/color/vec.h"
+#include "color/vec.h"
 
 namespace hdrc::ref::ui {
 

@@ -3,8 +3,8 @@
 #include <cmath>
 #include <string>
 
-#include "reference/color/d3d_math.h"
-#include "reference/color/st2084.h"
+#include "color/d3d_math.h"
+#include "color/st2084.h"
 #include "reference/color/ue_matrices.h"
 
 namespace hdrc::ref::ui {

@@ -37,8 +37,8 @@
 
 #include "core/image.h"
 #include "core/result.h"
-#include "reference/color/gamma_correction.h"
-#include "reference/color/vec.h"
+#include "color/gamma_correction.h"
+#include "color/vec.h"
 #include "reference/ui/color_deficiency.h"
 
 namespace hdrc::ref::ui {

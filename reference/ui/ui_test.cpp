@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "reference/color/gamma_correction.h"
-#include "reference/color/st2084.h"
+#include "color/gamma_correction.h"
+#include "color/st2084.h"
 #include "reference/ui/color_deficiency.h"
 #include "reference/ui/composite.h"
 

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "reference/color/d3d_math.h"
+#include "color/d3d_math.h"
 #include "reference/color/device_allowance.h"
 #include "reference/color/spirv_precision.h"
 #include "reference/color/strip_device_range.h"

@@ -26,7 +26,7 @@
 #include "core/image.h"
 #include "core/shader_interface.h"
 #include "reference/color/noise_range.h"
-#include "reference/color/vec.h"
+#include "color/vec.h"
 
 namespace hdrc::ref::unity_urp {
 

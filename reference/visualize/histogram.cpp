@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstdint>
 
-#include "reference/color/d3d_math.h"
+#include "color/d3d_math.h"
 
 namespace hdrc::ref::visualize {
 

@@ -31,7 +31,7 @@
 #include <vector>
 
 #include "core/image.h"
-#include "reference/color/vec.h"
+#include "color/vec.h"
 
 namespace hdrc::ref::visualize {
 

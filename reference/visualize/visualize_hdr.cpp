@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <utility>
 
-#include "reference/color/d3d_math.h"
+#include "color/d3d_math.h"
 
 namespace hdrc::ref::visualize {
 

@@ -40,7 +40,7 @@
 #include <vector>
 
 #include "core/image.h"
-#include "reference/color/vec.h"
+#include "color/vec.h"
 #include "reference/visualize/histogram.h"
 
 namespace hdrc::ref::visualize {

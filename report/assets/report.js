@@ -167,7 +167,7 @@ function srgbOetf(x) {
   if (x >= 1) return 1;
   return x <= 0.0031308 ? 12.92 * x : 1.055 * Math.pow(x, 1 / 2.4) - 0.055;
 }
-// SMPTE ST 2084 inverse EOTF (reference/color/st2084.h: pq_from_nits), constants in the
+// SMPTE ST 2084 inverse EOTF (color/st2084.h: pq_from_nits), constants in the
 // standard's fractional form.
 const PQ_M1 = 2610 / 16384, PQ_M2 = (2523 / 4096) * 128;
 const PQ_C1 = 3424 / 4096, PQ_C2 = (2413 / 4096) * 32, PQ_C3 = (2392 / 4096) * 32;
@@ -175,7 +175,7 @@ function pqFromNits(n) {
   const lm = Math.pow(n / 10000, PQ_M1);
   return Math.pow((PQ_C1 + PQ_C2 * lm) / (1 + PQ_C3 * lm), PQ_M2);
 }
-// ST 2084 EOTF: PQ signal → nits (reference/color/st2084.h: nits_from_pq).
+// ST 2084 EOTF: PQ signal → nits (color/st2084.h: nits_from_pq).
 // The same expression (NaN below 0, extrapolated above 1), so the probe and the previews agree
 // with the C++ decoding exactly.
 function nitsFromPq(e) {
@@ -187,7 +187,7 @@ function pqSignal(n) {
 }
 // OutputEncoding::to_nits (core/output_encoding.cpp) from the parameters the report sends
 // (html_report.cpp encoding_json): nits = transfer(pre_scale · v) · nits_scale. sRGB and Rec.709
-// decode as reference/color/gamma_correction.h srgb_to_linear / rec709_to_linear (UE's
+// decode as color/gamma_correction.h srgb_to_linear / rec709_to_linear (UE's
 // SrgbToLinear / Rec709ToLinear) after its min-normal clamp fmax(6.10352e-5, c); gamma:
 // max(v, 0)^gamma.
 const MIN_NORMAL = 6.10352e-5;

@@ -1,5 +1,5 @@
 // HLSL intrinsic behaviour that UE's shaders rely on, written out where GLSL leaves it undefined
-// (reference: reference/color/d3d_math.h; decisions in docs/ue55-decisions.md).
+// (reference: color/d3d_math.h; decisions in docs/ue55-decisions.md).
 #ifndef HDRC_D3D_MATH_GLSL
 #define HDRC_D3D_MATH_GLSL
 

@@ -1,6 +1,6 @@
 // PQ against independent values: OpenColorIO 2.1's built-in ST 2084 curves (which scale linear
 // 1.0 to 100 nits) and published ST 2084 signal values.
-#include "reference/color/st2084.h"
+#include "color/st2084.h"
 
 #include <OpenColorIO/OpenColorIO.h>
 #include <gtest/gtest.h>

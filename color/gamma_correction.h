@@ -18,8 +18,8 @@
 
 #include <cmath>
 
-#include "reference/color/d3d_math.h"
-#include "reference/color/vec.h"
+#include "color/d3d_math.h"
+#include "color/vec.h"
 
 namespace hdrc::ref {
 

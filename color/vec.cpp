@@ -1,4 +1,4 @@
-#include "reference/color/vec.h"
+#include "color/vec.h"
 
 namespace hdrc::ref {
 
