@@ -346,16 +346,16 @@ def main():
     L.append("")
     L.append("## What the figures rest on")
     L.append("")
-    L.append("* Reference: `TexelEvaluator` (reference/combine_luts.h) unpacks the parameters once per"
+    L.append("* Reference: `TexelEvaluator` (reference/ue/combine_luts.h) unpacks the parameters once per"
              " LUT and evaluates only the device's own path; colour-correction zones with identical"
              " parameters are evaluated once; pow(x, 1) returns x; the film curve's match points and"
              " the SSTS logarithms are computed once per parameter set. All bit-identical:"
-             " reference/fast_paths_test.cpp compares the fast and the plain path over 1e5 colours"
+             " reference/ue/fast_paths_test.cpp compares the fast and the plain path over 1e5 colours"
              " and every device × gamut.")
     L.append("* The reference's Tonemap pass on an image of fewer pixels than its LUT has texels / 8"
              " bakes only the texels it reads (`LazyBakedLut`, bit-identical:"
              " `Tonemap.LazyBakeIsBitIdenticalToTheWholeBake`); larger ones use the process-wide LUT"
-             " cache (reference/lut_cache.h), shared between cases and workers.")
+             " cache (reference/ue/lut_cache.h), shared between cases and workers.")
     L.append("* Vulkan engine: buffers, the LUT image, descriptors, command buffer and fence are kept"
              " from case to case; SPIR-V is compiled once per process; pipelines once per device.")
     L.append("* Diff percentiles by selection (`std::nth_element`); `probe` parses with"

@@ -10,9 +10,9 @@
 #include <random>
 
 #include "color/st2084.h"
-#include "reference/combine_luts.h"
-#include "reference/tonemap.h"
-#include "reference/ue_cpp/resolve.h"
+#include "reference/ue/combine_luts.h"
+#include "reference/ue/tonemap.h"
+#include "reference/ue/cpp/resolve.h"
 
 namespace {
 

@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "gpu/vulkan_engine.h"
-#include "reference/ue_cpp/resolve.h"
+#include "reference/ue/cpp/resolve.h"
 
 int main(int argc, char** argv) {
   const int reps = argc > 1 ? std::max(1, std::atoi(argv[1])) : 3;

@@ -23,7 +23,7 @@ namespace hdrc {
 
 // X(type, name, meaning). Types: I = int32, F = float32, V4 = vec4, M3 = 3×3 matrix.
 // Host-derived values (matrices, ACES coefficients, InverseGamma, ...) are computed once by
-// reference/ue_cpp/resolve.cpp, as UE's C++ does, and both engines read them from here.
+// reference/ue/cpp/resolve.cpp, as UE's C++ does, and both engines read them from here.
 // UE 5.5's fields come first (the layout ports of UE's pipeline read), then every other
 // pipeline's, each from its own header. Adding a pipeline adds one line here.
 #define HDRC_PARAM_BLOCK(X) \

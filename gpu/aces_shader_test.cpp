@@ -1,8 +1,8 @@
 // The GLSL ACES 1.3 HDR output transform (gpu/shaders/lib/aces_*.glsl, float32) against the
-// double-precision reference (reference/aces/aces_output.h), through probe shaders: a temporary
+// double-precision reference (reference/ue/aces/aces_output.h), through probe shaders: a temporary
 // shader directory holds a copy of lib/ and, in place of the "shaper" stage, a probe that calls
 // one library function per pixel. The parameters are resolved from cvars by ref::resolve and reach
-// the reference through the same float packing reference/combine_luts.cpp uses (aces_params()).
+// the reference through the same float packing reference/ue/combine_luts.cpp uses (aces_params()).
 //
 // Tolerances are measured on lavapipe (llvmpipe, LLVM 15, Mesa 22.3.6) with a margin of about 2×
 // and explained beside each bound; docs/precision.md ("GPU ACES output transform") has the table.
@@ -26,13 +26,13 @@
 #include "core/case.h"
 #include "core/shader_interface.h"
 #include "gpu/vulkan_engine.h"
-#include "reference/aces/aces_common.h"
-#include "reference/aces/aces_output.h"
-#include "reference/aces/aces_params.h"
+#include "reference/ue/aces/aces_common.h"
+#include "reference/ue/aces/aces_output.h"
+#include "reference/ue/aces/aces_params.h"
 #include "color/st2084.h"
 #include "reference/color/ue_matrices.h"
-#include "reference/combine_luts.h"
-#include "reference/ue_cpp/resolve.h"
+#include "reference/ue/combine_luts.h"
+#include "reference/ue/cpp/resolve.h"
 
 namespace fs = std::filesystem;
 namespace aces = hdrc::ref::aces;
@@ -552,7 +552,7 @@ std::vector<ConstantRef> constant_table() {
       {"ACES_SQRT3", std::sqrt(3.0), "aces_common.h rgb_2_hue: sqrt(3)"},
       {"LOG10_OF_2", std::log10(2.0), "DXC log10 lowering constant ln2/ln10"},
       {"LOG2_OF_10", std::log2(10.0), "DXC pow(10, y) lowering constant log2(10)"},
-      // The following are private to reference/aces/aces_output.cpp (anonymous namespace), so
+      // The following are private to reference/ue/aces/aces_output.cpp (anonymous namespace), so
       // their values are repeated here from that file: kHalfPosInf, kHalfMax, kRrtSatFactor,
       // kCompressLimit, kCompressThreshold, kCompressPower, and spline_half's M1 arithmetic.
       {"HALF_POS_INF", 65535.0, "aces_output.cpp kHalfPosInf"},
@@ -722,7 +722,7 @@ TEST(AcesShader, OutputTransforms2000MatchesReference) {
 }
 
 // A NaN or ±Inf channel leaves as black, negative channels are clamped: the reference's
-// documented behaviour (reference/aces/aces_output.h) holds on the GPU. After rrt_sweeteners'
+// documented behaviour (reference/ue/aces/aces_output.h) holds on the GPU. After rrt_sweeteners'
 // clamp such a pixel is AP1 (0, 0, 0), exactly what a black input becomes, so its output must equal
 // the GPU's output for black bit for bit. Black itself is ≥ 0 and ≤ 1e-10 nits: float32 leaves
 // 10^(log10 Min.y) − Min.y ≈ 2.2e-11 nits (measured on lavapipe; 0.002 10-bit PQ codes) where the

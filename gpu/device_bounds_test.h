@@ -35,7 +35,7 @@
 #include "reference/color/device_allowance.h"
 #include "reference/color/noise_range.h"
 #include "reference/color/spirv_precision.h"
-#include "reference/combine_luts.h"
+#include "reference/ue/combine_luts.h"
 #include "reference/reference_engine.h"
 
 namespace hdrc::gpu::testing {
@@ -125,7 +125,7 @@ inline ref::spirv::Interval quotient_on_device(float num, float den, bool exact)
 // float → UNORM conversion gives either of the two nearest codes; float → float16 rounds with
 // the implementation's mode unless shaderRoundingModeRTEFloat16, then to nearest; float32 keeps
 // the float): format 0 UNORM with `levels` (1023, or 3 for the 2-bit alpha), 1 float16, 2
-// float32. Either neighbour of each end (store_either_way's rule, reference/combine_luts.cpp),
+// float32. Either neighbour of each end (store_either_way's rule, reference/ue/combine_luts.cpp),
 // RTE or not: the interval's ends are not floats themselves, so both roundings stay possible.
 inline ref::spirv::Interval stored_on_device(ref::spirv::Interval v, int format, double levels) {
   if (format == 0) return {ref::unorm_floor(v.lo, levels), ref::unorm_ceil(v.hi, levels)};
@@ -187,7 +187,7 @@ inline double outside(const ref::Range3& r, int c, double g) {
 
 // The GPU's own baked LUT (read back from the combine_luts stage) as a device LUT whose texel
 // ranges are its texels themselves: the Tonemap pass's device ranges over it
-// (reference/tonemap.h, tonemap_image with a device LUT) then hold the sampler's weight box and
+// (reference/ue/tonemap.h, tonemap_image with a device LUT) then hold the sampler's weight box and
 // the pass's own arithmetic, not CombineLUTs' storage (the texels are what the GPU stored).
 inline ref::BakedLut as_device_lut(ref::BakedLut lut) {
   lut.lo = lut.texels;

@@ -12,7 +12,7 @@
 #include "core/case.h"
 #include "core/image.h"
 #include "core/pipeline.h"
-#include "reference/ue_cpp/resolve.h"
+#include "reference/ue/cpp/resolve.h"
 
 namespace hdrc::gpu::testing {
 

@@ -1,5 +1,5 @@
 // The GLSL CombineLUTs texel function (gpu/shaders/lib/combine_luts.glsl and the files it
-// includes) against the double-precision reference (reference/combine_luts.cpp), on lavapipe.
+// includes) against the double-precision reference (reference/ue/combine_luts.cpp), on lavapipe.
 //
 // Probe pattern (as gpu/vulkan_engine_test.cpp): a copy of the suite's shaders in a temporary
 // directory whose stages/shaper.comp is replaced by a probe that includes the libraries and
@@ -24,15 +24,15 @@
 #include "gpu/device_bounds_test.h"
 #include "gpu/shader_probe.h"
 #include "gpu/vulkan_engine.h"
-#include "reference/aces/aces_common.h"
+#include "reference/ue/aces/aces_common.h"
 #include "color/gamma_correction.h"
 #include "color/st2084.h"
 #include "reference/color/ue_matrices.h"
-#include "reference/combine_luts.h"
-#include "reference/grading/expand_gamut.h"
-#include "reference/grading/film_tonemap.h"
-#include "reference/lut_shaper.h"
-#include "reference/ue_cpp/resolve.h"
+#include "reference/ue/combine_luts.h"
+#include "reference/ue/grading/expand_gamut.h"
+#include "reference/ue/grading/film_tonemap.h"
+#include "reference/ue/lut_shaper.h"
+#include "reference/ue/cpp/resolve.h"
 
 namespace fs = std::filesystem;
 using hdrc::ref::Mat3;

@@ -6,9 +6,9 @@
 #include "color/st2084.h"
 #include "reference/color/ue_log_shaper.h"
 #include "reference/color/ue_matrices.h"
-#include "reference/grading/expand_gamut.h"
-#include "reference/grading/film_tonemap.h"
-#include "reference/ui/composite.h"
+#include "reference/ue/grading/expand_gamut.h"
+#include "reference/ue/grading/film_tonemap.h"
+#include "reference/ue/ui/composite.h"
 
 namespace hdrc::gpu {
 

@@ -21,7 +21,7 @@
 #include "core/case.h"
 #include "core/stage.h"
 #include "gpu/vulkan_engine.h"
-#include "reference/ue_cpp/resolve.h"
+#include "reference/ue/cpp/resolve.h"
 
 namespace hdrc::gpu::testing {
 

@@ -23,9 +23,9 @@
 #include "gpu/shader_probe.h"
 #include "color/d3d_math.h"
 #include "reference/color/ue_matrices.h"
-#include "reference/combine_luts.h"
-#include "reference/tonemap.h"
-#include "reference/ue_cpp/resolve.h"
+#include "reference/ue/combine_luts.h"
+#include "reference/ue/tonemap.h"
+#include "reference/ue/cpp/resolve.h"
 
 namespace {
 

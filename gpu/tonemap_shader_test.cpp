@@ -22,10 +22,10 @@
 #include "color/gamma_correction.h"
 #include "color/st2084.h"
 #include "reference/color/ue_matrices.h"
-#include "reference/combine_luts.h"
+#include "reference/ue/combine_luts.h"
 #include "reference/reference_engine.h"
-#include "reference/tonemap.h"
-#include "reference/ue_cpp/resolve.h"
+#include "reference/ue/tonemap.h"
+#include "reference/ue/cpp/resolve.h"
 
 namespace {
 

@@ -1,5 +1,5 @@
 // The GLSL port of UE 5.5's user-LUT blend (gpu/shaders/lib/ue_lut_blend.glsl) against the
-// double reference (reference/ue_lut_blend.cpp) on the GPU engine, through the user-LUT binding
+// double reference (reference/ue/ue_lut_blend.cpp) on the GPU engine, through the user-LUT binding
 // (kBindingUserLut: a 16-point LUT's strip is 256 × 16, UE's layout): the lookup alone and the
 // blend at BLENDCOUNT 2 (intensity 0.5 and 1), with 8-bit texels (UE's BGRA8 storage, quantised
 // on the host for both engines) from the 16-point .cube files of cases/lut/cube/.
@@ -18,7 +18,7 @@
 #include "core/cube/cube.h"
 #include "gpu/device_bounds_test.h"
 #include "gpu/shader_probe.h"
-#include "reference/ue_lut_blend.h"
+#include "reference/ue/ue_lut_blend.h"
 
 namespace {
 

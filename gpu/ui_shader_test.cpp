@@ -1,5 +1,5 @@
 // The GLSL HDR UI composite (gpu/shaders/lib/ui_composite.glsl and what it includes) against the
-// double-precision reference (reference/ui/composite.cpp), on lavapipe:
+// double-precision reference (reference/ue/ui/composite.cpp), on lavapipe:
 //  * every constant the shaders hard-code reads back as float(reference constant) (acceptance 4);
 //  * the composite of every 10-bit PQ code (or the same numbers as scRGB) under the ui_overlay
 //    stimulus's alpha ramps, for the configurations of cases/ui/*.json and more, within the
@@ -19,9 +19,9 @@
 #include "color/gamma_correction.h"
 #include "color/st2084.h"
 #include "reference/reference_engine.h"
-#include "reference/ue_pixel_device.h"
-#include "reference/ui/color_deficiency.h"
-#include "reference/ui/composite.h"
+#include "reference/ue/ue_pixel_device.h"
+#include "reference/ue/ui/color_deficiency.h"
+#include "reference/ue/ui/composite.h"
 
 namespace {
 
@@ -210,7 +210,7 @@ Measured measure(hdrc::gpu::testing::Probe& probe, const Config& c, const Image&
     for (int ch = 0; ch < 4; ++ch) reference.data[i * 4 + ch] = want[ch];
   }
   // Elsewhere than on a float32-exact device: within the composite's device ranges
-  // (reference/ue_pixel_device.h ui_composite_device_ranges: the back buffer's PQ decode and the
+  // (reference/ue/ue_pixel_device.h ui_composite_device_ranges: the back buffer's PQ decode and the
   // encode within the precision table's bounds, kShaderNoise for the steps between), nearest the
   // GPU's value; the bounds below then measure what lies outside them.
   if (!hdrc::gpu::testing::exact_device()) {

@@ -1,5 +1,5 @@
 // The GLSL VisualizeHDR (gpu/shaders/lib/visualize_*.glsl, stages/visualize_histogram.comp,
-// stages/visualize_hdr.comp) against the double-precision reference (reference/visualize/*), on
+// stages/visualize_hdr.comp) against the double-precision reference (reference/ue/visualize/*), on
 // lavapipe:
 //  * every constant the shaders hard-code reads back as float(reference) (acceptance 4);
 //  * the histogram splat, the outlier-free average and the place-in-histogram against the
@@ -23,10 +23,10 @@
 #include "gpu/shader_probe.h"
 #include "color/gamma_correction.h"
 #include "color/st2084.h"
-#include "reference/grading/film_tonemap.h"
+#include "reference/ue/grading/film_tonemap.h"
 #include "reference/reference_engine.h"
-#include "reference/visualize/histogram.h"
-#include "reference/visualize/visualize_hdr.h"
+#include "reference/ue/visualize/histogram.h"
+#include "reference/ue/visualize/visualize_hdr.h"
 
 namespace {
 

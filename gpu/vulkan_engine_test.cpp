@@ -17,9 +17,9 @@
 #include "core/shader_interface.h"
 #include "gpu/device_bounds_test.h"
 #include "gpu/shader_constants.h"
-#include "reference/combine_luts.h"
+#include "reference/ue/combine_luts.h"
 #include "reference/reference_engine.h"
-#include "reference/ue_cpp/resolve.h"
+#include "reference/ue/cpp/resolve.h"
 
 namespace fs = std::filesystem;
 

@@ -17,7 +17,7 @@
 #include "gpu/engine_test_cases.h"
 #include "gpu/shader_probe.h"
 #include "gpu/vulkan_engine.h"
-#include "reference/ue_cpp/resolve.h"
+#include "reference/ue/cpp/resolve.h"
 
 namespace fs = std::filesystem;
 

@@ -5,7 +5,7 @@
 #include "core/pipeline.h"
 #include "reference/operators/operators_pipeline.h"
 #include "reference/pq_grading/pq_grading_pipeline.h"
-#include "reference/ue_cpp/ue55_pipeline.h"
+#include "reference/ue/ue55/ue55_pipeline.h"
 #include "reference/unity_urp/unity_urp_pipeline.h"
 
 namespace hdrc {

@@ -3,15 +3,15 @@
 #include <optional>
 
 #include "reference/color/ue_matrices.h"
-#include "reference/grading/film_tonemap.h"
-#include "reference/lut_cache.h"
-#include "reference/lut_shaper.h"
-#include "reference/tonemap.h"
-#include "reference/ue_pixel_device.h"
-#include "reference/ui/composite.h"
-#include "reference/visualize/histogram.h"
-#include "reference/visualize/visualize_hdr.h"
-#include "reference/visualize_device.h"
+#include "reference/ue/grading/film_tonemap.h"
+#include "reference/ue/lut_cache.h"
+#include "reference/ue/lut_shaper.h"
+#include "reference/ue/tonemap.h"
+#include "reference/ue/ue_pixel_device.h"
+#include "reference/ue/ui/composite.h"
+#include "reference/ue/visualize/histogram.h"
+#include "reference/ue/visualize/visualize_hdr.h"
+#include "reference/ue/visualize_device.h"
 
 namespace hdrc::ref {
 
@@ -238,7 +238,7 @@ Result<Image> run_ue55(const ResolvedCase& c, bool analytic_lut) {
       // The tonemapped scene with the Tonemap pass's device ranges (tonemap_image's device
       // overload; its values are the tight pass's, so it is the scene VisualizeHDR shows), carried
       // through VisualizeHDR's own steps with the ranges of the histogram pass and the panel
-      // (reference/visualize_device.h).
+      // (reference/ue/visualize_device.h).
       const BakedLut device = bake_lut_device(c.params, c.device);
       const Image tm = tonemap_image(c.params, c.input, nullptr, nullptr, &device, nullptr, &device,
                                      c.device.sub_texel_bits);

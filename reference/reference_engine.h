@@ -4,9 +4,9 @@
 
 #include "core/engine.h"
 #include "core/pipeline.h"
-#include "reference/combine_luts.h"
-#include "reference/ui/composite.h"
-#include "reference/visualize/histogram.h"
+#include "reference/ue/combine_luts.h"
+#include "reference/ue/ui/composite.h"
+#include "reference/ue/visualize/histogram.h"
 
 namespace hdrc::ref {
 

@@ -6,8 +6,8 @@
 #include <cmath>
 #include <limits>
 
-#include "reference/lut_shaper.h"
-#include "reference/ue_cpp/resolve.h"
+#include "reference/ue/lut_shaper.h"
+#include "reference/ue/cpp/resolve.h"
 
 namespace {
 

@@ -22,7 +22,7 @@
 #include "core/stage.h"
 #include "core/utf8.h"
 #include "color/st2084.h"
-#include "reference/visualize/histogram.h"
+#include "reference/ue/visualize/histogram.h"
 #include "report/assets.h"
 #include "report/images.h"
 #include "runner/diff.h"
@@ -782,7 +782,7 @@ struct Builder {
     c.meta["to_rec2020"] = m;
     const ref::Mat3 disp = output_to_display(*enc);
     c.meta["to_display"] = json(disp.m);
-    // VisualizeHDR's false colour (reference/visualize/histogram.h): Colorize of the histogram
+    // VisualizeHDR's false colour (reference/ue/visualize/histogram.h): Colorize of the histogram
     // position of log2(max(mean RGB, LuminanceMin)), default eye adaptation (extended range).
     const auto eye =
         ref::visualize::compute_eye_adaptation_parameters(ref::visualize::default_settings(true));

@@ -4,10 +4,10 @@
 // amount (core/case.h DitherCriterion).
 //
 // The undithered value is the dither stage's input (the reference adds its grain to exactly that
-// image: reference/tonemap.cpp dither_image), the amount is the host-derived
+// image: reference/ue/tonemap.cpp dither_image), the amount is the host-derived
 // BackbufferQuantizationDithering (ParamBlock::dither_amount: 1/(2^bits − 1) under
 // r.BackbufferQuantizationDitheringOverride, else 1/255 on an 8-bit SDR back buffer and 1/1023
-// otherwise, 0 on devices 8/9; reference/ue_cpp/resolve.cpp). Both are resolved in process for
+// otherwise, 0 on devices 8/9; reference/ue/cpp/resolve.cpp). Both are resolved in process for
 // `run` and `verify` alike, so a port is judged by the same numbers.
 #pragma once
 

@@ -14,12 +14,12 @@
 
 #include "core/pipeline.h"
 #include "color/d3d_math.h"
-#include "reference/combine_luts.h"
-#include "reference/lut_shaper.h"
+#include "reference/ue/combine_luts.h"
+#include "reference/ue/lut_shaper.h"
 #include "reference/reference_engine.h"
-#include "reference/tonemap.h"
-#include "reference/ue_cpp/resolve.h"
-#include "reference/visualize/visualize_hdr.h"
+#include "reference/ue/tonemap.h"
+#include "reference/ue/cpp/resolve.h"
+#include "reference/ue/visualize/visualize_hdr.h"
 #include "runner/case_loader.h"
 
 namespace hdrc {

@@ -7,8 +7,8 @@
 #include <random>
 #include <sstream>
 
-#include "reference/tonemap.h"
-#include "reference/ue_cpp/resolve.h"
+#include "reference/ue/tonemap.h"
+#include "reference/ue/cpp/resolve.h"
 #include "runner/probe.h"
 
 namespace {

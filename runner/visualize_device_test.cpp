@@ -2,7 +2,7 @@
 // subTexelPrecisionBits 8, float16 RTE; `hdrconform run --device nvidia`, tree 6e180a7): for each
 // case, the worst value of the tight comparison and the worst against the device allowances then,
 // as its reason named them (pixel, candidate RGB). The reference's device ranges for the
-// visualize_hdr stage (reference/visualize_device.h), asked for with the H200's precision, are
+// visualize_hdr stage (reference/ue/visualize_device.h), asked for with the H200's precision, are
 // checked against those candidate values (docs/precision.md, "VisualizeHDR").
 #include <gtest/gtest.h>
 

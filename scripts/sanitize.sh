@@ -52,7 +52,7 @@ cd "$build"
 # hygiene tests that load it (Hygiene.*Validation*). Also left out, as measured on 2026-11-27 (the
 # stage then took 1,561 s of a 1,785 s test command): the H200 figures checked against the
 # VisualizeHDR ranges (VisualizeDevice.H200*, 157 s under ASan: 17 whole cases' reference ranges;
-# their code is unit-tested in reference/visualize_device_test.cpp), the reader rows that plant a
+# their code is unit-tested in reference/ue/visualize_device_test.cpp), the reader rows that plant a
 # sparse file over a size limit (*_too_big, 15-18 s each: the row hashes the 64-256 MiB it planted
 # to prove nothing else changed) and the unwrapped-coordinate replay under the worst-case model
 # (Pipelines.WorstCaseDevice*, 44 s, a planted-defect replay like Pipelines.Planted*).

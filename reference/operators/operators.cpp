@@ -6,7 +6,7 @@
 #include "color/d3d_math.h"
 #include "reference/color/device_allowance.h"
 #include "reference/color/ue_matrices.h"
-#include "reference/grading/hlsl_ops.h"
+#include "reference/ue/grading/hlsl_ops.h"
 
 namespace hdrc::ref::operators {
 

@@ -20,7 +20,7 @@
 #include "core/shader_interface.h"
 #include "reference/color/spirv_precision.h"
 #include "color/vec.h"
-#include "reference/grading/film_tonemap.h"
+#include "reference/ue/grading/film_tonemap.h"
 
 namespace hdrc::ref::operators {
 
@@ -92,7 +92,7 @@ inline constexpr double kUnityNeutralWhiteClip = 1.0;                           
 // N = rational_curve(·, kUnityNeutralCurve). Not clamped (above 1 from x ≈ 4.035).
 double unity_neutral(double x);
 
-// --- UE 5.5's FilmToneMap (TonemapCommon.ush; reference/grading/film_tonemap.h) ---
+// --- UE 5.5's FilmToneMap (TonemapCommon.ush; reference/ue/grading/film_tonemap.h) ---
 
 // The presets: Default from Scene.cpp FPostProcessSettings (UE 5.5), the others from the comment
 // above FilmToneMap in TonemapCommon.ush (izzy2lost/UnrealEngineUWP 5.5, commit

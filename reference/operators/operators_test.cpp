@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "reference/color/ue_matrices.h"
-#include "reference/grading/film_tonemap.h"
+#include "reference/ue/grading/film_tonemap.h"
 #include "reference/operators/operators_settings.h"
 
 namespace {

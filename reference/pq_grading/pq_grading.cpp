@@ -11,7 +11,7 @@
 #include "reference/color/linear_tap.h"
 #include "color/st2084.h"
 #include "reference/color/strip_device_range.h"
-#include "reference/grading/film_tonemap.h"
+#include "reference/ue/grading/film_tonemap.h"
 #include "reference/operators/operators.h"
 
 namespace hdrc::ref::pq_grading {

@@ -6,7 +6,7 @@
 // copies, Mephisto1024/Toon_Engine and lakeone/UE5.51MagicM, whose ACES.ush files are identical;
 // docs/ue55-decisions.md D2 and "Colour matrix literals"), which follows aces-dev v1.3
 // ACESlib.RRT_Common.ctl / ACESlib.Utilities_Color.ctl.
-// Reference (double): reference/aces/aces_common.h, reference/color/ue_matrices.h (ue_literal).
+// Reference (double): reference/ue/aces/aces_common.h, reference/color/ue_matrices.h (ue_literal).
 // gpu/aces_shader_test.cpp reads every constant here back from the GPU and compares it with
 // float(reference constant) exactly.
 //
@@ -47,7 +47,7 @@ const float RRT_RED_WIDTH = 135.0;  // degrees
 const float RRT_SAT_FACTOR = 0.96;
 
 // ACES.ush: rgb_2_hue's (180. / PI) and sqrt(3.0), folded to float constants. The reference takes
-// 180 / pi in double (reference/aces/aces_common.h: rgb_2_hue), so the float of that is used here.
+// 180 / pi in double (reference/ue/aces/aces_common.h: rgb_2_hue), so the float of that is used here.
 const float ACES_RAD_TO_DEG = 57.295779513082321;  // 180 / pi
 const float ACES_SQRT3 = 1.7320508075688772;      // sqrt(3)
 

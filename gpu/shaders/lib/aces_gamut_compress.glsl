@@ -1,7 +1,7 @@
 // ACES 1.3 reference gamut compression (forward), float32. Source: ACES.ush (5.0-era copy,
 // chenyong2github/UnrealEngine, commit 09c29cbee980f5c5fbff6c93cf6132e5f4bcf97a): compress,
 // max_f3, compressColor, which follow aces-dev v1.3 LMT.Academy.ReferenceGamutCompress.ctl, with
-// UE's any(ACES < 0) bypass (docs/ue55-decisions.md D2). Reference: reference/aces/aces_output.cpp
+// UE's any(ACES < 0) bypass (docs/ue55-decisions.md D2). Reference: reference/ue/aces/aces_output.cpp
 // (compress, compress_color).
 #ifndef HDRC_ACES_GAMUT_COMPRESS_GLSL
 #define HDRC_ACES_GAMUT_COMPRESS_GLSL

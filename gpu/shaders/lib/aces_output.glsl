@@ -6,7 +6,7 @@
 // TsParams overload of outputTransform is reconstructed (docs/ue55-decisions.md D2): the 5.0 body
 // with Y_MIN = Min.y, Y_MAX = Max.y, display and limiting primaries ACEScg (D60), EOTF 4 (linear),
 // dark surround, STRETCH_BLACK, no D60 simulation, full range. Reference (double):
-// reference/aces/aces_output.{h,cpp}. Spec §5.1.
+// reference/ue/aces/aces_output.{h,cpp}. Spec §5.1.
 //
 // Non-finite input (D3D semantics, as the reference): a NaN or +-Inf channel makes compressColor
 // NaN in every channel; lerp(aces, NaN, GamutCompression) is NaN even for GamutCompression = 0;

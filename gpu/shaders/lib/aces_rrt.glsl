@@ -1,7 +1,7 @@
 // ACES RRT sweeteners (glow module, red modifier, clamps, AP0 -> AP1 and the global
 // desaturation), float32. Source: ACES.ush (5.0-era copy, chenyong2github/UnrealEngine, commit
 // 09c29cbee980f5c5fbff6c93cf6132e5f4bcf97a): rrt_sweeteners. Reference:
-// reference/aces/aces_output.cpp (rrt_sweeteners). Spec §5.1 step 1.
+// reference/ue/aces/aces_output.cpp (rrt_sweeteners). Spec §5.1 step 1.
 #ifndef HDRC_ACES_RRT_GLSL
 #define HDRC_ACES_RRT_GLSL
 

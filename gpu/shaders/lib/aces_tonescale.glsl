@@ -2,11 +2,11 @@
 // float32. Sources: ACES.ush (5.0-era copy, chenyong2github/UnrealEngine, commit
 // 09c29cbee980f5c5fbff6c93cf6132e5f4bcf97a): TsPoint, TsParams, M1, ssts; TonemapCommon.ush 5.5
 // (izzy2lost/UnrealEngineUWP, commit aff11acf0c218535669021f6e646b3bcf6ad94a5):
-// FACESTonemapParams, ComputeACESTonemapParams. Reference: reference/aces/aces_output.{h,cpp}
+// FACESTonemapParams, ComputeACESTonemapParams. Reference: reference/ue/aces/aces_output.{h,cpp}
 // (ssts, spline_half, compute_aces_tonemap_params). Spec §5.2.
 //
 // The parameters are computed on the CPU (RenderCore.cpp: ConfigureACESTonemapParams, emulated in
-// reference/aces/aces_params.cpp) and reach the shader through the parameter block `P`
+// reference/ue/aces/aces_params.cpp) and reach the shader through the parameter block `P`
 // (aces_min_max, aces_mid, aces_coefs_low_0/high_0, aces_coefs_low_4/high_4); a shader including
 // aces_tonemap_params_from_block() must include "hdrc/interface.glsl" first.
 #ifndef HDRC_ACES_TONESCALE_GLSL

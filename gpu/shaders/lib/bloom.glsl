@@ -3,7 +3,7 @@
 // sampled at the pixel's buffer UV (ColorToBloom is the identity when bloom and scene share the
 // viewport), the dirt mask at LensUV · (1, −1) · 0.5 + 0.5. aux0 = bloom, aux1 = dirt mask; an
 // absent image has width 0 (UE binds black: RawBloom 0, Dirt 0 — the same sums for finite
-// values). Reference: reference/tonemap.cpp, steps 4–5.
+// values). Reference: reference/ue/tonemap.cpp, steps 4–5.
 #ifndef HDRC_BLOOM_GLSL
 #define HDRC_BLOOM_GLSL
 

@@ -1,6 +1,6 @@
 // Images held in storage buffers (vec4 per texel, row-major, as the interface binds in_px, aux0_px
 // and aux1_px), read as UE reads its textures in the Tonemap pass: texel fetches, and bilinear
-// samples with clamp-to-edge addressing at a buffer UV. Reference: reference/tonemap.cpp
+// samples with clamp-to-edge addressing at a buffer UV. Reference: reference/ue/tonemap.cpp
 // (sample_bilinear). Needs the generated interface ("hdrc/interface.glsl") included first.
 //
 // UE samples the scene colour, the bloom and the dirt mask with bilinear samplers and clamps the UV

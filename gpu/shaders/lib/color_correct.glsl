@@ -2,7 +2,7 @@
 // PostProcessCombineLUTs.usf: ColorCorrect, ColorCorrectAll. Parameters are
 // FPostProcessSettings Color{Saturation,Contrast,Gamma,Gain,Offset}{,Shadows,Midtones,Highlights}
 // and ColorCorrection{ShadowsMax,HighlightsMin,HighlightsMax} (P.cc_*). Reference:
-// reference/grading/color_correct.h. Needs the generated interface included first.
+// reference/ue/grading/color_correct.h. Needs the generated interface included first.
 #ifndef HDRC_COLOR_CORRECT_GLSL
 #define HDRC_COLOR_CORRECT_GLSL
 

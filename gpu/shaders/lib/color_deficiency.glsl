@@ -1,7 +1,7 @@
 // Colour-vision-deficiency simulation and correction as the HDR UI composite applies it:
 // ColorDeficiency.ush: ColorDeficiency (5.x; the 4.22 body read in folgerwang/UnrealEngine
 // Engine/Shaders/Private/SlatePostProcessColorDeficiencyPixelShader.usf, commit 2b46ba7b;
-// docs/ue55-decisions.md D8). Reference: reference/ui/color_deficiency.cpp color_deficiency.
+// docs/ue55-decisions.md D8). Reference: reference/ue/ui/color_deficiency.cpp color_deficiency.
 //
 // Tables: Machado, Oliveira & Fernandes (2009), the 2010 pre-computed matrices for severity 0.0 ..
 // 1.0 in steps of 0.1, as UE stores them (RGB_2_Deuteranomaly / RGB_2_Protanomaly /

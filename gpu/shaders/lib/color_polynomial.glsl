@@ -2,7 +2,7 @@
 // polynomial (PostProcessCommon.ush: ColorCorrection), the camera fade (View.ColorScale /
 // View.OverlayColor) and the film gamma (pow by InverseGamma.y), all in the linear working colour
 // space. The host computes the polynomial and InverseGamma as UE's C++ does
-// (reference/grading/color_polynomial.h); needs the generated interface included first.
+// (reference/ue/grading/color_polynomial.h); needs the generated interface included first.
 #ifndef HDRC_COLOR_POLYNOMIAL_GLSL
 #define HDRC_COLOR_POLYNOMIAL_GLSL
 

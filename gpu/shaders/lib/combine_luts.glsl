@@ -1,6 +1,6 @@
 // The colour function of one CombineLUTs texel (PostProcessCombineLUTs.usf: CombineLUTsCommon,
 // spec §4), composed from one file per concept, and the lattice coordinate of a texel (spec §4.2).
-// Reference: reference/combine_luts.cpp (combine_luts_texel, lattice_coordinate).
+// Reference: reference/ue/combine_luts.cpp (combine_luts_texel, lattice_coordinate).
 // Needs the generated interface ("hdrc/interface.glsl") included first.
 #ifndef HDRC_COMBINE_LUTS_GLSL
 #define HDRC_COMBINE_LUTS_GLSL
@@ -59,7 +59,7 @@ vec3 combine_luts_texel(vec3 lattice) { return combine_luts_device_color(lattice
 //  b = UV.x − r/N, g = UV.y, all × N/(N − 1) (PostProcessCombineLUTs.usf, MainPS). In exact
 //  arithmetic that is r = (r + ε)/(N − 1), g = (g + ε)/(N − 1), b = b/(N − 1) with ε = 0.5 − 0.49999
 //  = 1e-5: UE's bias on r and g (b's cancels), which the reference evaluates as UE writes it
-//  (reference/combine_luts.cpp lattice_coordinate).
+//  (reference/ue/combine_luts.cpp lattice_coordinate).
 //  The port evaluates the closed form (docs/ue55-decisions.md D-UV). UE's own form is ill-conditioned
 //  at r = 0: UV.x·N = b + ε/N lies within one float ulp of the integer b (ε/N = 3e-7 at N = 33, the
 //  ulp of 8 is 9.5e-7), so the 2.5-ULP division Vulkan allows can round it to just under b, whose

@@ -1,6 +1,6 @@
 // "Fake wide gamut" (ExpandGamut) of the CombineLUTs pass (spec §4.5): bright saturated AP1
 // colours are pushed towards a gamut between P3 and AP1. PostProcessCombineLUTs.usf:
-// CombineLUTsCommon (docs/ue55-decisions.md D1). Reference: reference/grading/expand_gamut.h.
+// CombineLUTsCommon (docs/ue55-decisions.md D1). Reference: reference/ue/grading/expand_gamut.h.
 #ifndef HDRC_EXPAND_GAMUT_GLSL
 #define HDRC_EXPAND_GAMUT_GLSL
 

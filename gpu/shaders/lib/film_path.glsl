@@ -1,7 +1,7 @@
 // The SDR film path of CombineLUTs (spec §4.8): blue correction, FilmToneMap, un-blue-correction,
 // all in AP1, then FromAP1 and max(0, ·). PostProcessCombineLUTs.usf: CombineLUTsCommon and its
 // BlueCorrect / BlueCorrectInv literals (Toon_Engine, commit 2dc09e82;
-// docs/ue55-decisions.md D1). Reference: reference/grading/film_tonemap.h (film_path_ap1,
+// docs/ue55-decisions.md D1). Reference: reference/ue/grading/film_tonemap.h (film_path_ap1,
 // film_color). Needs the generated interface included first.
 #ifndef HDRC_FILM_PATH_GLSL
 #define HDRC_FILM_PATH_GLSL

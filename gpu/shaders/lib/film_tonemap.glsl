@@ -2,7 +2,7 @@
 // aff11acf0c218535669021f6e646b3bcf6ad94a5; spec §4.8), AP1 in, AP1 out (>= 0). The ACES RRT
 // helpers and constants it borrows from ACES.ush (rgb_2_saturation, rgb_2_yc, sigmoid_shaper,
 // glow_fwd, rgb_2_hue, center_hue, RRT_*, AP0_2_AP1_MAT, AP1_RGB2Y) come from aces_common.glsl.
-// Reference: reference/grading/film_tonemap.h. Needs the generated interface included first
+// Reference: reference/ue/grading/film_tonemap.h. Needs the generated interface included first
 // (P.film_*).
 #ifndef HDRC_FILM_TONEMAP_GLSL
 #define HDRC_FILM_TONEMAP_GLSL

@@ -3,7 +3,7 @@
 // volume LUT (Texture3DSample) or of the unwrapped 2-D LUT (PostProcessCommon.ush
 // UnwrappedTexture3DSample), times 1.05. The samplers are the interface's lut_3d / lut_2d (linear
 // filtering, clamp-to-edge), bound to the image CombineLUTs wrote. Reference:
-// reference/combine_luts.cpp sample_lut.
+// reference/ue/combine_luts.cpp sample_lut.
 #ifndef HDRC_LUT_SAMPLE_GLSL
 #define HDRC_LUT_SAMPLE_GLSL
 

@@ -1,6 +1,6 @@
 // CombineLUTs' device encodings (PostProcessCombineLUTs.usf: CombineLUTsCommon, spec §4.12;
 // docs/ue55-decisions.md D1): OutDeviceColor for each EDisplayOutputFormat from the graded
-// colours. Reference: reference/combine_luts.cpp (combine_luts_texel). Matrices come from the
+// colours. Reference: reference/ue/combine_luts.cpp (combine_luts_texel). Matrices come from the
 // parameter block: P.wcs_to_ap1 (WorkingColorSpace.ToAP1) and P.ap1_to_output
 // (OuputGamutMappingMatrix(OutputGamut)); each is applied as its own product, as UE does.
 // Needs the generated interface included first.

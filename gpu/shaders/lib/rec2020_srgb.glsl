@@ -2,7 +2,7 @@
 // as products of ACES.ush's literal matrices, mul(XYZ_2_Rec2020_MAT, sRGB_2_XYZ_MAT) and
 // mul(XYZ_2_sRGB_MAT, Rec2020_2_XYZ_MAT) (lakeone/UE5.51MagicM 5.5.1 and izzy2lost/UnrealEngineUWP 5.5, commit 0ac46dcf:
 // ComputeHDRUIColor, ComputeHDRSceneColor, ApplyColorDeficiency, Main).
-// Values: float(reference/ui/composite.cpp srgb_to_rec2020() / rec2020_to_srgb()), the products
+// Values: float(reference/ue/ui/composite.cpp srgb_to_rec2020() / rec2020_to_srgb()), the products
 // evaluated in double and rounded once, printed losslessly into the generated interface; a test
 // reads them back from the GPU (gpu/ui_shader_test.cpp). Rows: out = M · v.
 #ifndef HDRC_REC2020_SRGB_GLSL

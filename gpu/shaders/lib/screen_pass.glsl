@@ -3,7 +3,7 @@
 // viewport parameters for a viewport that is the whole buffer: ScreenPosToViewportScale =
 // (W/2, −H/2), ScreenPosToViewportBias = (W/2, H/2), ExtentInverse = 1/(W, H)). The lens
 // principal-point transform is UE's default (offset 0, scale 1), so lens positions equal screen
-// positions. Reference: reference/tonemap.cpp (u = (x + 0.5)/W, pos = (2u − 1, 1 − 2v)).
+// positions. Reference: reference/ue/tonemap.cpp (u = (x + 0.5)/W, pos = (2u − 1, 1 − 2v)).
 #ifndef HDRC_SCREEN_PASS_GLSL
 #define HDRC_SCREEN_PASS_GLSL
 

@@ -1,7 +1,7 @@
 // UE 5.5's user colour-grading LUT blend in CombineLUTs (docs/ue55-lut-blend-spec.md §3):
 // PostProcessCombineLUTs.usf: CombineLUTsCommon's `#if BLENDCOUNT > 1` block and
 // PostProcessCommon.ush: UnwrappedTexture3DSample (lakeone/UE5.51MagicM, stock 5.5.1).
-// Reference: reference/ue_lut_blend.cpp (unwrapped_texture3d_sample, blend_user_luts).
+// Reference: reference/ue/ue_lut_blend.cpp (unwrapped_texture3d_sample, blend_user_luts).
 // The texture is a 16-point LUT unwrapped to 256 × 16 (texel (r + 16 b, g)), sampled with
 // linear filtering and clamp-to-edge: the GPU's bilinear filter does red and green, the shader's
 // lerp by the fractional slice does blue, as in UE.

@@ -2,7 +2,7 @@
 // luminance ↔ histogram-position mapping (PostProcessHistogramCommon.ush:
 // CalculateEyeAdaptationLuminance, ComputeHistogramPositionFromLogLuminance,
 // ComputeLogLuminanceFromHistogramPosition; izzy2lost/UnrealEngineUWP 5.5, commit 2ad5a489).
-// Reference: reference/visualize/histogram.h.
+// Reference: reference/ue/visualize/histogram.h.
 //
 // GetEyeAdaptationParameters (PostProcessEyeAdaptation.cpp) computes the parameters on the CPU.
 // No case sets the settings they come from (the reference uses default_settings(true): a UE5

@@ -2,7 +2,7 @@
 // 5.5, commit 39bb2572; spec §9; docs/ue55-decisions.md D9 and D-S2 item 5, which override the
 // spec where they differ), in MainPS's order: the luminance meter and the illuminance meter return
 // early; then the background by r.EyeAdaptation.VisualizeDebugType; then the histogram panel.
-// Reference: reference/visualize/visualize_hdr.cpp visualize_hdr (per pixel, the loop body).
+// Reference: reference/ue/visualize/visualize_hdr.cpp visualize_hdr (per pixel, the loop body).
 //
 // Not drawn, as in the reference: MainPS's MiniFont glyphs (the printed numbers, "NIT", "EV100",
 // "LUX") and the FCanvas text; their numbers are in the scratch buffer (visualize_scratch.glsl)

@@ -1,5 +1,5 @@
 // The 64-bucket luminance histogram as UE 5.5 builds and reads it (reference:
-// reference/visualize/histogram.cpp):
+// reference/ue/visualize/histogram.cpp):
 //  * Histogram.usf: CalculateBucketsAndWeights, PackFloatToUINT32 (r.Histogram.UseAtomic = 1;
 //    chenyong2github/UnrealEngine UE5 copy, commit 3961015d) — the bilinear splat between the two
 //    buckets that straddle the position, each weight stored as 13.19 fixed point;

@@ -2,7 +2,7 @@
 // docs/ue55-decisions.md D9, D-S2 item 5): the luminance meter averages 21×21 bilinear samples at
 // UVViewportCenter + offset · ExtentInverse, the illuminance meter 16×16 samples (offsets −8..7)
 // around (centre − (0, 100)) · ExtentInverse; the pass's sampler is bilinear with clamp
-// addressing. Reference: reference/visualize/visualize_hdr.cpp (sample_bilinear and the meters).
+// addressing. Reference: reference/ue/visualize/visualize_hdr.cpp (sample_bilinear and the meters).
 #ifndef HDRC_VISUALIZE_METER_GLSL
 #define HDRC_VISUALIZE_METER_GLSL
 

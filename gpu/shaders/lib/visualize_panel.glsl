@@ -1,6 +1,6 @@
 // VisualizeHDR's histogram panel geometry and colour ramp (PostProcessVisualizeHDR.usf: MainPS,
 // izzy2lost/UnrealEngineUWP 5.5, commit 39bb2572; PostProcessCommon.ush: ComputeDistanceToRect).
-// Reference: reference/visualize/visualize_hdr.cpp panel_geometry, distance_to_rect, colorize.
+// Reference: reference/ue/visualize/visualize_hdr.cpp panel_geometry, distance_to_rect, colorize.
 #ifndef HDRC_VISUALIZE_PANEL_GLSL
 #define HDRC_VISUALIZE_PANEL_GLSL
 

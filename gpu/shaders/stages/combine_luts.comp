@@ -4,7 +4,7 @@
 // dispatch is (r, g, b) with r fastest, then g, then b (N = P.lut_size). The stored value,
 // OutDeviceColor / 1.05, goes to the 3-D image for the volume layout (P.lut_layout 0) or to texel
 // (r + N·b, g) of the N² × N image for the unwrapped layout (1); the image's format (A2B10G10R10
-// UNORM, RGBA16F or RGBA32F) does the storage rounding. Reference: reference/combine_luts.cpp
+// UNORM, RGBA16F or RGBA32F) does the storage rounding. Reference: reference/ue/combine_luts.cpp
 // (bake_lut).
 #include "hdrc/interface.glsl"
 #include "../lib/combine_luts.glsl"

@@ -1,7 +1,7 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // Stage "dither": the Tonemap pass's quantisation dither added to the input image (spec §6.1 step
-// 10); alpha passes through. Reference: reference/tonemap.cpp (dither_image).
+// 10); alpha passes through. Reference: reference/ue/tonemap.cpp (dither_image).
 #include "hdrc/interface.glsl"
 #include "../lib/dither.glsl"
 

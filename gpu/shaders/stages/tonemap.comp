@@ -4,7 +4,7 @@
 // PostProcessTonemap.usf TonemapCommonPS (MainCS), spec §6.1 steps 1–9; the dither (step 10) is
 // the separate stage "dither". One invocation per output pixel of P.width × P.height. Output:
 // RGB = the device colour after the post conversion, alpha = OutLuminance (the luminance UE writes
-// for post-process AA). Reference: reference/tonemap.cpp tonemap_image.
+// for post-process AA). Reference: reference/ue/tonemap.cpp tonemap_image.
 #include "hdrc/interface.glsl"
 #include "../lib/lut_sample.glsl"
 #include "../lib/post_device.glsl"

@@ -3,7 +3,7 @@
 // Stage "ui_composite": the HDR UI composite over the back buffer (in_px: PQ signals for devices
 // 3/4, scRGB for 5/6) with the UI layer in aux0_px (premultiplied, sRGB-encoded, the back
 // buffer's size), both read at the pixel's own position as UE's point samplers do.
-// Reference: reference/reference_engine.cpp ui_composite_stage → reference/ui/composite.cpp.
+// Reference: reference/reference_engine.cpp ui_composite_stage → reference/ue/ui/composite.cpp.
 #include "hdrc/interface.glsl"
 #include "../lib/ui_composite.glsl"
 

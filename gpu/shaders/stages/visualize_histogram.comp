@@ -4,7 +4,7 @@
 // scene (in_px), its outlier-free average luminance, the two meters' averages and the numbers
 // MainPS prints, written to scratch_px[W·H, W·H + 22) (layout: lib/visualize_scratch.glsl).
 // scratch_px[0, W·H) holds the tonemapped scene from the tonemap pass.
-// Reference: reference/reference_engine.cpp visualize_hdr_stage, reference/visualize/*.
+// Reference: reference/reference_engine.cpp visualize_hdr_stage, reference/ue/visualize/*.
 //
 // The histogram sums every pixel's 13.19 fixed-point weights exactly, as Histogram.usf's atomic
 // path does, but in 64 bits (two 32-bit words with carry): with 2^19 per unit weight a 32-bit

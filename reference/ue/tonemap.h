@@ -1,0 +1,61 @@
+// The Tonemap pass (PostProcessTonemap.usf: TonemapCommonPS, spec §6.1) in double precision, and
+// its quantisation dither (step 10) as a separate stage: the dither's hash frac(sin(·)·493013)
+// amplifies sin's last-bit differences ~5e5 times, so it is judged on its own (docs/precision.md).
+#pragma once
+
+#include "core/image.h"
+#include "core/shader_interface.h"
+#include "color/vec.h"
+#include "reference/ue/combine_luts.h"
+
+namespace hdrc::ref {
+
+struct TonemapTrace {
+  Vec3 scene{};          // after fringe and sharpen
+  Vec3 exposed{};        // FinalLinear: tint, exposure, vignette, bloom
+  Vec3 encoded{};        // the shaper-encoded lookup coordinate
+  Vec3 lut{};            // OutDevice: LUT sample × 1.05
+  Vec3 output{};         // after the per-device post conversion (scRGB, LinearEXR)
+  double luminance = 0;  // OutLuminance = dot(OutDevice, (0.299, 0.587, 0.114))
+};
+
+// One pixel at the centre of the screen (no vignette, fringe, sharpen or bloom), as `probe` uses
+// it. `lut` null: CombineLUTs evaluated analytically at the encoded coordinate (clamped as the
+// sampler addresses it); else the baked LUT sampled as UE samples it.
+Vec3 tonemap_centre_pixel(const ParamBlock& p, const Vec3& scene, const BakedLut* lut,
+                          TonemapTrace* trace = nullptr);
+// The same with the analytic lookup's parameters unpacked once by the caller (`texel` built from
+// `p`; null: as above).
+Vec3 tonemap_centre_pixel(const ParamBlock& p, const Vec3& scene, const BakedLut* lut,
+                          TonemapTrace* trace, const TexelEvaluator* texel);
+
+// The whole pass over `scene` (the viewport is the image). `bloom` and `dirt` may be null (no
+// bloom, no dirt mask); Bloom = RawBloom · (1 + Dirt · BloomDirtMaskTint), both sampled bilinearly
+// at the pixel's buffer UV (LensUV·(1, −1)·0.5 + 0.5 with the default lens transform). Output RGB
+// is the device-encoded colour before dither, alpha is OutLuminance.
+Image tonemap_image(const ParamBlock& p, const Image& scene, const Image* bloom, const Image* dirt,
+                    const BakedLut* lut);
+// The same with the LUT baked lazily, only the texels the pass reads (`lazy` built from `p`; `lut`
+// ignored when it is set): bit for bit the output of the whole LUT's bake.
+Image tonemap_image(const ParamBlock& p, const Image& scene, const Image* bloom, const Image* dirt,
+                    const BakedLut* lut, LazyBakedLut* lazy);
+// The same, and with `device_lut` (bake_lut_device of `p`) the device allowances too: every
+// pixel's range on a conformant device with `sub_texel_bits` (Image::device_admissible).
+Image tonemap_image(const ParamBlock& p, const Image& scene, const Image* bloom, const Image* dirt,
+                    const BakedLut* lut, LazyBakedLut* lazy, const BakedLut* device_lut,
+                    int sub_texel_bits);
+
+// The baked pass's LUT for `p` over an image of `pixels` pixels: true when baking only the texels
+// read (at most 8 per pixel) costs less than the whole LUT's bake (which the process-wide cache
+// can share between cases).
+bool lazy_bake_pays(const ParamBlock& p, size_t pixels);
+
+// Step 10: the triangular quantisation dither added to `in` (p.dither_amount, p.grain_random).
+// The grain hash is evaluated in float32 as the shader does; see docs/precision.md.
+double dither_grain(double u, double v);  // the uniform grain g in [0, 1)
+Image dither_image(const ParamBlock& p, const Image& in);
+
+// TonemapCommon.ush: ST2084ToScRGB for devices 5/6 (spec §3.5).
+Vec3 st2084_to_scrgb(const Vec3& pq, double max_odt_nits);
+
+}  // namespace hdrc::ref
