@@ -505,6 +505,39 @@ TEST(Aces2Tables, UpperHullGammaWrapsAndIsFound) {
   }
 }
 
+TEST(Aces2Tables, UpperHullGammaIsTheSmallestFittingGammaAtEachWholeDegree) {
+  // ACESUtils.cpp: MakeUpperHullGamma / EvaluateGammaFit, re-derived here from the public stages:
+  // at hue i°, the boundary estimated with gamma = entry 1 + i at 1 %, 50 % and 99 % of the way
+  // from cusp J to limit_j_max lies outside the limiting cube (some channel · 100/peak > 1); with
+  // gamma − 1e-5 (the search accuracy) at least one lies inside.
+  const Fixture& f = p3_1000();
+  const JMhParams lim = make_jmh_params(kP3D65);
+  const auto fits = [&](double hue, double gamma) {
+    const std::array<double, 2> cusp = cusp_from_table(hue, f.t);
+    const double jmax = f.p.limit_j_max;
+    const double focus_j = cusp[0] + std::fmin(1.0, 1.3 - cusp[0] / jmax) * (f.p.mid_j - cusp[0]);
+    for (const double pos : {0.01, 0.5, 0.99}) {
+      const Vec3 test{cusp[0] + (jmax - cusp[0]) * pos, cusp[1], hue};
+      const double thr = cusp[0] + 0.3 * (jmax - cusp[0]);  // GetFocusGain
+      const double gain =
+          test[0] > thr
+              ? std::pow(std::log10((jmax - thr) / std::fmax(0.0001, jmax - test[0])), 1.0 / 0.55) +
+                    1.0
+              : 1.0;
+      const Vec3 b = find_gamut_boundary_intersection(
+          test, cusp, focus_j, jmax, jmax * f.p.focus_dist * gain, gamma, f.p.lower_hull_gamma);
+      const Vec3 rgb = host_jmh_to_rgb({b[0], b[1], hue}, lim);
+      if (!(std::max({rgb[0], rgb[1], rgb[2]}) * 100.0 / f.p.peak_luminance > 1.0)) return false;
+    }
+    return true;
+  };
+  for (int i = 0; i < kTableSize; ++i) {
+    const double g = f.t.upper_hull_gamma[i + kBaseIndex];
+    EXPECT_TRUE(fits(i, g)) << i << " " << g;
+    EXPECT_FALSE(fits(i, g - 1e-5)) << i << " " << g;
+  }
+}
+
 // ---- Round trips ----------------------------------------------------------------------------
 
 TEST(Aces2RoundTrip, ForwardOfInverseOnInGamutDisplayColours) {
