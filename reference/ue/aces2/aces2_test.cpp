@@ -584,3 +584,112 @@ TEST(Aces2RoundTrip, DisplayNitsThroughUeWrapper) {
 }
 
 }  // namespace
+
+namespace {
+
+// ---- Measured size of each UE-vs-OCIO difference (docs/ue58-decisions.md, table) -------------
+// Stimuli: OCIO's 35 inputs; a hue sweep of saturated AP1 colours (HSV(h, 1, 1) in ACEScg,
+// h = 0…359°) and one of saturated AP0 colours (the same in ACES2065-1 primaries, which leave
+// AP1), each at exposures 0.01, 0.18, 1, 4, 16, 64, 256: 5,075 colours. Output: TonemapCommon.ush
+// ACESOutputTransform (peak clamp, no white scale) in encoding nits; sizes as the largest absolute
+// difference in linear (1.0 = 100 nits) and in 10-bit full-range PQ codes (1023 · PQ(nits)).
+// in_ap1: OCIO's inputs and the AP1 sweep (3,395 colours); otherwise the AP0 sweep (2,520).
+std::vector<Vec3> difference_stimuli(bool in_ap1_set) {
+  std::vector<Vec3> s;
+  if (in_ap1_set) s.assign(kOtInput.begin(), kOtInput.end());
+  const Mat3 ap1_to_ap0 = hdrc::ref::inverse(rgb_to_xyz(kAp0)) * rgb_to_xyz(kAp1);
+  for (const bool in_ap1 : {in_ap1_set}) {
+    for (const double exposure : {0.01, 0.18, 1.0, 4.0, 16.0, 64.0, 256.0}) {
+      for (int h = 0; h < 360; ++h) {
+        const double x = h / 60.0;
+        const double f = 1.0 - std::fabs(std::fmod(x, 2.0) - 1.0);
+        const int sector = h / 60;
+        const Vec3 hsv[6] = {{1, f, 0}, {f, 1, 0}, {0, 1, f}, {0, f, 1}, {f, 0, 1}, {1, 0, f}};
+        const Vec3 rgb{hsv[sector][0] * exposure, hsv[sector][1] * exposure,
+                       hsv[sector][2] * exposure};
+        s.push_back(in_ap1 ? ap1_to_ap0 * rgb : rgb);
+      }
+    }
+  }
+  return s;
+}
+
+double pq_code(double nits) {
+  // SMPTE ST 2084 inverse EOTF, 10-bit full range.
+  const double m1 = 2610.0 / 16384.0, m2 = 2523.0 / 4096.0 * 128.0;
+  const double c1 = 3424.0 / 4096.0, c2 = 2413.0 / 4096.0 * 32.0, c3 = 2392.0 / 4096.0 * 32.0;
+  const double y = std::pow(std::fmax(nits, 0.0) / 10000.0, m1);
+  return 1023.0 * std::pow((c1 + c2 * y) / (1.0 + c3 * y), m2);
+}
+
+struct Size {
+  double linear = 0, pq = 0;
+};
+
+Size measure(const Params& p, const Tables& ta, const Behaviour& a, const Tables& tb,
+             const Behaviour& b, bool in_ap1_set) {
+  Size s;
+  for (const Vec3& aces : difference_stimuli(in_ap1_set)) {
+    const Vec3 x = aces_output_transform_nits(aces, p, ta, false, a);
+    const Vec3 y = aces_output_transform_nits(aces, p, tb, false, b);
+    for (int c = 0; c < 3; ++c) {
+      const double dl = std::fabs(x[c] - y[c]) / 100.0;
+      const double dp = std::fabs(pq_code(x[c]) - pq_code(y[c]));
+      s.linear = std::isnan(dl) ? dl : std::fmax(s.linear, dl);
+      s.pq = std::isnan(dp) ? dp : std::fmax(s.pq, dp);
+    }
+  }
+  return s;
+}
+
+struct Display {
+  const char* name;
+  double peak;
+  const Chromaticities* limit;
+  const Chromaticities* output;
+};
+
+TEST(Aces2Differences, MeasuredSizes) {
+  for (const Display& d :
+       {Display{"1000-nit P3-D65 limit, Rec.2020 out", 1000.0, &kP3D65, &kRec2020},
+        Display{"100-nit Rec.709", 100.0, &kRec709, &kRec709}}) {
+    const Params p = make_params(d.peak, *d.limit, *d.output);
+    const Tables t = make_tables(p, *d.limit);
+    const Tables tf = make_tables(p, *d.limit, TableScalar::kFloat32);
+    Behaviour clamp = kUe, mats = kUe, guard = kUe;
+    clamp.ap1_clamp = Flavour::kOcio;
+    mats.matrices = Flavour::kOcio;
+    guard.boundary_guard = Flavour::kOcio;
+    std::printf("%s (max |UE − variant|, linear 1.0 = 100 nits / 10-bit PQ codes):\n", d.name);
+    for (const bool in_ap1 : {true, false}) {
+      const Size s1 = measure(p, t, kUe, t, clamp, in_ap1);
+      const Size s2 = measure(p, t, kUe, t, mats, in_ap1);
+      const Size s3 = measure(p, t, kUe, t, guard, in_ap1);
+      const Size sa = measure(p, t, kUe, t, kOcio, in_ap1);
+      const Size st = measure(p, t, kUe, tf, kUe, in_ap1);
+      std::printf(
+          " %s:\n"
+          "  D1 AP1 clamp off       %.3g / %.3g\n"
+          "  D2 derived matrices    %.3g / %.3g\n"
+          "  D3 boundary guard      %.3g / %.3g\n"
+          "  all three (OCIO mode)  %.3g / %.3g\n"
+          "  A3 float32 host tables %.3g / %.3g\n",
+          in_ap1 ? "OCIO inputs + AP1 sweep" : "AP0 sweep", s1.linear, s1.pq, s2.linear, s2.pq,
+          s3.linear, s3.pq, sa.linear, sa.pq, st.linear, st.pq);
+      // The documented sizes (docs/ue58-decisions.md) as bounds; NaN fails every comparison.
+      EXPECT_LE(s2.linear, 1e-8) << d.name;
+      EXPECT_LE(s2.pq, 1e-3) << d.name;
+      EXPECT_EQ(s3.linear, 0.0) << d.name;
+      EXPECT_LE(st.linear, 5e-4) << d.name;
+      EXPECT_LE(st.pq, 1.0) << d.name;
+      if (in_ap1) {
+        // Inside AP1 the clamp only meets rounding-size negatives (OCIO's primaries · 4).
+        EXPECT_LE(s1.linear, 1e-8) << d.name;
+      } else {
+        EXPECT_GE(s1.linear, 0.5) << d.name;  // outside AP1 it is the largest difference
+      }
+    }
+  }
+}
+
+}  // namespace
