@@ -593,7 +593,7 @@ namespace {
 // AP1), each at exposures 0.01, 0.18, 1, 4, 16, 64, 256: 5,075 colours. Output: TonemapCommon.ush
 // ACESOutputTransform (peak clamp, no white scale) in encoding nits; sizes as the largest absolute
 // difference in linear (1.0 = 100 nits) and in 10-bit full-range PQ codes (1023 · PQ(nits)).
-// in_ap1: OCIO's inputs and the AP1 sweep (3,395 colours); otherwise the AP0 sweep (2,520).
+// in_ap1: OCIO's inputs and the AP1 sweep (2,555 colours); otherwise the AP0 sweep (2,520).
 std::vector<Vec3> difference_stimuli(bool in_ap1_set) {
   std::vector<Vec3> s;
   if (in_ap1_set) s.assign(kOtInput.begin(), kOtInput.end());
