@@ -10,6 +10,8 @@
 
 namespace hdrc {
 
+// The UE family's stages (reference/ue/), which its engines dispatch on; kOther for every other
+// pipeline's.
 enum class StageId {
   kShaper,        // LUT shaper encode → clamp (sampler addressing) → CombineLUTs decode
   kLinearDevice,  // shaper round trip, then device 7 or 8 encode and the tonemapper's decode
@@ -38,7 +40,7 @@ struct StagePass {
 };
 
 struct StageInfo {
-  StageId id;                          // UE 5.5's stages; kOther for every other pipeline's
+  StageId id;                          // the UE family's stages; kOther for every other pipeline's
   std::string_view name;               // the name cases use
   std::vector<StagePass> passes;       // GPU passes, run in order in one submission
   std::string_view description;        // one line, with the spec sections it implements
@@ -59,9 +61,6 @@ struct StageInfo {
   // BGRA8; both engines see those values).
   bool user_lut_unorm8 = false;
 };
-
-// UE 5.5's stages (pipeline "ue55").
-const std::vector<StageInfo>& stage_table();
 
 // The pass shaders of `stage` that do not exist under `shader_dir` (empty: the stage has a complete
 // GPU implementation there).

@@ -17,9 +17,10 @@
 #include "core/shader_interface.h"
 #include "gpu/device_bounds_test.h"
 #include "gpu/shader_constants.h"
-#include "reference/ue/combine_luts.h"
 #include "reference/reference_engine.h"
+#include "reference/ue/combine_luts.h"
 #include "reference/ue/cpp/resolve.h"
+#include "reference/ue/ue55/ue55_pipeline.h"
 
 namespace fs = std::filesystem;
 
@@ -494,7 +495,7 @@ TEST(VulkanEngine, ValidationLayerIsClean) {
     for (int c = 0; c < 4; ++c) ramp.data[i * 4 + c] = std::pow(10.0, -4.0 + 6.0 * i / 256.0);
   int ran = 0;
   std::string stages;
-  for (const auto& stage : hdrc::stage_table()) {
+  for (const auto& stage : hdrc::ref::ue55_stage_table()) {
     if (!hdrc::missing_shaders(stage, hdrc::gpu::default_shader_dir()).empty()) continue;
     stages += " " + std::string(stage.name);
     for (int format : {0, 1, 2})

@@ -17,6 +17,7 @@
 #include "gpu/shader_probe.h"
 #include "gpu/vulkan_engine.h"
 #include "reference/ue/cpp/resolve.h"
+#include "reference/ue/ue55/ue55_pipeline.h"
 
 namespace {
 
@@ -124,7 +125,7 @@ TEST(Hygiene, PoisoningIsCleanUnderValidation) {
   const hdrc::Status st = engine.init();
   ASSERT_TRUE(st.ok()) << st.error().to_string();
   int ran = 0;
-  for (const auto& stage : hdrc::stage_table()) {
+  for (const auto& stage : hdrc::ref::ue55_stage_table()) {
     if (!hdrc::missing_shaders(stage, hdrc::gpu::default_shader_dir()).empty()) continue;
     for (int format : {0, 1, 2})
       for (int layout : {0, 1}) {

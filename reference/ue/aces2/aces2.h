@@ -24,7 +24,7 @@
 
 #include <array>
 
-#include "reference/color/vec.h"
+#include "color/vec.h"
 
 namespace hdrc::ref::aces2 {
 

@@ -7,8 +7,8 @@
 #include "core/stage.h"
 #include "reference/color/ue_log_shaper.h"
 #include "reference/color/ue_matrices.h"
-#include "reference/ue/combine_luts.h"
 #include "reference/reference_engine.h"
+#include "reference/ue/combine_luts.h"
 #include "reference/ue/cpp/resolve.h"
 
 namespace hdrc::ref {
@@ -172,7 +172,7 @@ const Pipeline& ue55_pipeline() {
       "docs/ue55-decisions.md",
       "CombineLUTs, ACES 1.3 output, the Tonemap pass, HDR UI composite, VisualizeHDR and the cvar "
       "semantics of UE 5.5 (docs/ue55-decisions.md)",
-      &stage_table,
+      &ue55_stage_table,
       &cvar_table,
       &setting_table,
       &setting_choices,
