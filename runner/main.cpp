@@ -517,21 +517,28 @@ int main(int argc, char** argv) {
   if (*report_cmd) {
     // Nothing is written into a folder that holds no run's results (`report CASES` used to leave
     // CASES/.lock): its results.json is read before the lock is taken, and read again under it.
-    if (auto doc = hdrc::read_results_json(hdrc::published_run_dir(report_dir) + "/results.json");
-        !doc) {
+    if (auto doc = hdrc::read_results_json(report_dir + "/results.json"); !doc) {
       std::fprintf(stderr, "error: %s\n", doc.error().to_string().c_str());
       return hdrc::kExitBadInput;
     }
-    auto lock = hdrc::OutputLock::take(report_dir);  // not while a run publishes there
-    if (!lock) {
-      std::fprintf(stderr, "error: %s\n", lock.error().to_string().c_str());
+    // Rebuilt like a run is published (runner/output_set.h): a copy of the folder without its
+    // report (hard links), the new report written there, the copy swapped in whole; not while
+    // a run publishes there (the lock).
+    auto set = hdrc::OutputSet::open(report_dir, {}, "RESULTS_DIR", {"report"});
+    if (!set) {
+      std::fprintf(stderr, "error: %s\n", set.error().to_string().c_str());
       return hdrc::kExitBadInput;
     }
-    auto info = hdrc::write_report(hdrc::published_run_dir(report_dir), jobs);
+    auto info = hdrc::write_report((*set)->staging(), jobs);
     if (!info) {
       std::fprintf(stderr, "error: %s\n", info.error().to_string().c_str());
       return hdrc::kExitBadInput;
     }
+    if (hdrc::Status st = (*set)->publish(); !st) {
+      std::fprintf(stderr, "error: %s\n", st.error().to_string().c_str());
+      return hdrc::kExitFail;
+    }
+    info->index_path = report_dir + "/report/index.html";
     std::error_code ec;
     std::printf("report: %zu cases, %zu files, %.1f MB in %.2f s (CPU %.2f s)\nreport: %s\n",
                 info->cases, info->files, info->bytes / 1e6, info->seconds, info->cpu_seconds,

@@ -88,6 +88,7 @@ struct RunProvenance {
   std::string reproduce;       // command_line without the options choosing cases and outputs
   std::string reproduce_args;  // the same after the subcommand: what a case's reproduce repeats
   std::string cwd;
+  std::string hostname;                 // gethostname(2): JUnit's testsuite hostname
   std::string shader_dir, shader_hash;  // the Vulkan engine's shaders (path, directory_hash)
   std::string build_type, compiler, tool_version;
   std::string suite_fingerprint;  // SHA-256 of the selected (unsharded) ids and case hashes
