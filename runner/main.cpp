@@ -215,11 +215,19 @@ int main(int argc, char** argv) {
     sub->add_option("--shard", shard, shard_help);
     sub->add_option("--timings", timings, timings_help);
   };
-  // run and verify: which cases, and what their output folder keeps.
+  // run and verify: which cases, in which order, and what their output folder keeps.
+  hdrc::SuiteOptions suite;  // the options run_suite takes (runner/verify.h)
   auto add_run_outputs = [&](CLI::App* sub, const std::string& failed) {
     add_cases(sub);
     sub->add_option("--rerun-failed", rerun_failed,
                     "only the cases DIR/results.json lists as failed (" + failed + ")");
+    sub->add_option(
+        "--failed-first", suite.failed_first_dir,
+        "the cases DIR/results.json lists as failed (" + failed + ") run first, then the others");
+    sub->add_option("--maxfail", suite.max_fail,
+                    "start no case after N cases failed (FAIL, ERROR, MISSING); the rest are "
+                    "NOT_RUN, the output is complete, exit 1")
+        ->check(CLI::Range(1, 1000000));
     sub->add_option("--images", images, images_help)
         ->check(CLI::IsMember({"failing", "all", "none"}));
     sub->add_option("--out", out_dir, "output directory for results.json, junit.xml, report/")
@@ -338,7 +346,6 @@ int main(int argc, char** argv) {
   verify->add_option("--timeout", cmd_timeout, "seconds a candidate command may take per case")
       ->check(CLI::Validator(hdrc::check_timeout_seconds, "SECONDS"))
       ->capture_default_str();
-  hdrc::SuiteOptions suite;  // verify's candidate protocol options (runner/verify.h)
   verify->add_flag("--require-all", suite.require_all,
                    "fail the run when the candidate declines a case (UNSUPPORTED)");
   verify->add_option("--candidate-limits", suite.candidate_limits,
@@ -563,6 +570,14 @@ int main(int argc, char** argv) {
   if (!selection) {
     std::fprintf(stderr, "error: %s\n", selection.error().to_string().c_str());
     return hdrc::kExitBadInput;
+  }
+  if (!suite.failed_first_dir.empty()) {  // read like --rerun-failed's (bounded, schema-checked)
+    auto ids = hdrc::failed_case_ids(suite.failed_first_dir);
+    if (!ids) {
+      std::fprintf(stderr, "error: --failed-first: %s\n", ids.error().to_string().c_str());
+      return hdrc::kExitBadInput;
+    }
+    suite.failed_first = std::move(*ids);
   }
   if (int code = load_or_report(cases_dir, *selection, &cases, &limits, suite_name);
       code != hdrc::kExitPass)

@@ -116,8 +116,9 @@ RunProvenance run_provenance(int argc, char** argv, const std::vector<Case>& cas
   p.commit = source_commit();
   p.command_line = command_line(argc, argv);
   // Options that choose cases, outputs or parallelism are left out of the reproduce command.
-  static const std::vector<std::string> kDrop = {"--filter",  "--shard",  "--out", "--rerun-failed",
-                                                 "--timings", "--images", "-j",    "--jobs"};
+  static const std::vector<std::string> kDrop = {
+      "--filter",  "--shard",  "--out", "--rerun-failed", "--failed-first", "--maxfail",
+      "--timings", "--images", "-j",    "--jobs"};
   for (int i = 0; i < argc && i < 4096; ++i) {
     const std::string a = argv[i];
     bool drop = false;

@@ -265,6 +265,8 @@ std::string results_json(const RunReport& r) {
       {"jobs", r.jobs},
       {"shard", r.shard.empty() ? json(nullptr) : json(r.shard)},
       {"interrupted", r.interrupted},
+      {"max_fail", r.max_fail > 0 ? json{{"limit", r.max_fail}, {"stopped", r.stopped_by_max_fail}}
+                                  : json(nullptr)},
       {"reference", device(r.reference_device)},
       {"candidate", device(r.candidate_device)},
       {"candidate_unavailable", r.candidate_unavailable},

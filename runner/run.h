@@ -107,7 +107,9 @@ struct RunReport {
   int jobs = 1;
   std::string shard;  // "K/N", or "" when unsharded
   bool interrupted = false;
-  bool require_all = false;  // verify --require-all: UNSUPPORTED cases fail the run
+  int max_fail = 0;                  // --maxfail N (0: none)
+  bool stopped_by_max_fail = false;  // N cases failed and the rest did not start (NOT_RUN)
+  bool require_all = false;          // verify --require-all: UNSUPPORTED cases fail the run
   // verify --candidate-limits FILE: the port's declared deviations (shown by the report).
   std::string candidate_limits_file;
   std::vector<KnownLimit> candidate_limits;
@@ -130,6 +132,9 @@ struct RunOptions {
   std::string image_dir;
   // Set (e.g. by a SIGINT handler) to stop starting cases; cases not started are NOT_RUN.
   const std::atomic<bool>* interrupt = nullptr;
+  // --maxfail N (pytest's): no case starts once N cases have failed (FAIL, ERROR, MISSING); the
+  // cases not started are NOT_RUN. 0: no limit.
+  int max_fail = 0;
   // Called for each case in case order as soon as it and every case before it have finished,
   // so the output is the same for any -j. `done` counts finished cases.
   std::function<void(const CaseResult&, size_t index, size_t total)> on_case;

@@ -607,6 +607,14 @@ int run_suite(std::vector<Case> cases, const std::vector<KnownLimit>& limits,
       return kExitBadInput;
     }
   }
+  if (!options.failed_first_dir.empty()) {
+    const auto first = std::stable_partition(cases.begin(), cases.end(), [&](const Case& c) {
+      return options.failed_first.count(c.id) > 0;
+    });
+    std::printf("failed first: %zu case(s) that failed in %s/results.json run first\n",
+                static_cast<size_t>(first - cases.begin()), options.failed_first_dir.c_str());
+  }
+  ro.max_fail = options.max_fail;
   ro.jobs = options.jobs;
   ro.device_allowances = options.device_allowances;
   ro.known_limits = all_limits;
@@ -648,6 +656,12 @@ int run_suite(std::vector<Case> cases, const std::vector<KnownLimit>& limits,
   }
   print_summary(report);
   if (report.interrupted) std::printf("interrupted: unfinished cases are NOT_RUN\n");
+  if (report.stopped_by_max_fail)
+    std::printf("stopped: --maxfail %d: %d cases failed; %d cases not run (NOT_RUN)\n",
+                report.max_fail,
+                report.count(CaseVerdict::kFail) + report.count(CaseVerdict::kError) +
+                    report.count(CaseVerdict::kMissing),
+                report.count(CaseVerdict::kNotRun));
   return report.exit_code();
 }
 
