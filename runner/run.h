@@ -173,8 +173,8 @@ double static_case_cost(const Case& c);
 // results.json; its cases' seconds.total), else `out_dir`/results.json when it exists, else none
 // (static costs only). An unreadable `path` is an error naming it.
 Status use_shard_timings(const std::string& path, const std::string& out_dir);
-// "static" or "timings <file> (sha256 <12 hex>)": recorded per run; `merge` refuses shards
-// planned differently (they could overlap or leave cases out).
+// "static" or "timings sha256 <12 hex> (N cases timed)", by content, not path: recorded per
+// run; `merge` refuses shards planned differently (they could overlap or leave cases out).
 std::string shard_plan_description();
 
 // Where a case's images go, relative to the output directory: "cases/<case id>" (case ids
