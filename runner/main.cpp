@@ -523,7 +523,8 @@ int main(int argc, char** argv) {
 
   if (*report_cmd) {
     // Nothing is written into a folder that holds no run's results (`report CASES` used to leave
-    // CASES/.lock): its results.json is read before the lock is taken, and read again under it.
+    // CASES/.lock): its results.json is read before the lock is taken; the report is built from
+    // the copy made under it.
     if (auto doc = hdrc::read_results_json(report_dir + "/results.json"); !doc) {
       std::fprintf(stderr, "error: %s\n", doc.error().to_string().c_str());
       return hdrc::kExitBadInput;

@@ -124,8 +124,8 @@ Status check_only_ours(const fs::path& out, const std::string& flag) {
                                 results->find("\"tool\": \"hdrconform\"") != std::string::npos);
   if (ours && foreign.empty()) return {};
   const std::string what = foreign.empty()
-                               ? "holds files but no results.json written by hdrconform"
-                               : "holds " + foreign + ", which hdrconform did not write";
+                               ? "holds files not written by hdrconform (no results.json of a run)"
+                               : "holds " + foreign + ", not written by hdrconform";
   return Error{valid_utf8(out.string()), flag,
                valid_utf8(what) + "; a run replaces the output folder whole, so nothing was run",
                "an empty folder or one written by hdrconform run/verify/merge"};
@@ -272,6 +272,7 @@ Result<std::unique_ptr<OutputSet>> OutputSet::open(const std::string& out_dir,
                  "a run is written beside OUT and swapped in whole: OUT's parent folder must be "
                  "writable"};
   set->staging_ = staging.string();
+  set->copy_ = !keep_except.empty();
   if (!keep_except.empty())
     if (Status st = link_tree(out, staging, keep_except); !st) return st.error();
   for (const std::string& w : watched)
@@ -281,8 +282,10 @@ Result<std::unique_ptr<OutputSet>> OutputSet::open(const std::string& out_dir,
 
 Status OutputSet::publish() {
   // Only a complete run is published (a full disk can leave results.json unwritten).
+  // (A copy for `report` keeps what the folder had: a results folder may lack junit.xml.)
   for (const char* required : {"results.json", "junit.xml", "report/index.html"}) {
     std::error_code ec;
+    if (copy_ && std::string(required) == "junit.xml") continue;
     if (!fs::is_regular_file(fs::path(staging_) / required, ec))
       return Error{valid_utf8(staging_), "",
                    std::string("the run is incomplete (no ") + required + "); it is not published",

@@ -71,6 +71,7 @@ class OutputSet {
   std::string out_, staging_;
   int lock_fd_ = -1;
   bool published_ = false;
+  bool copy_ = false;  // the staging folder started as a copy of OUT (`report`)
   std::map<std::string, std::map<std::string, std::string>> digests_;
 };
 
