@@ -39,8 +39,9 @@ namespace {
 constexpr const char* kExitCodes =
     "Exit codes:\n"
     "  0  pass: every case passed\n"
-    "  1  fail: at least one case failed or errored, or (verify) had no candidate image, or\n"
-    "     (verify --require-all) was declined by the candidate (UNSUPPORTED)\n"
+    "  1  fail: at least one case failed or errored, or (run) a golden failed, or (verify) had\n"
+    "     no candidate image, or (verify --require-all) was declined by the candidate\n"
+    "     (UNSUPPORTED)\n"
     "  2  bad input: usage error or invalid case files (nothing was run or written)\n"
     "  3  engine unavailable: nothing failed, but the candidate engine could not start and its\n"
     "     cases were skipped (never counted as passed)\n"
