@@ -1094,6 +1094,14 @@ struct Builder {
            "\" href=\"cases.html#verdict=" + url_path_escape(v) + "\"><b id=\"count-" +
            html_escape(case_slug(v)) + "\">" + std::to_string(n) + "</b> " + html_escape(v) +
            "</a>";
+      // The failed goldens (missing, stale, regressed) fail the run as a FAIL does: their card
+      // follows FAIL's and leads to the Goldens section.
+      if (const json* g = get(doc, {"goldens"}); v == "FAIL" && g && g->is_object()) {
+        const double gf = num(get(*g, {"failed"})).value_or(0);
+        h += "<a class=\"count v-" + std::string(gf > 0 ? "fail" : "pass") +
+             "\" href=\"#goldens\"><b id=\"count-GOLDEN_FAILED\">" + fmt(gf, "%.0f") +
+             "</b> golden failures</a>";
+      }
     }
     h += "<a class=\"count warn\" href=\"cases.html#verdict=WARN\"><b id=\"count-WARN\">" +
          std::to_string(warned) + "</b> warned</a>";

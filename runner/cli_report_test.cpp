@@ -18,6 +18,7 @@
 #include <sstream>
 
 #include "core/image.h"
+#include "runner/goldens.h"
 #include "runner/test_support.h"
 
 #ifndef HDRC_BINARY
@@ -81,8 +82,8 @@ TEST(CliMerge, ThreeShardsMergedEqualOneUnshardedRun) {
   EXPECT_EQ(a["goldens"]["checked"], b["goldens"]["checked"]);
   EXPECT_EQ(a["goldens"]["cases"], b["goldens"]["cases"]);
   EXPECT_EQ(b["merged_from"].size(), 3u);
-  auto testcases = [](const std::string& x) {
-    return std::regex_replace(x, std::regex(" time=\"[0-9.]+\""), "");
+  auto testcases = [](const std::string& x) {  // but for timings and when the run started
+    return std::regex_replace(x, std::regex(" (time|timestamp)=\"[0-9.:T-]+\""), "");
   };
   EXPECT_EQ(testcases(read(root / "whole" / "junit.xml")), testcases(read(merged / "junit.xml")));
   // The report: the same files, the same case table, the same pages (but for timings and the
@@ -242,6 +243,61 @@ TEST(CliGoldens, GoldenFailuresAreRecordedAndRerun) {
                           " --out " + (root / "third").string());
   EXPECT_EQ(nothing.code, 0) << nothing.out;
   EXPECT_NE(nothing.out.find("nothing to rerun"), std::string::npos) << nothing.out;
+  fs::remove_all(root);
+}
+
+// Two golden regressions with every case passing (issue 27): the run exits 1, and every place
+// that gives the run's verdict at a glance says so: results.json's summary, the console's
+// `hdrconform:` line, JUnit's <testsuites> totals and the report's count cards.
+TEST(CliGoldens, GoldenRegressionsCountInEveryHeadline) {
+  const fs::path root = temp_dir("golden_headline");
+  const fs::path goldens = root / "goldens";
+  fs::create_directories(goldens / "tonemap");
+  fs::copy(fs::path(HDRC_SOURCE_DIR) / "goldens/tonemap/shaper_pq", goldens / "tonemap/shaper_pq");
+  // Two goldens as a changed reference would leave them (goldens_test.cpp does one): one pixel
+  // 0.1 % off, the sidecar's hash matching the altered image, another reference version.
+  for (const char* id : {"tonemap/shaper_pq/dev3_log_ramp", "tonemap/shaper_pq/dev5_log_ramp"}) {
+    const fs::path exr = goldens / (std::string(id) + ".exr");
+    const fs::path side = goldens / (std::string(id) + ".json");
+    auto img = hdrc::read_image(exr.string());
+    ASSERT_TRUE(img.ok()) << exr;
+    img->px(3, 0)[1] = img->px(3, 0)[1] * 1.001 + 1e-3;
+    ASSERT_TRUE(hdrc::write_exr(exr.string(), *img).ok());
+    json sidecar = json::parse(read(side));
+    sidecar["reference_version"] = "0/000000000000";
+    sidecar["output_hash"] = hdrc::sha256_hex(hdrc::image_bytes(*img));
+    std::ofstream(side) << sidecar.dump(2);
+  }
+  const Ran r = run("run --engine reference --filter 'tonemap/shaper_pq/*' --goldens " +
+                    goldens.string() + " --out " + (root / "out").string());
+  ASSERT_EQ(r.code, 1) << r.out;
+  const json doc = json::parse(read(root / "out/results.json"));
+  const int cases = static_cast<int>(doc["cases"].size());
+  ASSERT_GT(cases, 2);
+  EXPECT_EQ(doc["summary"]["fail"], 0);  // every case passed; only the goldens failed
+  EXPECT_EQ(doc["goldens"]["regression"], 2);
+  EXPECT_EQ(doc["summary"]["golden_failed"], 2);
+  EXPECT_EQ(doc["summary"]["exit_code"], 1);
+  // The console: "2 failed" where it said "0 failed", with the kind.
+  const std::string want_line = "hdrconform: " + std::to_string(cases) +
+                                " cases: " + std::to_string(doc["summary"]["pass"].get<int>()) +
+                                " passed, 2 failed (goldens: 2 regressions), 0 errors";
+  EXPECT_NE(r.out.find(want_line), std::string::npos) << want_line << "\n" << r.out;
+  // JUnit: the totals count them as failures.
+  const std::string junit = read(root / "out/junit.xml");
+  EXPECT_NE(junit.find("<testsuites name=\"hdrconform\" tests=\"" + std::to_string(2 * cases) +
+                       "\" failures=\"2\" errors=\"0\""),
+            std::string::npos)
+      << junit.substr(0, 400);
+  EXPECT_NE(junit.find("<testsuite name=\"hdrconform.goldens\" tests=\"" + std::to_string(cases) +
+                       "\" failures=\"2\""),
+            std::string::npos);
+  // The report's cards: FAIL 0, golden failures 2, leading to the Goldens section.
+  const std::string index = read(root / "out/report/index.html");
+  EXPECT_NE(index.find("id=\"count-FAIL\">0<"), std::string::npos);
+  EXPECT_NE(index.find("href=\"#goldens\"><b id=\"count-GOLDEN_FAILED\">2</b> golden failures"),
+            std::string::npos);
+  EXPECT_NE(index.find("id=\"goldens\""), std::string::npos);
   fs::remove_all(root);
 }
 

@@ -5,6 +5,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <filesystem>
@@ -377,6 +378,125 @@ TEST(Cli, InterruptWritesFinishedCasesAndMarksTheRestNotRun) {
   EXPECT_NE(read(out / "junit.xml").find("NOT_RUN: not run: the run was interrupted"),
             std::string::npos);
   fs::remove_all(out);
+}
+
+// Six one-case files a..f and a candidate command that always fails (exit 1: an ERROR).
+std::vector<std::string> write_six_cases(const fs::path& t) {
+  std::vector<std::string> ids;
+  for (const char* name : {"a", "b", "c", "d", "e", "f"}) {
+    write(t / "cases" / (std::string(name) + ".json"),
+          R"({"stage": "shaper", "input": {"stimulus": "log_ramp", "width": 8, "height": 2}})");
+    ids.push_back(std::string(name) + "/log_ramp");
+  }
+  write(t / "fail.sh", "#!/bin/sh\nexit 1\n");
+  return ids;
+}
+
+std::vector<std::string> result_ids(const fs::path& out) {
+  std::vector<std::string> ids;
+  const auto doc = nlohmann::json::parse(read(out / "results.json"));
+  for (const auto& c : doc["cases"]) ids.push_back(c["id"].get<std::string>());
+  return ids;
+}
+
+// --filter '!PATTERN' excludes, whatever its place among the patterns (gtest's POS-NEG,
+// pytest's "not"); exclusions alone start from every case; a bare '!' is an error.
+TEST(Cli, FilterExclusionPatterns) {
+  const auto all = listed_ids("");
+  const auto shaper = listed_ids("--filter 'tonemap/shaper_pq/*'");
+  const auto dev3 = listed_ids("--filter 'tonemap/shaper_pq/dev3_*'");
+  ASSERT_GT(dev3.size(), 1u);
+  ASSERT_GT(shaper.size(), dev3.size());
+  std::vector<std::string> want;
+  for (const auto& id : shaper)
+    if (std::find(dev3.begin(), dev3.end(), id) == dev3.end()) want.push_back(id);
+  EXPECT_EQ(listed_ids("--filter 'tonemap/shaper_pq/*,!tonemap/shaper_pq/dev3_*'"), want);
+  EXPECT_EQ(listed_ids("--filter '!shaper_pq/dev3_' --filter 'tonemap/shaper_pq/*'"), want);
+  EXPECT_EQ(listed_ids("--filter '!tonemap/shaper_pq/*'").size(), all.size() - shaper.size());
+  EXPECT_EQ(listed_ids("--filter '!=" + dev3[0] + "'").size(), all.size() - 1);
+  const Ran bare = run("list --filter 'lut,!'");
+  EXPECT_EQ(bare.code, 2) << bare.out;
+  EXPECT_NE(bare.out.find("--filter: the pattern '!' names no case"), std::string::npos)
+      << bare.out;
+  const Ran none = run("list --filter '!tonemap,tonemap/shaper_pq/*'");
+  EXPECT_EQ(none.code, 2) << none.out;
+  EXPECT_NE(none.out.find("no case matches --filter '!tonemap,tonemap/shaper_pq/*'"),
+            std::string::npos)
+      << none.out;
+}
+
+// --maxfail N: after N failures no case starts; the output is complete and consistent (every
+// case listed, the rest NOT_RUN and counted, junit and report written), exit 1.
+TEST(Cli, MaxfailStopsAfterNFailuresAndPublishesACompleteRun) {
+  const fs::path t = temp_dir("maxfail");
+  const auto ids = write_six_cases(t);
+  const Ran r =
+      run("verify -j 1 --maxfail 2 --cases " + (t / "cases").string() + " --out " +
+          (t / "out").string() + " --candidate-cmd 'sh " + (t / "fail.sh").string() + " {output}'");
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_NE(r.out.find("stopped: --maxfail 2: 2 cases failed; 4 cases not run (NOT_RUN)"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find(", 4 not run in "), std::string::npos) << r.out;  // the headline
+  const auto doc = nlohmann::json::parse(read(t / "out/results.json"));
+  EXPECT_EQ(result_ids(t / "out"), ids);  // every case, in case order
+  EXPECT_EQ(doc["summary"]["error"], 2);
+  EXPECT_EQ(doc["summary"]["not_run"], 4);
+  EXPECT_EQ(doc["summary"]["exit_code"], 1);
+  EXPECT_EQ(doc["max_fail"]["limit"], 2);
+  EXPECT_EQ(doc["max_fail"]["stopped"], true);
+  EXPECT_FALSE(doc["interrupted"].get<bool>());  // not a Ctrl-C: exit 1, not 130
+  for (size_t i = 2; i < ids.size(); ++i) {
+    EXPECT_EQ(doc["cases"][i]["verdict"], "NOT_RUN") << ids[i];
+    EXPECT_EQ(doc["cases"][i]["reason"], "not run: --maxfail 2 cases had failed") << ids[i];
+  }
+  const std::string junit = read(t / "out/junit.xml");
+  EXPECT_NE(junit.find("tests=\"6\" failures=\"0\" errors=\"2\" skipped=\"4\""), std::string::npos)
+      << junit;
+  EXPECT_TRUE(fs::is_regular_file(t / "out/report/index.html"));
+  // Without --maxfail every case runs; --maxfail 0 is a usage error.
+  const Ran all =
+      run("verify -j 1 --cases " + (t / "cases").string() + " --out " + (t / "all").string() +
+          " --candidate-cmd 'sh " + (t / "fail.sh").string() + " {output}'");
+  EXPECT_EQ(all.code, 1);
+  EXPECT_EQ(nlohmann::json::parse(read(t / "all/results.json"))["summary"]["error"], 6);
+  EXPECT_EQ(nlohmann::json::parse(read(t / "all/results.json"))["max_fail"], nullptr);
+  EXPECT_EQ(run("run --engine reference --maxfail 0 --cases " + (t / "cases").string()).code, 2);
+  fs::remove_all(t);
+}
+
+// --failed-first PREV: PREV's failed cases run first, the rest after, each in case order; PREV's
+// results.json is read like --rerun-failed's (a missing one is bad input, exit 2, naming it).
+TEST(Cli, FailedFirstRunsThePreviousFailuresFirst) {
+  const fs::path t = temp_dir("failed_first");
+  const auto ids = write_six_cases(t);  // a b c d e f
+  const std::string cases = " --cases " + (t / "cases").string();
+  // PREV: d and f errored (the failing candidate ran only them).
+  const Ran prev = run("verify -j 1 --filter '=" + ids[3] + ",=" + ids[5] + "'" + cases +
+                       " --out " + (t / "prev").string() + " --candidate-cmd 'sh " +
+                       (t / "fail.sh").string() + " {output}'");
+  ASSERT_EQ(prev.code, 1) << prev.out;
+  const Ran r = run("run --engine reference -j 2 --failed-first " + (t / "prev").string() + cases +
+                    " --out " + (t / "out").string());
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("failed first: 2 case(s) that failed in " + (t / "prev").string() +
+                       "/results.json run first"),
+            std::string::npos)
+      << r.out;
+  EXPECT_EQ(result_ids(t / "out"),
+            (std::vector<std::string>{ids[3], ids[5], ids[0], ids[1], ids[2], ids[4]}));
+  // The reproduce command does not repeat it (it chooses the order, not what a case computes).
+  const auto doc = nlohmann::json::parse(read(t / "out/results.json"));
+  EXPECT_EQ(doc["provenance"]["reproduce"].get<std::string>().find("--failed-first"),
+            std::string::npos);
+  const Ran missing = run("run --engine reference --failed-first " + (t / "nope").string() + cases +
+                          " --out " + (t / "out2").string());
+  EXPECT_EQ(missing.code, 2) << missing.out;
+  EXPECT_NE(missing.out.find("--failed-first: " + (t / "nope/results.json").string()),
+            std::string::npos)
+      << missing.out;
+  EXPECT_FALSE(fs::exists(t / "out2/results.json"));
+  fs::remove_all(t);
 }
 
 bool vulkan_available() {

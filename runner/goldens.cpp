@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -577,6 +578,7 @@ GoldenRunSummary check_run_against_goldens(const std::vector<Case>& cases,
                                            const std::string& goldens_dir,
                                            const std::string& update_extra, int jobs) {
   GoldenRunSummary sum;
+  const auto t0 = std::chrono::steady_clock::now();
   json report = json::object();
   report["goldens_dir"] = goldens_dir;
   report["reference_version"] = reference_version();
@@ -667,6 +669,7 @@ GoldenRunSummary check_run_against_goldens(const std::vector<Case>& cases,
   report["checked"] = sum.checked;
   report["failed"] = sum.failed();
   report["largest_deviation"] = {{"deviation", largest.first}, {"id", largest.second}};
+  report["seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (Status st = write_file_atomic(out_dir + "/goldens.json", dump_json(report, 2) + "\n"); !st)
     std::fprintf(stderr, "error: %s\n", st.error().to_string().c_str());
   std::printf("goldens: %d checked against %s: %d match, %d missing, %d stale, %d regressions\n",

@@ -899,12 +899,12 @@ std::vector<Row> rows() {
        },
        kRun,
        2,
-       {"not a plain folder"}});
+       {"not written by hdrconform", "replaces the output folder whole"}});
   add({"out_current_is_folder",
        [](const fs::path& t) { fs::create_directories(t / "out/current"); },
        kRun,
        2,
-       {"not a symlink"}});
+       {"not written by hdrconform"}});
   add({"filter_pathological_glob",
        nullptr,
        kList + " --filter '*a*a*a*a*a*a*a*a*a*a*a*a*a*a*a*a*a*a*a*a*b'",

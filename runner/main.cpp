@@ -39,8 +39,9 @@ namespace {
 constexpr const char* kExitCodes =
     "Exit codes:\n"
     "  0  pass: every case passed\n"
-    "  1  fail: at least one case failed or errored, or (verify) had no candidate image, or\n"
-    "     (verify --require-all) was declined by the candidate (UNSUPPORTED)\n"
+    "  1  fail: at least one case failed or errored, or (run) a golden failed, or (verify) had\n"
+    "     no candidate image, or (verify --require-all) was declined by the candidate\n"
+    "     (UNSUPPORTED)\n"
     "  2  bad input: usage error or invalid case files (nothing was run or written)\n"
     "  3  engine unavailable: nothing failed, but the candidate engine could not start and its\n"
     "     cases were skipped (never counted as passed)\n"
@@ -215,11 +216,19 @@ int main(int argc, char** argv) {
     sub->add_option("--shard", shard, shard_help);
     sub->add_option("--timings", timings, timings_help);
   };
-  // run and verify: which cases, and what their output folder keeps.
+  // run and verify: which cases, in which order, and what their output folder keeps.
+  hdrc::SuiteOptions suite;  // the options run_suite takes (runner/verify.h)
   auto add_run_outputs = [&](CLI::App* sub, const std::string& failed) {
     add_cases(sub);
     sub->add_option("--rerun-failed", rerun_failed,
                     "only the cases DIR/results.json lists as failed (" + failed + ")");
+    sub->add_option(
+        "--failed-first", suite.failed_first_dir,
+        "the cases DIR/results.json lists as failed (" + failed + ") run first, then the others");
+    sub->add_option("--maxfail", suite.max_fail,
+                    "start no case after N cases failed (FAIL, ERROR, MISSING); the rest are "
+                    "NOT_RUN, the output is complete, exit 1")
+        ->check(CLI::Range(1, 1000000));
     sub->add_option("--images", images, images_help)
         ->check(CLI::IsMember({"failing", "all", "none"}));
     sub->add_option("--out", out_dir, "output directory for results.json, junit.xml, report/")
@@ -338,7 +347,6 @@ int main(int argc, char** argv) {
   verify->add_option("--timeout", cmd_timeout, "seconds a candidate command may take per case")
       ->check(CLI::Validator(hdrc::check_timeout_seconds, "SECONDS"))
       ->capture_default_str();
-  hdrc::SuiteOptions suite;  // verify's candidate protocol options (runner/verify.h)
   verify->add_flag("--require-all", suite.require_all,
                    "fail the run when the candidate declines a case (UNSUPPORTED)");
   verify->add_option("--candidate-limits", suite.candidate_limits,
@@ -516,22 +524,30 @@ int main(int argc, char** argv) {
 
   if (*report_cmd) {
     // Nothing is written into a folder that holds no run's results (`report CASES` used to leave
-    // CASES/.lock): its results.json is read before the lock is taken, and read again under it.
-    if (auto doc = hdrc::read_results_json(hdrc::published_run_dir(report_dir) + "/results.json");
-        !doc) {
+    // CASES/.lock): its results.json is read before the lock is taken; the report is built from
+    // the copy made under it.
+    if (auto doc = hdrc::read_results_json(report_dir + "/results.json"); !doc) {
       std::fprintf(stderr, "error: %s\n", doc.error().to_string().c_str());
       return hdrc::kExitBadInput;
     }
-    auto lock = hdrc::OutputLock::take(report_dir);  // not while a run publishes there
-    if (!lock) {
-      std::fprintf(stderr, "error: %s\n", lock.error().to_string().c_str());
+    // Rebuilt like a run is published (runner/output_set.h): a copy of the folder without its
+    // report (hard links), the new report written there, the copy swapped in whole; not while
+    // a run publishes there (the lock).
+    auto set = hdrc::OutputSet::open(report_dir, {}, "RESULTS_DIR", {"report"});
+    if (!set) {
+      std::fprintf(stderr, "error: %s\n", set.error().to_string().c_str());
       return hdrc::kExitBadInput;
     }
-    auto info = hdrc::write_report(hdrc::published_run_dir(report_dir), jobs);
+    auto info = hdrc::write_report((*set)->staging(), jobs);
     if (!info) {
       std::fprintf(stderr, "error: %s\n", info.error().to_string().c_str());
       return hdrc::kExitBadInput;
     }
+    if (hdrc::Status st = (*set)->publish(); !st) {
+      std::fprintf(stderr, "error: %s\n", st.error().to_string().c_str());
+      return hdrc::kExitFail;
+    }
+    info->index_path = report_dir + "/report/index.html";
     std::error_code ec;
     std::printf("report: %zu cases, %zu files, %.1f MB in %.2f s (CPU %.2f s)\nreport: %s\n",
                 info->cases, info->files, info->bytes / 1e6, info->seconds, info->cpu_seconds,
@@ -556,6 +572,14 @@ int main(int argc, char** argv) {
   if (!selection) {
     std::fprintf(stderr, "error: %s\n", selection.error().to_string().c_str());
     return hdrc::kExitBadInput;
+  }
+  if (!suite.failed_first_dir.empty()) {  // read like --rerun-failed's (bounded, schema-checked)
+    auto ids = hdrc::failed_case_ids(suite.failed_first_dir);
+    if (!ids) {
+      std::fprintf(stderr, "error: --failed-first: %s\n", ids.error().to_string().c_str());
+      return hdrc::kExitBadInput;
+    }
+    suite.failed_first = std::move(*ids);
   }
   if (int code = load_or_report(cases_dir, *selection, &cases, &limits, suite_name);
       code != hdrc::kExitPass)

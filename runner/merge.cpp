@@ -8,6 +8,7 @@
 
 #include "core/atomic_file.h"
 #include "report/html_report.h"
+#include "runner/output_set.h"
 #include "runner/results.h"
 
 namespace hdrc {
@@ -133,8 +134,10 @@ int merge_runs(const std::string& out_dir, const std::vector<std::string>& shard
     return a.value("id", std::string()) < b.value("id", std::string());
   });
 
-  fs::create_directories(out_dir, ec);
-  if (ec) return refuse("cannot create " + out_dir + ": " + ec.message());
+  // Written like a run (runner/output_set.h): into a staging folder, swapped in whole.
+  auto set = OutputSet::open(out_dir, {}, "OUT");
+  if (!set) return refuse(set.error().to_string());
+  const std::string staging = (*set)->staging();
   // Images: hard links (or copies) of the shards' files, at the same relative paths.
   for (const auto& c : cases) {
     auto im = c.find("images");
@@ -144,7 +147,7 @@ int merge_runs(const std::string& out_dir, const std::vector<std::string>& shard
       if (!it->is_string()) continue;
       const std::string rel = it->get<std::string>();
       if (rel.find("..") != std::string::npos || rel.empty() || rel[0] == '/') continue;
-      if (Status s = link_or_copy(fs::path(src) / rel, fs::path(out_dir) / rel); !s)
+      if (Status s = link_or_copy(fs::path(src) / rel, fs::path(staging) / rel); !s)
         return refuse(s.error().to_string());
     }
   }
@@ -175,6 +178,17 @@ int merge_runs(const std::string& out_dir, const std::vector<std::string>& shard
   doc["wall_seconds"] = wall;  // the shards ran side by side
   doc["interrupted"] = interrupted;
   doc["merged_from"] = from;
+  // JUnit's hostname: the shards' hosts, each once.
+  std::vector<std::string> hosts;
+  for (const auto& d : docs) {
+    const std::string h = field(d, "/provenance/hostname");
+    if (h != "(absent)" && std::find(hosts.begin(), hosts.end(), h) == hosts.end())
+      hosts.push_back(h);
+  }
+  std::string host_list;
+  for (const auto& h : hosts) host_list += (host_list.empty() ? "" : ",") + h;
+  if (doc.contains("provenance") && doc["provenance"].is_object())
+    doc["provenance"]["hostname"] = host_list;
   // Counts: every integer of the shards' summaries adds up (exit_code is recomputed).
   json summary = json::object();
   for (const auto& d : docs)
@@ -191,9 +205,11 @@ int merge_runs(const std::string& out_dir, const std::vector<std::string>& shard
     const json& g = d["goldens"];
     if (!any_goldens)
       goldens = g;
-    else
+    else {
       for (const char* k : {"checked", "match", "missing", "stale", "regression", "failed"})
         goldens[k] = goldens.value(k, 0) + g.value(k, 0);
+      goldens["seconds"] = std::max(goldens.value("seconds", 0.0), g.value("seconds", 0.0));
+    }
     any_goldens = true;
     if (g.contains("cases") && g["cases"].is_array())
       for (const auto& e : g["cases"]) gcases.push_back(e);
@@ -209,14 +225,18 @@ int merge_runs(const std::string& out_dir, const std::vector<std::string>& shard
   const int code = exit_code_of(doc);
   doc["summary"]["exit_code"] = code;
 
-  Status st = write_file_atomic(out_dir + "/results.json", doc.dump() + "\n");
-  if (st) st = write_file_atomic(out_dir + "/junit.xml", junit_from_results(doc));
+  Status st = write_file_atomic(staging + "/results.json", doc.dump() + "\n");
+  if (st) st = write_file_atomic(staging + "/junit.xml", junit_from_results(doc));
   if (!st) return refuse(st.error().to_string());
-  auto report = write_report(out_dir);
+  auto report = write_report(staging);
   if (!report) return refuse(report.error().to_string());
-  std::printf("merged %zu shards (%d/%d .. %d/%d): %zu cases, exit code %d\nreport: %s\n",
-              docs.size(), 1, n, n, n, cases.size(), code,
-              fs::absolute(report->index_path, ec).lexically_normal().c_str());
+  if (Status p = (*set)->publish(); !p) {
+    std::fprintf(stderr, "error: merge: %s\n", p.error().to_string().c_str());
+    return kExitFail;
+  }
+  std::printf("merged %zu shards (%d/%d .. %d/%d): %zu cases, exit code %d\n%s\nreport: %s\n",
+              docs.size(), 1, n, n, n, cases.size(), code, headline_of(doc).c_str(),
+              (fs::absolute(out_dir, ec).lexically_normal() / "report/index.html").c_str());
   return code;
 }
 

@@ -2,8 +2,10 @@
 
 #include <fcntl.h>
 #include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
@@ -23,12 +25,13 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr const char* kRuns = ".runs";
-constexpr const char* kCurrent = "current";
 constexpr const char* kLock = ".lock";
-// The names users and CI read; each is a symlink to current/<name>.
-constexpr const char* kPublished[] = {"results.json", "junit.xml", "goldens.json", "report",
-                                      "cases"};
+// The top-level names hdrconform writes into OUT; `.runs` and `current` are those of the layout
+// before plain files (a published run behind symlinks), replaced whole by the next run.
+constexpr const char* kOurs[] = {"results.json", "junit.xml", "goldens.json", "report",
+                                 "cases",        ".runs",     "current"};
+// Staging folders are named PARENT/.<OUT's name><kStagingInfix><unique>.
+constexpr const char* kStagingInfix = ".hdrconform-";
 
 std::string os_error(int err) {
   return std::strerror(err);
@@ -79,79 +82,71 @@ std::string unique_name() {
   return buf;
 }
 
-// Replaces (or creates) the symlink `link` -> `target` in one rename(2).
-Status atomic_symlink(const fs::path& target, const fs::path& link) {
-  const fs::path tmp = link.parent_path() / (".tmp-link-" + unique_name());
+// The staging folders beside `out` (canonical) that killed commands left: folders named
+// .<name>.hdrconform-* whose .lock is OUT's lock file (a hard link made when they were created),
+// or empty ones (killed between mkdir and link). Anything else of that name is left alone.
+void remove_stale_staging(const fs::path& out) {
+  struct stat lock_st {};
+  if (::stat((out / kLock).c_str(), &lock_st) != 0) return;
+  const std::string prefix = "." + out.filename().string() + kStagingInfix;
   std::error_code ec;
-  fs::create_symlink(target, tmp, ec);
-  if (ec)
-    return Error{valid_utf8(tmp.string()), "", "cannot create a symlink: " + ec.message(), ""};
-  if (::rename(tmp.c_str(), link.c_str()) != 0) {
-    const int err = errno;
-    fs::remove(tmp, ec);
-    return Error{valid_utf8(link.string()), "", "cannot replace: " + os_error(err), ""};
+  std::vector<fs::path> stale;
+  for (auto it = fs::directory_iterator(out.parent_path(), ec);
+       !ec && it != fs::directory_iterator(); it.increment(ec)) {
+    if (it->path().filename().string().rfind(prefix, 0) != 0) continue;
+    if (!fs::is_directory(it->symlink_status(ec))) continue;
+    struct stat st {};
+    const bool ours = ::lstat((it->path() / kLock).c_str(), &st) == 0 &&
+                      st.st_dev == lock_st.st_dev && st.st_ino == lock_st.st_ino;
+    if (ours || fs::is_empty(it->path(), ec)) stale.push_back(it->path());
+  }
+  for (const auto& p : stale) fs::remove_all(p, ec);
+}
+
+// OUT may hold only what hdrconform writes, since a run replaces it whole: nothing, or a
+// previous output (its results.json written by hdrconform) with only hdrconform's names.
+Status check_only_ours(const fs::path& out, const std::string& flag) {
+  std::error_code ec;
+  std::string foreign;
+  bool any = false;
+  for (auto it = fs::directory_iterator(out, ec); !ec && it != fs::directory_iterator();
+       it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name == kLock || name.rfind(".hdrconform-write-test-", 0) == 0) continue;
+    any = true;
+    if (std::find(std::begin(kOurs), std::end(kOurs), name) == std::end(kOurs) && foreign.empty())
+      foreign = name;
+  }
+  if (!any) return {};
+  auto results = read_bounded_file((out / "results.json").string(), kMaxResultsFileBytes, "file");
+  // The second member of every results.json (runner/results.cpp), compact or indented.
+  const bool ours = results && (results->find("\"tool\":\"hdrconform\"") != std::string::npos ||
+                                results->find("\"tool\": \"hdrconform\"") != std::string::npos);
+  if (ours && foreign.empty()) return {};
+  const std::string what = foreign.empty()
+                               ? "holds files not written by hdrconform (no results.json of a run)"
+                               : "holds " + foreign + ", not written by hdrconform";
+  return Error{valid_utf8(out.string()), flag,
+               valid_utf8(what) + "; a run replaces the output folder whole, so nothing was run",
+               "an empty folder or one written by hdrconform run/verify/merge"};
+}
+
+// Copies `from` into `to` as hard links (folders recursively, symlinks followed), leaving out
+// the top-level names in `except` and the lock.
+Status link_tree(const fs::path& from, const fs::path& to, const std::vector<std::string>& except) {
+  std::error_code ec;
+  for (auto it = fs::directory_iterator(from, ec); !ec && it != fs::directory_iterator();
+       it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name == kLock || std::find(except.begin(), except.end(), name) != except.end()) continue;
+    std::error_code cec;
+    fs::copy(it->path(), to / name,
+             fs::copy_options::recursive | fs::copy_options::create_hard_links, cec);
+    if (cec)
+      return Error{valid_utf8(it->path().string()), "",
+                   "cannot link into " + valid_utf8(to.string()) + ": " + cec.message(), ""};
   }
   return {};
-}
-
-bool is_link_to(const fs::path& link, const fs::path& target) {
-  std::error_code ec;
-  return fs::is_symlink(fs::symlink_status(link, ec)) && fs::read_symlink(link, ec) == target;
-}
-
-// Output folders written before the current/ layout: their files move into a run folder of
-// their own (so they stay the "previous run"); anything else of a published name that is not
-// ours stops the run rather than being touched.
-Status adopt_legacy(const fs::path& out) {
-  std::error_code ec;
-  std::vector<fs::path> legacy;
-  for (const char* name : kPublished) {
-    const fs::path p = out / name;
-    const auto st = fs::symlink_status(p, ec);
-    if (!fs::exists(st) || is_link_to(p, fs::path(kCurrent) / name)) continue;
-    legacy.push_back(p);
-  }
-  if (legacy.empty()) return {};
-  auto results = read_bounded_file((out / "results.json").string(), kMaxResultsFileBytes, "file");
-  const bool ours = results && results->find("\"tool\": \"hdrconform\"") != std::string::npos &&
-                    !fs::is_symlink(fs::symlink_status(out / "results.json", ec));
-  if (!ours)
-    return Error{valid_utf8(legacy.front().string()), "",
-                 "the output folder holds this name and it was not written by hdrconform; "
-                 "nothing was run",
-                 "an empty folder or one written by hdrconform run/verify"};
-  if (fs::exists(fs::symlink_status(out / kCurrent, ec)))
-    return Error{valid_utf8(legacy.front().string()), "",
-                 "is not the symlink to current/ the output folder's layout needs",
-                 "remove it (docs/output-folder.md)"};
-  const fs::path dir = out / kRuns / ("legacy-" + unique_name());
-  fs::create_directories(dir, ec);
-  if (ec) return Error{valid_utf8(dir.string()), "", "cannot create: " + ec.message(), ""};
-  for (const fs::path& p : legacy) {
-    fs::rename(p, dir / p.filename(), ec);
-    if (ec) return Error{valid_utf8(p.string()), "", "cannot move: " + ec.message(), ""};
-  }
-  return atomic_symlink(fs::path(kRuns) / dir.filename(), out / kCurrent);
-}
-
-// Removes every run folder but `keep` (the lock is held: none is in use).
-void remove_other_runs(const fs::path& out, const std::string& keep) {
-  std::error_code ec;
-  std::vector<fs::path> old;
-  for (auto it = fs::directory_iterator(out / kRuns, ec); !ec && it != fs::directory_iterator();
-       it.increment(ec))
-    if (it->path().filename() != keep) old.push_back(it->path());
-  for (const auto& p : old) fs::remove_all(p, ec);
-  for (auto it = fs::directory_iterator(out, ec); !ec && it != fs::directory_iterator();
-       it.increment(ec))
-    if (it->path().filename().string().rfind(".tmp-link-", 0) == 0) old.push_back(it->path());
-  for (const auto& p : old) fs::remove(p, ec);
-}
-
-std::string current_run_name(const fs::path& out) {
-  std::error_code ec;
-  const fs::path target = fs::read_symlink(out / kCurrent, ec);
-  return ec ? "" : target.filename().string();
 }
 
 }  // namespace
@@ -232,48 +227,54 @@ std::vector<std::string> digest_changes(const std::map<std::string, std::string>
   return out;
 }
 
-std::string published_run_dir(const std::string& dir) {
-  std::error_code ec;
-  const fs::path cur = fs::path(dir) / kCurrent;
-  if (fs::is_symlink(fs::symlink_status(cur, ec)) && fs::is_directory(cur, ec))
-    return (fs::path(dir) / kRuns / current_run_name(dir)).string();
-  return dir;
-}
-
 Result<std::unique_ptr<OutputSet>> OutputSet::open(const std::string& out_dir,
-                                                   const std::vector<std::string>& watched) {
-  if (Status st = validate_output_dir(out_dir, "--out", watched); !st) return st.error();
+                                                   const std::vector<std::string>& watched,
+                                                   const std::string& flag,
+                                                   const std::vector<std::string>& keep_except) {
+  if (Status st = validate_output_dir(out_dir, flag, watched); !st) return st.error();
   std::unique_ptr<OutputSet> set(new OutputSet);
-  set->out_ = out_dir;
+  std::error_code ec;
+  // The folder swapped is the real one (a symlinked --out stays a symlink to it).
+  const fs::path out = fs::canonical(out_dir, ec);
+  if (ec || out.parent_path() == out)
+    return Error{valid_utf8(out_dir), flag, "cannot be published into (the root folder)",
+                 "a folder of its own"};
+  set->out_ = out.string();
+  // The swap moves OUT's folder away: a process working inside it would be left in a removed
+  // folder (and `--out .` would remove the shell's).
+  if (const fs::path cwd = fs::current_path(ec); !ec && within(cwd.lexically_normal(), out))
+    return Error{valid_utf8(out_dir), flag,
+                 "is the current folder or holds it; a run replaces the output folder whole",
+                 "a folder of its own, e.g. out"};
   auto fd = take_lock(out_dir);
   if (!fd) return fd.error();
   set->lock_fd_ = *fd;
-  const fs::path out(out_dir);
-  if (Status st = adopt_legacy(out); !st) return st.error();
-  std::error_code ec;
-  // .runs and current are ours: a symlinked .runs would make the clean-up below delete another
-  // folder's files.
-  const auto runs_type = fs::symlink_status(out / kRuns, ec).type();
-  const auto current_type = fs::symlink_status(out / kCurrent, ec).type();
-  if ((runs_type != fs::file_type::not_found && runs_type != fs::file_type::directory) ||
-      (current_type != fs::file_type::not_found && current_type != fs::file_type::symlink))
-    return Error{valid_utf8(out_dir), "--out",
-                 "holds a .runs that is not a plain folder or a current that is not a symlink; "
-                 "nothing was run",
-                 "an empty folder or one written by hdrconform run/verify"};
-  fs::create_directories(out / kRuns, ec);
-  if (ec) return Error{valid_utf8(out_dir), "--out", "cannot create .runs: " + ec.message(), ""};
-  remove_other_runs(out, current_run_name(out));  // staging folders of killed runs
-  // The published names, each a symlink through `current` (dangling until the first publish).
-  for (const char* name : kPublished)
-    if (!is_link_to(out / name, fs::path(kCurrent) / name))
-      if (Status st = atomic_symlink(fs::path(kCurrent) / name, out / name); !st) return st.error();
-  set->staging_name_ = unique_name();
-  set->staging_ = (out / kRuns / set->staging_name_).string();
-  fs::create_directories(set->staging_, ec);
+  // A copy keeps everything OUT holds; a new output replaces it, so OUT must hold only ours.
+  if (keep_except.empty())
+    if (Status st = check_only_ours(out, flag); !st) return st.error();
+  // The staging folder is swapped with OUT by a rename, which cannot cross file systems.
+  struct stat out_st {
+  }, parent_st{};
+  if (::stat(out.c_str(), &out_st) != 0 || ::stat(out.parent_path().c_str(), &parent_st) != 0 ||
+      out_st.st_dev != parent_st.st_dev)
+    return Error{valid_utf8(out_dir), flag,
+                 "is a mount point: a run is written beside it and swapped in by a rename, which "
+                 "cannot cross file systems; nothing was run",
+                 "a folder inside it, e.g. " + valid_utf8((out / "out").string())};
+  remove_stale_staging(out);
+  const fs::path staging =
+      out.parent_path() / ("." + out.filename().string() + kStagingInfix + unique_name());
+  fs::create_directory(staging, ec);
+  if (!ec) fs::create_hard_link(out / kLock, staging / kLock, ec);
   if (ec)
-    return Error{valid_utf8(set->staging_), "", "cannot create the run folder: " + ec.message(),
-                 ""};
+    return Error{valid_utf8(staging.string()), flag,
+                 "cannot create the staging folder beside the output folder: " + ec.message(),
+                 "a run is written beside OUT and swapped in whole: OUT's parent folder must be "
+                 "writable"};
+  set->staging_ = staging.string();
+  set->copy_ = !keep_except.empty();
+  if (!keep_except.empty())
+    if (Status st = link_tree(out, staging, keep_except); !st) return st.error();
   for (const std::string& w : watched)
     if (!w.empty()) set->digests_[w] = tree_digest(w);
   return set;
@@ -281,8 +282,10 @@ Result<std::unique_ptr<OutputSet>> OutputSet::open(const std::string& out_dir,
 
 Status OutputSet::publish() {
   // Only a complete run is published (a full disk can leave results.json unwritten).
+  // (A copy for `report` keeps what the folder had: a results folder may lack junit.xml.)
   for (const char* required : {"results.json", "junit.xml", "report/index.html"}) {
     std::error_code ec;
+    if (copy_ && std::string(required) == "junit.xml") continue;
     if (!fs::is_regular_file(fs::path(staging_) / required, ec))
       return Error{valid_utf8(staging_), "",
                    std::string("the run is incomplete (no ") + required + "); it is not published",
@@ -301,16 +304,21 @@ Status OutputSet::publish() {
         "changed while the run ran (" + valid_utf8(list) + "); the run is not published and fails",
         "a candidate command that writes only its {output} (see --sandbox)"};
   }
-  if (Status st = atomic_symlink(fs::path(kRuns) / staging_name_, fs::path(out_) / kCurrent); !st)
-    return st;
+  // The publication: one atomic exchange of two names (renameat2(2), Linux 3.15, glibc 2.28).
+  if (::renameat2(AT_FDCWD, staging_.c_str(), AT_FDCWD, out_.c_str(), RENAME_EXCHANGE) != 0)
+    return Error{valid_utf8(out_), "",
+                 "cannot swap the new run in (renameat2 RENAME_EXCHANGE): " + os_error(errno) +
+                     "; it is not published",
+                 "a local file system that supports RENAME_EXCHANGE (ext4, xfs, btrfs, tmpfs)"};
   published_ = true;
-  remove_other_runs(out_, staging_name_);
+  std::error_code ec;
+  fs::remove_all(staging_, ec);  // the previous output, now under the staging name
   return {};
 }
 
 OutputSet::~OutputSet() {
   std::error_code ec;
-  if (!published_ && !staging_.empty()) fs::remove_all(staging_, ec);
+  if (!published_ && !staging_.empty()) fs::remove_all(staging_, ec);  // an unpublished run
   if (lock_fd_ >= 0) ::close(lock_fd_);
 }
 
@@ -335,20 +343,6 @@ int publish_run(OutputSet* set, int code) {
     return kExitFail;
   }
   return code;
-}
-
-Result<std::unique_ptr<OutputLock>> OutputLock::take(const std::string& out_dir) {
-  std::error_code ec;
-  if (!fs::is_directory(out_dir, ec)) return std::unique_ptr<OutputLock>();  // nothing to guard
-  auto fd = take_lock(out_dir);
-  if (!fd) return fd.error();
-  std::unique_ptr<OutputLock> l(new OutputLock);
-  l->fd_ = *fd;
-  return l;
-}
-
-OutputLock::~OutputLock() {
-  if (fd_ >= 0) ::close(fd_);
 }
 
 }  // namespace hdrc

@@ -1,20 +1,23 @@
-// The output folder of `run` and `verify` (--out), written so that a kill -9 at any moment leaves
-// either the previous complete run or the new complete run there, never a mix
-// (docs/output-folder.md):
+// The output folder of `run`, `verify`, `merge` and `report` (--out), written so that a kill -9 at
+// any moment leaves either the previous complete run or the new complete run there, never a mix,
+// and holding plain files and folders only (no symlinks: GitLab's runner does not follow them for
+// artifacts or `reports:junit`) (docs/output-folder.md):
 //
-//   OUT/.lock                 flock(2)ed by the run writing OUT; a second run is refused
-//   OUT/.runs/<unique>/       one complete run: results.json, junit.xml, goldens.json, report/,
-//                             cases/<case id>/*.exr
-//   OUT/current               symlink to .runs/<unique>, replaced by one rename(2) to publish
-//   OUT/results.json, OUT/junit.xml, OUT/goldens.json, OUT/report, OUT/cases
-//                             symlinks to current/<name>, created once, so the documented paths
-//                             always show the published run
+//   OUT/.lock                 flock(2)ed by the command writing OUT; a second one is refused
+//   OUT/results.json, OUT/junit.xml, OUT/goldens.json, OUT/report/, OUT/cases/<case id>/*.exr
+//                             the published run
+//   PARENT/.OUT.hdrconform-<unique>/
+//                             a run being written (staging), beside OUT on the same file system;
+//                             gone once the run ends
 //
-// A run writes into its own staging folder .runs/<unique> and publishes it by swapping
-// `current`; the previous run's folder is removed after the swap. Before any work the folder is
-// validated (not empty, not the cases or goldens folder, not inside or around them, writable),
-// and the cases and goldens folders are hashed, so that a run during which they changed (a
-// candidate command writing into them) fails instead of publishing.
+// A command writes the whole new output into its staging folder (which holds a hard link of
+// OUT/.lock, so the lock survives the swap) and publishes it by exchanging the staging folder
+// and OUT in one renameat2(RENAME_EXCHANGE): the one step at which a reader of OUT sees the new
+// run instead of the old. The old output, now under the staging name, is then removed. Before
+// any work the folder is validated (not empty, not the cases or goldens folder, not inside or
+// around them, writable, not a mount point, holding nothing hdrconform did not write), and the
+// cases and goldens folders are hashed, so that a run during which they changed (a candidate
+// command writing into them) fails instead of publishing.
 #pragma once
 
 #include <map>
@@ -42,30 +45,33 @@ std::vector<std::string> digest_changes(const std::map<std::string, std::string>
                                         const std::map<std::string, std::string>& after,
                                         size_t max = 5);
 
-// If `dir` is an output folder with a published run, the run's folder (OUT/current resolved),
-// else `dir` itself.
-std::string published_run_dir(const std::string& dir);
-
 class OutputSet {
  public:
-  // Validates `out_dir`, takes its lock (refusing when another run holds it), removes staging
-  // folders of runs that were killed, and creates this run's staging folder. `watched` folders
-  // (cases, goldens) are hashed now and again at publish().
+  // Validates `out_dir`, takes its lock (refusing when another command holds it), removes the
+  // staging folders of commands that were killed, and creates this one's staging folder beside
+  // OUT. `watched` folders (cases, goldens) are hashed now and again at publish(). `flag` names
+  // the folder in errors ("--out", "OUT"). With `keep_except` non-empty the staging folder
+  // starts as a copy of OUT (hard links) without the named top-level entries, and OUT may hold
+  // anything: `report` rebuilds report/ of the published run that way.
   static Result<std::unique_ptr<OutputSet>> open(const std::string& out_dir,
-                                                 const std::vector<std::string>& watched);
+                                                 const std::vector<std::string>& watched,
+                                                 const std::string& flag = "--out",
+                                                 const std::vector<std::string>& keep_except = {});
   ~OutputSet();  // removes the staging folder unless published; releases the lock
   OutputSet(const OutputSet&) = delete;
   OutputSet& operator=(const OutputSet&) = delete;
 
   const std::string& staging() const { return staging_; }
-  // Checks the watched folders, then makes the staging folder the published run.
+  // Checks that the run is complete and the watched folders unchanged, then swaps the staging
+  // folder in as OUT.
   Status publish();
 
  private:
   OutputSet() = default;
-  std::string out_, staging_, staging_name_;
+  std::string out_, staging_;
   int lock_fd_ = -1;
   bool published_ = false;
+  bool copy_ = false;  // the staging folder started as a copy of OUT (`report`)
   std::map<std::string, std::map<std::string, std::string>> digests_;
 };
 
@@ -79,16 +85,5 @@ Status check_output_folders(bool run_or_verify, bool export_cmd, bool goldens_up
 // Publishes `set` (when not null) unless `code` is kExitBadInput (nothing is published then).
 // Returns `code`, or kExitFail when publishing failed (the reason is printed).
 int publish_run(OutputSet* set, int code);
-
-// Takes OUT/.lock for a command that changes a published run (`report`). The lock is released
-// when the returned object is destroyed.
-class OutputLock {
- public:
-  static Result<std::unique_ptr<OutputLock>> take(const std::string& out_dir);
-  ~OutputLock();
-
- private:
-  int fd_ = -1;
-};
 
 }  // namespace hdrc

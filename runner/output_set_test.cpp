@@ -74,12 +74,22 @@ void write_suite(const fs::path& cases, int n) {
             values + "]}}}");
 }
 
-// What a reader of OUT sees: the published run, complete, every file of it from one run.
+// No symbolic link anywhere under `dir` (GitLab's runner follows none for artifacts).
+void expect_no_symlinks(const fs::path& dir) {
+  size_t entries = 0;
+  for (fs::recursive_directory_iterator it(dir), end; it != end; ++it) {
+    ++entries;
+    EXPECT_FALSE(it->is_symlink()) << it->path();
+  }
+  EXPECT_GT(entries, 0u) << dir;
+}
+
+// What a reader of OUT sees: the published run, complete, plain files only, every file of it
+// from one run: junit.xml's timestamp and time and the report's "started"/"duration" rows are
+// results.json's started_utc and wall_seconds.
 // Returns the run's started_utc + wall_seconds (its identity), or "" with a failure recorded.
 std::string check_complete(const fs::path& out, size_t cases) {
-  const fs::path current = out / "current";
-  EXPECT_TRUE(fs::is_symlink(current));
-  EXPECT_TRUE(fs::is_directory(current));
+  expect_no_symlinks(out);
   auto doc = hdrc::read_json_file<nlohmann::json>((out / "results.json").string());
   EXPECT_TRUE(doc.ok()) << (doc ? "" : doc.error().to_string());
   if (!doc) return "";
@@ -90,12 +100,25 @@ std::string check_complete(const fs::path& out, size_t cases) {
   const std::string junit = read(out / "junit.xml");
   EXPECT_NE(junit.find("tests=\"" + std::to_string(cases) + "\""), std::string::npos);
   EXPECT_NE(junit.find("</testsuites>"), std::string::npos);
-  EXPECT_TRUE(fs::is_regular_file(out / "report/index.html"));
-  // results.json, junit.xml and report/ are the same run's: all in the folder `current` names.
-  EXPECT_EQ(fs::canonical(out / "results.json").parent_path(), fs::canonical(current));
-  EXPECT_EQ(fs::canonical(out / "junit.xml").parent_path(), fs::canonical(current));
-  EXPECT_EQ(fs::canonical(out / "report").parent_path(), fs::canonical(current));
+  std::string started = (*doc)["started_utc"].get<std::string>();
+  const double wall = (*doc)["wall_seconds"].get<double>();
+  if (!started.empty() && started.back() == 'Z') started.pop_back();  // JUnit: no time zone
+  char time[64], duration[64];
+  std::snprintf(time, sizeof time, "time=\"%.3f\"", wall);
+  std::snprintf(duration, sizeof duration, "<td>%.2f</td>", wall);
+  EXPECT_NE(junit.find("timestamp=\"" + started + "\""), std::string::npos) << junit;
+  EXPECT_NE(junit.find(time), std::string::npos) << time;
+  const std::string index = read(out / "report/index.html");
+  EXPECT_NE(index.find(duration), std::string::npos) << duration;
   return (*doc)["started_utc"].dump() + (*doc)["wall_seconds"].dump();
+}
+
+// The folders beside `out` that are not `out` itself (staging folders left behind).
+size_t siblings_of(const fs::path& out) {
+  size_t n = 0;
+  for (const auto& e : fs::directory_iterator(out.parent_path()))
+    n += e.path().filename().string().rfind("." + out.filename().string() + ".hdrconform-", 0) == 0;
+  return n;
 }
 
 TEST(OutputSet, KillNineAtRandomMomentsLeavesPreviousOrNewCompleteRun) {
@@ -137,12 +160,10 @@ TEST(OutputSet, KillNineAtRandomMomentsLeavesPreviousOrNewCompleteRun) {
       "new one; every time complete\n",
       kills, full_ms, kept_previous, got_new);
   EXPECT_GT(kept_previous, 0);  // some kills hit a run before it published
-  // The next run cleans the killed runs' staging folders: one run folder remains.
+  // The next run cleans the killed runs' staging folders beside OUT: none remains.
   ASSERT_EQ(wait_code(spawn(args)), 0);
   check_complete(t / "out", n);
-  size_t runs = 0;
-  for (const auto& e : fs::directory_iterator(t / "out/.runs")) runs += e.is_directory();
-  EXPECT_EQ(runs, 1u);
+  EXPECT_EQ(siblings_of(t / "out"), 0u);
   if (!::testing::Test::HasFailure()) fs::remove_all(t);
 }
 
@@ -173,6 +194,50 @@ TEST(OutputSet, ConcurrentRunsIntoOneFolderAreRefused) {
                 (t / "out").string())
                 .code,
             0);
+  if (!::testing::Test::HasFailure()) fs::remove_all(t);
+}
+
+// run, merge and report publish plain files and folders: no symlink anywhere in an output
+// folder (GitLab's artifacts and reports:junit follow none), none left beside it; an output
+// folder of the layout before (symlinks into .runs/) is replaced by plain files.
+TEST(OutputSet, NoSymlinkInAnOutputFolderAfterRunMergeOrReport) {
+  const fs::path t = temp_dir("nolinks");
+  write_suite(t / "cases", 4);
+  const std::string common = "--engine reference --cases " + (t / "cases").string() + " -j 1 ";
+  // The layout of before: results.json etc. as symlinks through current -> .runs/<run>.
+  write(t / "s1/.runs/run-old/results.json",
+        "{\"tool\": \"hdrconform\", \"shard\": \"1/2\", \"cases\": []}");
+  fs::create_directory_symlink(".runs/run-old", t / "s1/current");
+  fs::create_symlink("current/results.json", t / "s1/results.json");
+  for (const char* shard : {"1/2", "2/2"}) {
+    const fs::path out = t / (std::string("s") + shard[0]);
+    const Ran r = run("run " + common + "--shard " + shard + " --out " + out.string());
+    ASSERT_EQ(r.code, 0) << r.out;
+    expect_no_symlinks(out);
+    EXPECT_FALSE(fs::exists(out / ".runs"));
+    EXPECT_FALSE(fs::exists(out / "current"));
+  }
+  const Ran m =
+      run("merge " + (t / "m").string() + " " + (t / "s1").string() + " " + (t / "s2").string());
+  ASSERT_EQ(m.code, 0) << m.out;
+  check_complete(t / "m", 4);
+  // A second merge into the same folder replaces it whole.
+  ASSERT_EQ(
+      run("merge " + (t / "m").string() + " " + (t / "s1").string() + " " + (t / "s2").string())
+          .code,
+      0);
+  check_complete(t / "m", 4);
+  const Ran rep = run("report " + (t / "m").string());
+  ASSERT_EQ(rep.code, 0) << rep.out;
+  check_complete(t / "m", 4);
+  for (const char* d : {"s1", "s2", "m"}) EXPECT_EQ(siblings_of(t / d), 0u) << d;
+  // A folder holding anything else is refused, untouched: a run replaces the folder whole.
+  write(t / "other/keep.txt", "precious");
+  const Ran other = run("run " + common + "--out " + (t / "other").string());
+  EXPECT_EQ(other.code, 2) << other.out;
+  EXPECT_NE(other.out.find("holds keep.txt, not written by hdrconform"), std::string::npos)
+      << other.out;
+  EXPECT_EQ(read(t / "other/keep.txt"), "precious");
   if (!::testing::Test::HasFailure()) fs::remove_all(t);
 }
 

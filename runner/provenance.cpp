@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "core/install_paths.h"
+#include "core/utf8.h"
 #include "runner/goldens.h"
 
 #ifndef HDRC_SOURCE_DIR
@@ -115,8 +116,9 @@ RunProvenance run_provenance(int argc, char** argv, const std::vector<Case>& cas
   p.commit = source_commit();
   p.command_line = command_line(argc, argv);
   // Options that choose cases, outputs or parallelism are left out of the reproduce command.
-  static const std::vector<std::string> kDrop = {"--filter",  "--shard",  "--out", "--rerun-failed",
-                                                 "--timings", "--images", "-j",    "--jobs"};
+  static const std::vector<std::string> kDrop = {
+      "--filter",  "--shard",  "--out", "--rerun-failed", "--failed-first", "--maxfail",
+      "--timings", "--images", "-j",    "--jobs"};
   for (int i = 0; i < argc && i < 4096; ++i) {
     const std::string a = argv[i];
     bool drop = false;
@@ -137,6 +139,8 @@ RunProvenance run_provenance(int argc, char** argv, const std::vector<Case>& cas
   }
   std::error_code ec;
   p.cwd = fs::current_path(ec).string();
+  char host[256] = {0};
+  if (::gethostname(host, sizeof host - 1) == 0) p.hostname = valid_utf8(host);
   if (!shader_dir.empty()) {
     p.shader_dir = fs::absolute(shader_dir, ec).lexically_normal().string();
     p.shader_hash = directory_hash(shader_dir);

@@ -265,6 +265,8 @@ std::string results_json(const RunReport& r) {
       {"jobs", r.jobs},
       {"shard", r.shard.empty() ? json(nullptr) : json(r.shard)},
       {"interrupted", r.interrupted},
+      {"max_fail", r.max_fail > 0 ? json{{"limit", r.max_fail}, {"stopped", r.stopped_by_max_fail}}
+                                  : json(nullptr)},
       {"reference", device(r.reference_device)},
       {"candidate", device(r.candidate_device)},
       {"candidate_unavailable", r.candidate_unavailable},
@@ -273,6 +275,7 @@ std::string results_json(const RunReport& r) {
         {"command_line", r.provenance.command_line},
         {"reproduce", r.provenance.reproduce},
         {"cwd", r.provenance.cwd},
+        {"hostname", r.provenance.hostname},
         {"shader_dir", r.provenance.shader_dir},
         {"shader_hash", r.provenance.shader_hash},
         {"build_type", r.provenance.build_type},
@@ -314,8 +317,24 @@ double num_of(const json& j, const char* key) {
   auto it = j.find(key);
   return it != j.end() && it->is_number() ? it->get<double>() : 0.0;
 }
+// JUnit's time: seconds with at most 3 decimals (the xs:decimal of the common schemas: Ant's
+// and Jenkins' junit-10.xsd, GitLab's parser).
 std::string seconds_text(double s) {
-  return std::to_string(s);
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.3f", std::isfinite(s) && s > 0 ? s : 0.0);
+  return buf;
+}
+
+// The attributes every <testsuite> carries in those schemas beside its counts: when the run
+// started (ISO 8601 without a time zone; results.json's started_utc is UTC) and the host.
+std::string suite_stamp(const json& doc) {
+  std::string started = str_of(doc, "started_utc");
+  if (!started.empty() && started.back() == 'Z') started.pop_back();
+  std::string host;
+  if (auto p = doc.find("provenance"); p != doc.end() && p->is_object())
+    host = str_of(*p, "hostname");
+  return " timestamp=\"" + escape_markup(started) + "\" hostname=\"" +
+         escape_markup(host.empty() ? "unknown" : host) + "\"";
 }
 
 // One <testcase>: its failure names the worst pixel (the reason) and links to the case page.
@@ -361,7 +380,7 @@ std::string case_page_path(const std::string& case_id) {
 }
 
 std::string junit_from_results(const nlohmann::ordered_json& doc) {
-  std::string x = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites>\n";
+  std::string x;
   const json empty = json::array();
   const json& cases = doc.contains("cases") && doc["cases"].is_array() ? doc["cases"] : empty;
   int failures = 0, errors = 0, skipped = 0;
@@ -376,19 +395,24 @@ std::string junit_from_results(const nlohmann::ordered_json& doc) {
     device = str_of(*d, "device") + " / " + str_of(*d, "driver");
   x += "<testsuite name=\"hdrconform\" tests=\"" + std::to_string(cases.size()) + "\" failures=\"" +
        std::to_string(failures) + "\" errors=\"" + std::to_string(errors) + "\" skipped=\"" +
-       std::to_string(skipped) + "\" time=\"" + seconds_text(num_of(doc, "wall_seconds")) + "\">\n";
+       std::to_string(skipped) + "\" time=\"" + seconds_text(num_of(doc, "wall_seconds")) + "\"" +
+       suite_stamp(doc) + ">\n";
   x += "  <properties><property name=\"candidate.device\" value=\"" + escape_markup(device) +
        "\"/></properties>\n";
   for (const auto& c : cases) x += junit_case(c);
   x += "</testsuite>\n";
   // The golden check of the reference (goldens.json, recorded by record_golden_results): one
   // test case per checked golden, a failure for each missing, stale or regressed one.
+  int golden_tests = 0, golden_failures = 0;
   if (auto g = doc.find("goldens"); g != doc.end() && g->is_object()) {
     const json& gc = g->contains("cases") && (*g)["cases"].is_array() ? (*g)["cases"] : empty;
     int gf = 0;
     for (const auto& e : gc) gf += str_of(e, "outcome") != "match";
+    golden_tests = static_cast<int>(gc.size());
+    golden_failures = gf;
     x += "<testsuite name=\"hdrconform.goldens\" tests=\"" + std::to_string(gc.size()) +
-         "\" failures=\"" + std::to_string(gf) + "\" errors=\"0\" skipped=\"0\">\n";
+         "\" failures=\"" + std::to_string(gf) + "\" errors=\"0\" skipped=\"0\" time=\"" +
+         seconds_text(num_of(*g, "seconds")) + "\"" + suite_stamp(doc) + ">\n";
     for (const auto& e : gc) {
       const std::string outcome = str_of(e, "outcome");
       x += "  <testcase classname=\"hdrconform.goldens\" name=\"" + escape_markup(str_of(e, "id")) +
@@ -403,7 +427,13 @@ std::string junit_from_results(const nlohmann::ordered_json& doc) {
     }
     x += "</testsuite>\n";
   }
-  return x + "</testsuites>\n";
+  // The totals over both suites, which a CI's headline shows: a golden regression is a failure
+  // there too.
+  return "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites name=\"hdrconform\" tests=\"" +
+         std::to_string(cases.size() + golden_tests) + "\" failures=\"" +
+         std::to_string(failures + golden_failures) + "\" errors=\"" + std::to_string(errors) +
+         "\" skipped=\"" + std::to_string(skipped) + "\" time=\"" +
+         seconds_text(num_of(doc, "wall_seconds")) + "\">\n" + x + "</testsuites>\n";
 }
 
 std::string junit_xml(const RunReport& r) {
@@ -474,6 +504,7 @@ Status record_goldens(nlohmann::ordered_json& doc, const std::string& out_dir) {
   goldens.update(summary);
   goldens["failed"] = summary["missing"].get<int>() + summary["stale"].get<int>() +
                       summary["regression"].get<int>();
+  goldens["seconds"] = num_of(g, "seconds");
   goldens["cases"] = cases;
   doc["goldens"] = goldens;
   doc["summary"]["golden_failed"] = goldens["failed"];
@@ -555,6 +586,44 @@ int exit_code_of(const nlohmann::ordered_json& doc) {
   return kExitPass;
 }
 
+std::string headline_of(const nlohmann::ordered_json& doc) {
+  const json empty = json::object();
+  const json& s = doc.contains("summary") && doc["summary"].is_object() ? doc["summary"] : empty;
+  const auto n = [&](const json& j, const char* key) {
+    auto it = j.find(key);
+    return it != j.end() && it->is_number_integer() ? it->get<long long>() : 0LL;
+  };
+  const json& g = doc.contains("goldens") && doc["goldens"].is_object() ? doc["goldens"] : empty;
+  const long long golden_failed = n(g, "missing") + n(g, "stale") + n(g, "regression");
+  std::string goldens;
+  if (golden_failed > 0) {
+    for (const auto& [key, what] : {std::pair{"regression", "regressions"},
+                                    std::pair{"missing", "missing"}, std::pair{"stale", "stale"}})
+      if (n(g, key) > 0)
+        goldens += (goldens.empty() ? "" : ", ") + std::to_string(n(g, key)) + " " + what;
+    goldens = " (" +
+              std::string(n(s, "fail") > 0 ? std::to_string(n(s, "fail")) + " cases, " : "") +
+              "goldens: " + goldens + ")";
+  }
+  const json& cand =
+      doc.contains("candidate") && doc["candidate"].is_object() ? doc["candidate"] : empty;
+  char buf[1024];
+  std::snprintf(buf, sizeof buf,
+                "hdrconform: %zu cases: %lld passed, %lld failed%s, %lld errors, %lld "
+                "unsupported, %lld skipped, %lld known limits, %lld degenerate, %lld missing, "
+                "%lld not run in %.1f s on %s (%s), -j %lld",
+                doc.contains("cases") && doc["cases"].is_array() ? doc["cases"].size() : size_t{0},
+                n(s, "pass"), n(s, "fail") + golden_failed, goldens.c_str(), n(s, "error"),
+                n(s, "unsupported"), n(s, "skipped"), n(s, "known_limit"), n(s, "degenerate"),
+                n(s, "missing"), n(s, "not_run"), num_of(doc, "wall_seconds"),
+                str_of(cand, "device").c_str(), str_of(cand, "driver").c_str(), n(doc, "jobs"));
+  std::string line = buf;
+  if (!str_of(doc, "shard").empty()) line += ", shard " + str_of(doc, "shard");
+  if (doc.contains("merged_from") && doc["merged_from"].is_array())
+    line += ", merged from " + std::to_string(doc["merged_from"].size()) + " shards";
+  return line;
+}
+
 int finish_run_outputs(const std::string& out_dir, int code, bool goldens_checked,
                        const std::string& images, int jobs, report::ReportInfo* report_info) {
   if (code == kExitBadInput) return code;
@@ -580,6 +649,7 @@ int finish_run_outputs(const std::string& out_dir, int code, bool goldens_checke
     std::fprintf(stderr, "error: %s\n", s.error().to_string().c_str());
     return code == kExitInterrupted ? code : kExitFail;
   }
+  std::printf("%s\n", headline_of(*doc).c_str());
   return code;
 }
 

@@ -51,10 +51,15 @@ Status apply_image_policy(nlohmann::ordered_json& results, const std::string& ou
 // The exit code a results document stands for (README "Exit codes"; a failed golden fails).
 int exit_code_of(const nlohmann::ordered_json& results);
 
+// The run's one-line verdict ("hdrconform: N cases: P passed, F failed, ..."), the console's last
+// word on a run and a merge: the counts of results.json's summary, where "failed" counts the
+// failed goldens (missing, stale, regressed) with the failed cases, as the exit code does.
+std::string headline_of(const nlohmann::ordered_json& results);
+
 // The end of `run`/`verify`, after the golden check: golden outcomes recorded (when checked),
 // summary.exit_code set to the process's exit code, --images applied, results.json and junit.xml
-// rewritten, the report built (on `jobs` threads, 0: one per core, as `run -j`). Returns the
-// exit code (kExitFail when writing failed).
+// rewritten, the report built (on `jobs` threads, 0: one per core, as `run -j`), the headline
+// printed. Returns the exit code (kExitFail when writing failed).
 // `report_info`, when given, receives what the report build measured (files, size, wall and
 // CPU seconds).
 int finish_run_outputs(const std::string& out_dir, int exit_code, bool goldens_checked,

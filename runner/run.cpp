@@ -159,7 +159,10 @@ Status use_shard_timings(const std::string& path, const std::string& out_dir) {
       const double v = (*sec)["total"].get<double>();
       if (v > 0 && std::isfinite(v)) t.seconds[c["id"].get<std::string>()] = v;
     }
-    t.description = "timings " + file + " (sha256 " + sha256_hex(*text).substr(0, 12) + ")";
+    // The plan depends on the file's content only: shards that read the same timings from
+    // different paths (each CI job's own workspace) plan alike, and merge accepts them.
+    t.description = "timings sha256 " + sha256_hex(*text).substr(0, 12) + " (" +
+                    std::to_string(t.seconds.size()) + " cases timed)";
   }
   shard_timings() = std::move(t);
   return {};
@@ -456,6 +459,8 @@ RunReport run_cases(const std::vector<Case>& cases, const EngineFactory& referen
   size_t emitted = 0;
   Executor exec(opt, report);
   auto interrupted = [&] { return opt.interrupt && opt.interrupt->load(); };
+  std::atomic<int> failed{0};
+  auto max_failed = [&] { return opt.max_fail > 0 && failed.load() >= opt.max_fail; };
 
   auto work = [&](size_t w) {
     Worker& me = workers[w];
@@ -467,10 +472,12 @@ RunReport run_cases(const std::vector<Case>& cases, const EngineFactory& referen
       if (report.candidate_unavailable.empty() && !me.candidate->init()) return;
     }
     for (;;) {
-      if (interrupted()) return;
+      if (interrupted() || max_failed()) return;
       const size_t i = next.fetch_add(1);
       if (i >= n) return;
       CaseResult r = exec.run_one(cases[i], me);
+      failed += r.verdict == CaseVerdict::kFail || r.verdict == CaseVerdict::kError ||
+                r.verdict == CaseVerdict::kMissing;
       if (interrupted() && r.verdict == CaseVerdict::kError) {
         r.verdict = CaseVerdict::kNotRun;
         r.reason = "interrupted while running: " + r.reason;
@@ -490,16 +497,20 @@ RunReport run_cases(const std::vector<Case>& cases, const EngineFactory& referen
   for (auto& t : threads) t.join();
 
   report.interrupted = false;
+  report.max_fail = opt.max_fail;
   for (size_t i = 0; i < n; ++i) {
     if (done[i] && report.cases[i].verdict != CaseVerdict::kNotRun) continue;
     report.interrupted = interrupted();
     if (done[i]) continue;
+    report.stopped_by_max_fail = !report.interrupted && max_failed();
     CaseResult& r = report.cases[i];
     r.spec = cases[i];
     r.tolerance = cases[i].tolerance;
     r.verdict = CaseVerdict::kNotRun;
     r.reason = report.interrupted ? "not run: the run was interrupted (SIGINT)"
-                                  : "not run: no worker could start its engines";
+               : report.stopped_by_max_fail
+                   ? "not run: --maxfail " + std::to_string(opt.max_fail) + " cases had failed"
+                   : "not run: no worker could start its engines";
   }
   for (; emitted < n; ++emitted)
     if (opt.on_case) opt.on_case(report.cases[emitted], emitted, n);

@@ -88,6 +88,7 @@ struct RunProvenance {
   std::string reproduce;       // command_line without the options choosing cases and outputs
   std::string reproduce_args;  // the same after the subcommand: what a case's reproduce repeats
   std::string cwd;
+  std::string hostname;                 // gethostname(2): JUnit's testsuite hostname
   std::string shader_dir, shader_hash;  // the Vulkan engine's shaders (path, directory_hash)
   std::string build_type, compiler, tool_version;
   std::string suite_fingerprint;  // SHA-256 of the selected (unsharded) ids and case hashes
@@ -106,7 +107,9 @@ struct RunReport {
   int jobs = 1;
   std::string shard;  // "K/N", or "" when unsharded
   bool interrupted = false;
-  bool require_all = false;  // verify --require-all: UNSUPPORTED cases fail the run
+  int max_fail = 0;                  // --maxfail N (0: none)
+  bool stopped_by_max_fail = false;  // N cases failed and the rest did not start (NOT_RUN)
+  bool require_all = false;          // verify --require-all: UNSUPPORTED cases fail the run
   // verify --candidate-limits FILE: the port's declared deviations (shown by the report).
   std::string candidate_limits_file;
   std::vector<KnownLimit> candidate_limits;
@@ -129,6 +132,9 @@ struct RunOptions {
   std::string image_dir;
   // Set (e.g. by a SIGINT handler) to stop starting cases; cases not started are NOT_RUN.
   const std::atomic<bool>* interrupt = nullptr;
+  // --maxfail N (pytest's): no case starts once N cases have failed (FAIL, ERROR, MISSING); the
+  // cases not started are NOT_RUN. 0: no limit.
+  int max_fail = 0;
   // Called for each case in case order as soon as it and every case before it have finished,
   // so the output is the same for any -j. `done` counts finished cases.
   std::function<void(const CaseResult&, size_t index, size_t total)> on_case;
@@ -167,8 +173,8 @@ double static_case_cost(const Case& c);
 // results.json; its cases' seconds.total), else `out_dir`/results.json when it exists, else none
 // (static costs only). An unreadable `path` is an error naming it.
 Status use_shard_timings(const std::string& path, const std::string& out_dir);
-// "static" or "timings <file> (sha256 <12 hex>)": recorded per run; `merge` refuses shards
-// planned differently (they could overlap or leave cases out).
+// "static" or "timings sha256 <12 hex> (N cases timed)", by content, not path: recorded per
+// run; `merge` refuses shards planned differently (they could overlap or leave cases out).
 std::string shard_plan_description();
 
 // Where a case's images go, relative to the output directory: "cases/<case id>" (case ids

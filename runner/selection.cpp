@@ -1,12 +1,11 @@
 #include "runner/selection.h"
 
-#include <fnmatch.h>
-
 #include <algorithm>
 #include <map>
 
 #include "core/nearest.h"
 #include "core/pipeline.h"
+#include "runner/case_loader.h"
 #include "runner/results.h"
 
 namespace hdrc {
@@ -40,18 +39,31 @@ std::vector<std::string> split_filter(const std::string& text) {
   return out;
 }
 
+namespace {
+
+// One pattern (without its '!'): =ID, a glob over the whole id (fnmatch's semantics in linear
+// time, runner/case_loader.h), or a substring.
+bool pattern_matches(const std::string& p, const std::string& id) {
+  if (p[0] == '=') return id == p.substr(1);
+  return is_glob(p) ? matches_filter(id, p) : id.find(p) != std::string::npos;
+}
+
+}  // namespace
+
 bool CaseSelection::matches(const std::string& id) const {
   if (rerun_ids && !rerun_ids->count(id)) return false;
-  if (patterns.empty()) return true;
+  // As gtest's --gtest_filter=POS-NEG and pytest's -k 'a and not b': an id is selected when an
+  // inclusion pattern matches it (or there is none) and no exclusion pattern ('!...') does.
+  bool any_inclusion = false, included = false;
   for (const auto& p : patterns) {
-    if (p[0] == '=') {
-      if (id == p.substr(1)) return true;
+    if (p[0] == '!') {
+      if (pattern_matches(p.substr(1), id)) return false;
       continue;
     }
-    if (is_glob(p) ? fnmatch(p.c_str(), id.c_str(), 0) == 0 : id.find(p) != std::string::npos)
-      return true;
+    any_inclusion = true;
+    included = included || pattern_matches(p, id);
   }
-  return false;
+  return included || !any_inclusion;
 }
 
 bool CaseSelection::matches(const Case& c) const {
@@ -106,6 +118,10 @@ Result<CaseSelection> make_selection(const std::string& filter_text, const std::
                                      const std::string& pipeline_text) {
   CaseSelection sel;
   sel.patterns = split_filter(filter_text);
+  for (const std::string& p : sel.patterns)
+    if (p == "!" || p == "=" || p == "!=")
+      return Error{"--filter", "", "the pattern '" + p + "' names no case",
+                   "PATTERN (a glob with * ? [, =ID, or a substring), or !PATTERN to exclude"};
   sel.rerun_dir = rerun_dir;
   for (const std::string& name : split_filter(pipeline_text)) {
     if (!find_pipeline(name))
@@ -140,7 +156,7 @@ std::string no_match_message(const CaseSelection& sel, const std::vector<Case>& 
   const std::vector<std::string> part_list(parts.begin(), parts.end());
   std::string hints;
   for (const auto& p : sel.patterns) {
-    if (is_glob(p) || p[0] == '=') continue;
+    if (is_glob(p) || p[0] == '=' || p[0] == '!') continue;
     for (const auto& n : nearest_names(p, part_list, 3))
       if (edit_distance(p, n) <= std::max<size_t>(2, p.size() / 3))
         hints += (hints.empty() ? "" : ", ") + n;
@@ -150,7 +166,8 @@ std::string no_match_message(const CaseSelection& sel, const std::vector<Case>& 
       "\nhint: a pattern with * ? [ matches the whole id (e.g. 'tonemap/*'), =ID exactly one "
       "id, any other is a substring (e.g. lut); several patterns (--filter a,b or --filter a "
       "--filter b) select "
-      "the cases any of them matches; `hdrconform list` prints every id";
+      "the cases any of them matches, less those a !PATTERN matches; `hdrconform list` prints "
+      "every id";
   return msg;
 }
 

@@ -16,7 +16,9 @@ namespace hdrc {
 // when any pattern matches its id. A pattern with a glob character (* ? [) is matched against the
 // whole id (fnmatch, '*' crosses '/'); "=ID" selects exactly that id (the reproduce command of a
 // case page); any other pattern is a substring of the id ("lut" selects every case whose id
-// contains "lut").
+// contains "lut"). A pattern after '!' excludes what it matches, whatever the order (gtest's
+// POS-NEG, pytest's "not"): "tonemap/*,!hdr" is every tonemap case but those with "hdr";
+// exclusions alone start from every case.
 struct CaseSelection {
   std::vector<std::string> patterns;  // empty: every case
   // --rerun-failed DIR: only the cases DIR/results.json lists as FAIL, ERROR or MISSING, or whose

@@ -519,17 +519,9 @@ void print_unsupported(const RunReport& report) {
   }
 }
 
+// The details of the summary; its headline (counts, device) is printed at the very end, after
+// the golden check, by finish_run_outputs (runner/results.h: headline_of).
 void print_summary(const RunReport& report) {
-  std::printf(
-      "hdrconform: %zu cases: %d passed, %d failed, %d errors, %d unsupported, %d skipped, %d "
-      "known limits, %d degenerate, %d missing, %d not run in %.1f s on %s (%s), -j %d%s%s\n",
-      report.cases.size(), report.count(CaseVerdict::kPass), report.count(CaseVerdict::kFail),
-      report.count(CaseVerdict::kError), report.count(CaseVerdict::kUnsupported),
-      report.count(CaseVerdict::kSkipped), report.count(CaseVerdict::kKnownLimit),
-      report.count(CaseVerdict::kDegenerate), report.count(CaseVerdict::kMissing),
-      report.count(CaseVerdict::kNotRun), report.wall_seconds,
-      report.candidate_device.device.c_str(), report.candidate_device.driver.c_str(), report.jobs,
-      report.shard.empty() ? "" : ", shard ", report.shard.c_str());
   if (report.warned() > 0) std::printf("  %d passed with warnings\n", report.warned());
   std::vector<const CaseResult*> by_time, by_budget;
   int tighten = 0;
@@ -615,6 +607,14 @@ int run_suite(std::vector<Case> cases, const std::vector<KnownLimit>& limits,
       return kExitBadInput;
     }
   }
+  if (!options.failed_first_dir.empty()) {
+    const auto first = std::stable_partition(cases.begin(), cases.end(), [&](const Case& c) {
+      return options.failed_first.count(c.id) > 0;
+    });
+    std::printf("failed first: %zu case(s) that failed in %s/results.json run first\n",
+                static_cast<size_t>(first - cases.begin()), options.failed_first_dir.c_str());
+  }
+  ro.max_fail = options.max_fail;
   ro.jobs = options.jobs;
   ro.device_allowances = options.device_allowances;
   ro.known_limits = all_limits;
@@ -656,6 +656,12 @@ int run_suite(std::vector<Case> cases, const std::vector<KnownLimit>& limits,
   }
   print_summary(report);
   if (report.interrupted) std::printf("interrupted: unfinished cases are NOT_RUN\n");
+  if (report.stopped_by_max_fail)
+    std::printf("stopped: --maxfail %d: %d cases failed; %d cases not run (NOT_RUN)\n",
+                report.max_fail,
+                report.count(CaseVerdict::kFail) + report.count(CaseVerdict::kError) +
+                    report.count(CaseVerdict::kMissing),
+                report.count(CaseVerdict::kNotRun));
   return report.exit_code();
 }
 

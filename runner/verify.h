@@ -7,6 +7,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -152,6 +153,12 @@ struct SuiteOptions {
   // --no-device-allowance clears it: a case within a device allowance only fails
   // (RunOptions::device_allowances).
   bool device_allowances = true;
+  int max_fail = 0;  // --maxfail N: no case starts after N failures (RunOptions::max_fail)
+  // --failed-first DIR: the cases DIR/results.json records as failed (selection.h:
+  // failed_case_ids) run first, then the others, each group in case order; after --shard, so
+  // the shards stay those of the plan.
+  std::string failed_first_dir;
+  std::set<std::string> failed_first;
 };
 
 // The reference engine a suite run compares against: "baked" samples the LUT UE bakes (the

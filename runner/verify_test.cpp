@@ -72,7 +72,8 @@ TEST(CandidateProtocol, DeclinedCaseIsUnsupportedAndOnlyFailsUnderRequireAll) {
 // UNSUPPORTED without the command being started again (the command logs each start).
 TEST(CandidateProtocol, DeclinedStageStartsNoLaterCaseOfIt) {
   const fs::path out = temp_dir("decline_stage");
-  const fs::path log = out / "starts.log";
+  // Beside OUT, not in it: a run replaces OUT whole when it publishes (runner/output_set.h).
+  const fs::path log = temp_dir("decline_stage_log") / "starts.log";
   const Ran r = run("verify --candidate-cmd \"sh -c 'echo {id} >> " + log.string() +
                     "; echo no shaper here; exit 78' {output}\" --filter " + kShaperPq +
                     " -j 2 --out " + out.string());
@@ -95,6 +96,7 @@ TEST(CandidateProtocol, DeclinedStageStartsNoLaterCaseOfIt) {
             std::string::npos)
       << r.out;
   fs::remove_all(out);
+  fs::remove_all(log.parent_path());
 }
 
 #ifdef HDRC_STANDALONE_CANDIDATE

@@ -10,6 +10,8 @@ packages=(
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers glslang-dev glslang-tools spirv-tools
   libopencolorio-dev ccache bubblewrap
 )
+# An XML parser for the tests that read junit.xml as a CI's JUnit publisher does.
+packages+=(libexpat1-dev)
 # The sanitizer build and the fuzzers (scripts/sanitize.sh, fuzz/): clang with its ASan, UBSan and
 # libFuzzer runtimes (Debian puts those in libclang-rt-14-dev, which `clang` does not pull in).
 packages+=(clang libclang-rt-14-dev)
