@@ -539,7 +539,16 @@ int main(int argc, char** argv) {
     return hdrc::kExitPass;
   }
 
-  if (*merge_cmd) return hdrc::merge_runs(merge_out, merge_dirs);
+  if (*merge_cmd) {
+    // OUT is checked as run's --out (runner/merge.h): the repository's cases and goldens folders
+    // are protected here, the folders the shards ran on by merge itself.
+    std::error_code ec;
+    const std::string default_goldens =
+        std::filesystem::weakly_canonical(
+            std::filesystem::path(default_cases_dir) / ".." / "goldens", ec)
+            .generic_string();
+    return hdrc::merge_runs(merge_out, merge_dirs, {default_cases_dir, default_goldens});
+  }
 
   if (*probe) {
     std::ios::sync_with_stdio(false);  // buffered std::cin/std::cout: 1e6 lines in about a second

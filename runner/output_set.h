@@ -60,6 +60,7 @@ class OutputSet {
   const std::string& staging() const { return staging_; }
   // Checks the watched folders, then makes the staging folder the published run.
   Status publish();
+  bool published() const { return published_; }
 
  private:
   OutputSet() = default;
