@@ -13,6 +13,7 @@
 #include "core/install_paths.h"
 #include "core/nearest.h"
 #include "core/pipeline.h"
+#include "core/utf8.h"
 #include "gpu/vulkan_engine.h"
 #include "reference/reference_engine.h"
 #include "report/html_report.h"
@@ -735,6 +736,13 @@ int main(int argc, char** argv) {
                    "error: --candidate-cmd: the template has no {output}: the command must be "
                    "told where to write its image; valid placeholders: {input} {params} {output} "
                    "{id}\n");
+      return hdrc::kExitBadInput;
+    }
+    if (const std::string bad = hdrc::unknown_placeholder(*argv_template); !bad.empty()) {
+      std::fprintf(stderr,
+                   "error: --candidate-cmd: unknown placeholder %s in '%s'; valid placeholders: "
+                   "{input} {params} {output} {id}\n",
+                   hdrc::valid_utf8(bad).c_str(), hdrc::valid_utf8(candidate_cmd).c_str());
       return hdrc::kExitBadInput;
     }
     auto declined = std::make_shared<hdrc::DeclinedStages>();  // shared by every worker
