@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <set>
@@ -91,6 +92,19 @@ TEST(Verify, CommandTemplateSplitsLikeAShellWithoutOne) {
   const auto argv = hdrc::expand_placeholders({"p", "--out={output}", "{id}"}, "in.exr", "p.json",
                                               "/o dir/$(x).exr", "a/b c");
   EXPECT_EQ(argv, (std::vector<std::string>{"p", "--out=/o dir/$(x).exr", "a/b c"}));
+  // A misspelt placeholder is named; the four, a shell's ${name} and other braces are not.
+  EXPECT_EQ(hdrc::unknown_placeholder({"p", "--out={ouput}", "{output}"}), "{ouput}");
+  EXPECT_EQ(hdrc::unknown_placeholder({"p", "{input}{params}", "x{output}y", "{id}"}), "");
+  EXPECT_EQ(hdrc::unknown_placeholder({"sh", "-c", "echo ${HOME} {} {A} {a b} {"}), "");
+  EXPECT_EQ(hdrc::unknown_placeholder({"p", "{output_2}"}), "{output_2}");
+  // The sandbox: its own PID namespace, dying with the runner, the case folder absolute.
+  const auto sb = hdrc::sandbox_argv({"p", "x"}, "rel/case");
+  for (const char* flag : {"--unshare-pid", "--die-with-parent", "--new-session"})
+    EXPECT_NE(std::find(sb.begin(), sb.end(), flag), sb.end()) << flag;
+  const std::string abs = std::filesystem::absolute("rel/case").lexically_normal().string();
+  EXPECT_NE(std::find(sb.begin(), sb.end(), abs), sb.end());
+  EXPECT_EQ(std::vector<std::string>(sb.end() - 3, sb.end()),
+            (std::vector<std::string>{"--", "p", "x"}));
 }
 
 TEST(Verify, RunCommandReportsExitSignalAndTimeout) {

@@ -13,6 +13,7 @@
 #include "core/install_paths.h"
 #include "core/nearest.h"
 #include "core/pipeline.h"
+#include "core/utf8.h"
 #include "gpu/vulkan_engine.h"
 #include "reference/reference_engine.h"
 #include "report/html_report.h"
@@ -555,7 +556,16 @@ int main(int argc, char** argv) {
     return hdrc::kExitPass;
   }
 
-  if (*merge_cmd) return hdrc::merge_runs(merge_out, merge_dirs);
+  if (*merge_cmd) {
+    // OUT is checked as run's --out (runner/merge.h): the repository's cases and goldens folders
+    // are protected here, the folders the shards ran on by merge itself.
+    std::error_code ec;
+    const std::string default_goldens =
+        std::filesystem::weakly_canonical(
+            std::filesystem::path(default_cases_dir) / ".." / "goldens", ec)
+            .generic_string();
+    return hdrc::merge_runs(merge_out, merge_dirs, {default_cases_dir, default_goldens});
+  }
 
   if (*probe) {
     std::ios::sync_with_stdio(false);  // buffered std::cin/std::cout: 1e6 lines in about a second
@@ -750,6 +760,13 @@ int main(int argc, char** argv) {
                    "error: --candidate-cmd: the template has no {output}: the command must be "
                    "told where to write its image; valid placeholders: {input} {params} {output} "
                    "{id}\n");
+      return hdrc::kExitBadInput;
+    }
+    if (const std::string bad = hdrc::unknown_placeholder(*argv_template); !bad.empty()) {
+      std::fprintf(stderr,
+                   "error: --candidate-cmd: unknown placeholder %s in '%s'; valid placeholders: "
+                   "{input} {params} {output} {id}\n",
+                   hdrc::valid_utf8(bad).c_str(), hdrc::valid_utf8(candidate_cmd).c_str());
       return hdrc::kExitBadInput;
     }
     auto declined = std::make_shared<hdrc::DeclinedStages>();  // shared by every worker

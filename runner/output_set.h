@@ -65,6 +65,7 @@ class OutputSet {
   // Checks that the run is complete and the watched folders unchanged, then swaps the staging
   // folder in as OUT.
   Status publish();
+  bool published() const { return published_; }
 
  private:
   OutputSet() = default;

@@ -15,6 +15,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <random>
+#include <set>
 #include <sstream>
 #include <thread>
 
@@ -163,6 +164,131 @@ TEST(OutputSet, KillNineAtRandomMomentsLeavesPreviousOrNewCompleteRun) {
   // The next run cleans the killed runs' staging folders beside OUT: none remains.
   ASSERT_EQ(wait_code(spawn(args)), 0);
   check_complete(t / "out", n);
+  EXPECT_EQ(siblings_of(t / "out"), 0u);
+  if (!::testing::Test::HasFailure()) fs::remove_all(t);
+}
+
+// `merge` publishes as `run` does (runner/merge.h): kill -9 at moments spread over a merge's
+// duration leaves OUT holding one complete merge, the previous one or the new one, never one
+// merge's results.json beside another's report or images. Merges of two shard sets (the same
+// suite run twice: different started_utc and wall_seconds) alternate, so every kill that lands
+// after a publication shows as a change.
+TEST(OutputSet, KillNineDuringMergeLeavesPreviousOrNewCompleteMerge) {
+  const fs::path t = temp_dir("kill_merge");
+  const int n = 12;
+  write_suite(t / "cases", n);
+  // Two runs of the suite, each as two shards.
+  for (const char* set : {"a", "b"})
+    for (const char* k : {"1", "2"}) {
+      const fs::path dir = t / (std::string(set) + k);
+      ASSERT_EQ(wait_code(spawn({"run", "--engine", "reference", "--cases", (t / "cases").string(),
+                                 "--shard", std::string(k) + "/2", "--images", "all", "--out",
+                                 dir.string(), "-j", "1"})),
+                0);
+    }
+  auto merge_args = [&](const std::string& set) {
+    return std::vector<std::string>{"merge", (t / "out").string(), (t / (set + "1")).string(),
+                                    (t / (set + "2")).string()};
+  };
+  // The identity of a complete merge: its started_utc and wall_seconds, as check_complete reads
+  // them, and its case images (the report's and results.json's) from the same shards.
+  auto identity = [&](const std::string& seen) {
+    const auto doc = nlohmann::json::parse(read(t / "out/results.json"));
+    std::string set;
+    for (const auto& from : doc["merged_from"]) set += from["dir"].get<std::string>() + ";";
+    // Every image OUT shows is the shards' own file (a hard link: the same inode).
+    for (const auto& c : doc["cases"])
+      for (const auto& [name, rel] : c["images"].items()) {
+        const std::string shard = set.find((t / "a1").string()) != std::string::npos ? "a" : "b";
+        bool same = false;
+        for (const char* k : {"1", "2"})
+          same = same || fs::equivalent(t / "out" / rel.get<std::string>(),
+                                        t / (shard + k) / rel.get<std::string>());
+        EXPECT_TRUE(same) << rel << " is not from shard set " << shard;
+      }
+    // The report shows the same merge: its data names the shard folders results.json names.
+    const std::string data = read(t / "out/report/index.html");
+    EXPECT_NE(
+        data.find(
+            (t / (set.find((t / "a1").string()) != std::string::npos ? "a1" : "b1")).string()),
+        std::string::npos)
+        << "the report is not of the merge results.json holds";
+    return seen + set;
+  };
+  const auto t0 = std::chrono::steady_clock::now();
+  ASSERT_EQ(wait_code(spawn(merge_args("a"))), 0);
+  const double full_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  std::string previous = identity(check_complete(t / "out", n));
+  ASSERT_FALSE(previous.empty());
+
+  // Moments spread evenly over 1.6 times a merge's duration (a merge under load takes longer
+  // than the one timed), each jittered within its slot.
+  std::mt19937 rng(29);
+  const int kills = 16;
+  int kept_previous = 0, got_new = 0;
+  for (int i = 0; i < kills; ++i) {
+    const double slot = full_ms * 1.6 / kills;
+    const double at = slot * (i + std::uniform_real_distribution<double>(0.0, 1.0)(rng));
+    const pid_t pid = spawn(merge_args(i % 2 ? "a" : "b"));
+    std::this_thread::sleep_for(std::chrono::duration<double, std::milli>(at));
+    kill(pid, SIGKILL);
+    wait_code(pid);
+    SCOPED_TRACE("kill " + std::to_string(i) + " at " + std::to_string(at) + " ms");
+    const std::string seen = identity(check_complete(t / "out", n));
+    ASSERT_FALSE(seen.empty());
+    if (seen == previous) {
+      ++kept_previous;
+    } else {
+      ++got_new;
+      previous = seen;
+    }
+  }
+  std::printf(
+      "merge: kill -9 at %d moments over %.0f ms merges: %d left the previous merge, %d the new "
+      "one; every time complete\n",
+      kills, full_ms, kept_previous, got_new);
+  EXPECT_GT(kept_previous, 0);  // some kills hit a merge before it published
+  // The next merge cleans the killed merges' staging folders: none is left beside OUT.
+  ASSERT_EQ(wait_code(spawn(merge_args("b"))), 0);
+  identity(check_complete(t / "out", n));
+  EXPECT_EQ(siblings_of(t / "out"), 0u);
+  if (!::testing::Test::HasFailure()) fs::remove_all(t);
+}
+
+// A finished merge's OUT holds exactly that merge's outputs: merging another suite's shards into
+// it leaves none of the first merge's case images, and no run folder but its own.
+TEST(OutputSet, MergeLeavesNothingOfTheMergeBefore) {
+  const fs::path t = temp_dir("merge_again");
+  write_suite(t / "big", 6);
+  write(t / "small/s.json",
+        R"({"stage": "shaper", "input": {"stimulus": "log_ramp", "width": 8, "height": 2}})");
+  write(t / "small/u.json",
+        R"({"stage": "shaper", "input": {"stimulus": "log_ramp", "width": 8, "height": 4}})");
+  for (const char* suite : {"big", "small"})
+    for (const char* k : {"1", "2"})
+      ASSERT_EQ(wait_code(spawn({"run", "--engine", "reference", "--cases", (t / suite).string(),
+                                 "--shard", std::string(k) + "/2", "--images", "all", "--out",
+                                 (t / (std::string(suite) + k)).string()})),
+                0);
+  ASSERT_EQ(wait_code(spawn(
+                {"merge", (t / "out").string(), (t / "big1").string(), (t / "big2").string()})),
+            0);
+  check_complete(t / "out", 6);
+  ASSERT_EQ(wait_code(spawn(
+                {"merge", (t / "out").string(), (t / "small1").string(), (t / "small2").string()})),
+            0);
+  check_complete(t / "out", 2);
+  // The files OUT shows: exactly those of the second merge.
+  std::set<std::string> shown;
+  for (const auto& e : fs::recursive_directory_iterator(t / "out/cases"))
+    if (e.is_regular_file()) shown.insert(fs::relative(e.path(), t / "out/cases").string());
+  std::set<std::string> expected;
+  const auto doc = nlohmann::json::parse(read(t / "out/results.json"));
+  for (const auto& c : doc["cases"])
+    for (const auto& [name, rel] : c["images"].items())
+      expected.insert(fs::path(rel.get<std::string>()).lexically_relative("cases").string());
+  EXPECT_EQ(shown, expected);
   EXPECT_EQ(siblings_of(t / "out"), 0u);
   if (!::testing::Test::HasFailure()) fs::remove_all(t);
 }

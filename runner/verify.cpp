@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -119,6 +120,22 @@ Result<std::vector<std::string>> split_command_template(const std::string& text)
     return Error{"", "--candidate-cmd", "the command template is empty",
                  "a program and its arguments with {input} {params} {output}"};
   return words;
+}
+
+std::string unknown_placeholder(const std::vector<std::string>& argv) {
+  for (const std::string& w : argv)
+    for (size_t at = w.find('{'); at != std::string::npos; at = w.find('{', at + 1)) {
+      if (at > 0 && w[at - 1] == '$') continue;  // ${VAR}: the shell's, for an `sh -c` script
+      size_t end = at + 1;
+      while (end < w.size() && (std::islower(static_cast<unsigned char>(w[end])) ||
+                                std::isdigit(static_cast<unsigned char>(w[end])) || w[end] == '_'))
+        ++end;
+      if (end == at + 1 || end >= w.size() || w[end] != '}') continue;
+      const std::string name = w.substr(at, end - at + 1);
+      if (name != "{input}" && name != "{params}" && name != "{output}" && name != "{id}")
+        return name;
+    }
+  return "";
 }
 
 std::vector<std::string> expand_placeholders(const std::vector<std::string>& argv,
@@ -269,8 +286,16 @@ CommandResult run_command(const std::vector<std::string>& argv, const std::strin
 }
 
 std::string sandbox_program() {
-  for (const char* dir : {"/usr/bin", "/bin", "/usr/local/bin"}) {
-    const std::string p = std::string(dir) + "/bwrap";
+  // Found as the candidate command itself is (execvp): on PATH, or /usr/bin:/bin without one.
+  const char* path = std::getenv("PATH");
+  const std::string dirs = path ? path : "/usr/bin:/bin";
+  for (size_t at = 0; at <= dirs.size();) {
+    size_t end = dirs.find(':', at);
+    if (end == std::string::npos) end = dirs.size();
+    const std::string dir = dirs.substr(at, end - at);
+    at = end + 1;
+    if (dir.empty() || dir[0] != '/') continue;  // a relative entry would depend on the cwd
+    const std::string p = dir + "/bwrap";
     if (::access(p.c_str(), X_OK) == 0) return p;
   }
   return "";
@@ -281,7 +306,12 @@ std::vector<std::string> sandbox_argv(const std::vector<std::string>& argv,
   std::error_code ec;
   const std::string dir = fs::absolute(case_dir, ec).lexically_normal().string();
   // A read-only view of the whole system, no network, its own session; only the case's own
-  // folder is writable (and is its TMPDIR).
+  // folder is writable (and is its TMPDIR). Its own PID namespace, whose init (bwrap's) ends with
+  // the command: the kernel then kills every process left in the namespace (pid_namespaces(7)),
+  // so no background child outlives the case. --die-with-parent: when the runner kills bwrap (a
+  // timeout, the case's end), the namespace's init gets SIGKILL and the namespace goes with it
+  // (bwrap(1)). Without the PID namespace the command's children, in bwrap's new session and
+  // user namespace, escaped both the process-group kill and the token search.
   std::vector<std::string> out = {sandbox_program(),
                                   "--ro-bind",
                                   "/",
@@ -295,6 +325,7 @@ std::vector<std::string> sandbox_argv(const std::vector<std::string>& argv,
                                   dir,
                                   "--unshare-net",
                                   "--unshare-ipc",
+                                  "--unshare-pid",
                                   "--new-session",
                                   "--die-with-parent",
                                   "--setenv",
@@ -313,7 +344,9 @@ Status CandidateCommandEngine::init() {
   if (Status st = become_subreaper(); !st) return st;
   if (sandbox_ && sandbox_program().empty())
     return Error{"", "--sandbox",
-                 "bubblewrap (bwrap) is not installed, so candidate commands cannot be sandboxed",
+                 "bubblewrap (bwrap) is not installed (not found on PATH " +
+                     valid_utf8(std::getenv("PATH") ? std::getenv("PATH") : "(unset)") +
+                     "), so candidate commands cannot be sandboxed",
                  "install Debian's package bubblewrap, or run without --sandbox"};
   return {};
 }
@@ -383,7 +416,13 @@ Error CandidateCommandEngine::decline(const ResolvedCase& c, int status, const s
 Result<Image> CandidateCommandEngine::run(const ResolvedCase& c) {
   declined_case_.clear();
   declined_reason_.clear();
-  const std::string dir = out_dir_ + "/" + case_image_dir(c.spec.id);
+  // Under --sandbox the command runs in its case folder (sandbox_argv's --chdir): every path it
+  // is given is absolute, or a relative --out would name a folder inside that one.
+  std::string dir = out_dir_ + "/" + case_image_dir(c.spec.id);
+  if (sandbox_) {
+    std::error_code aec;
+    dir = fs::absolute(dir, aec).lexically_normal().string();
+  }
   if (Status st = export_case(c, dir); !st) return st.error();
   const std::string output = dir + "/candidate_output.exr";
   const std::string log = dir + "/candidate.log";

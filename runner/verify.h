@@ -40,6 +40,10 @@ class CandidateDirEngine final : public Engine {
 // backslash outside quotes escapes the next character. Nothing else is special ($, `, ;, |, *).
 Result<std::vector<std::string>> split_command_template(const std::string& text);
 
+// The first word of the form {name} (lower-case letters, digits, '_'; not ${name}, a shell's)
+// that is none of the placeholders below, e.g. a misspelt "{ouput}"; "" when there is none.
+std::string unknown_placeholder(const std::vector<std::string>& argv);
+
 // Replaces {input}, {params}, {output} and {id} in every word (after splitting, so no value is
 // ever split or interpreted).
 std::vector<std::string> expand_placeholders(const std::vector<std::string>& argv,
@@ -71,8 +75,9 @@ CommandResult run_command(const std::vector<std::string>& argv, const std::strin
 inline constexpr double kMaxTimeoutSeconds = 86400;
 std::string check_timeout_seconds(std::string& text);
 
-// verify --sandbox: the bubblewrap program ("" when not installed), and argv wrapped in it so the
-// command sees the system read-only, a private /tmp, no network, and can write only `case_dir`.
+// verify --sandbox: the bubblewrap program (bwrap on PATH; "" when there is none), and argv wrapped
+// in it so the command sees the system read-only, no network, its own PID namespace (its
+// processes end with it), and can write only `case_dir` (absolute inside the sandbox).
 std::string sandbox_program();
 std::vector<std::string> sandbox_argv(const std::vector<std::string>& argv,
                                       const std::string& case_dir);
