@@ -85,6 +85,14 @@ Vec3 ue_filmic(const Vec3& rec709, const grading::FilmParams& film, const UeFilm
   return grading::hlsl::max0(space.ap1_to_rec709 * tone_ap1);
 }
 
+Vec3 ue_filmic(const Vec3& rec709, const grading::FilmParams& film, const UeFilmicSpace& space,
+               UeFilmicTrace* trace) {
+  trace->ap1 = space.rec709_to_ap1 * rec709;
+  trace->tone_ap1 = grading::film_tone_map(trace->ap1, film, &trace->film);
+  trace->rec709 = space.ap1_to_rec709 * trace->tone_ap1;
+  return grading::hlsl::max0(trace->rec709);
+}
+
 Vec3 apply_operator(const ParamBlock& p, const Vec3& scene_linear) {
   const Vec3 x = {p.op_exposure * scene_linear[0], p.op_exposure * scene_linear[1],
                   p.op_exposure * scene_linear[2]};

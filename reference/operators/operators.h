@@ -116,6 +116,15 @@ struct UeFilmicSpace {
 };
 UeFilmicSpace ue_filmic_space();
 Vec3 ue_filmic(const Vec3& rec709, const grading::FilmParams& film, const UeFilmicSpace& space);
+// The same with its named intermediate values (docs/spec/operators.md, the UeFilmic worked pixel).
+struct UeFilmicTrace {
+  Vec3 ap1;                        // rec709_to_ap1 · input
+  grading::FilmToneMapTrace film;  // FilmToneMap's steps
+  Vec3 tone_ap1;                   // FilmToneMap(ap1)
+  Vec3 rec709;                     // ap1_to_rec709 · tone_ap1, before max(0, ·)
+};
+Vec3 ue_filmic(const Vec3& rec709, const grading::FilmParams& film, const UeFilmicSpace& space,
+               UeFilmicTrace* trace);
 
 // --- The pipeline's one stage ---
 

@@ -98,6 +98,11 @@ Vec3 bilinear(const Image& img, double u, double v) {
 }  // namespace
 
 Vec3 sample_strip(const StripLut& lut, const Vec3& t) {
+  StripTrace unused;
+  return sample_strip(lut, t, &unused);
+}
+
+Vec3 sample_strip(const StripLut& lut, const Vec3& t, StripTrace* trace) {
   const double n = lut.size;
   Vec3 uvw;
   for (int c = 0; c < 3; ++c) uvw[c] = t[c] * ((n - 1.0) / n) + 0.5 / n;
@@ -105,7 +110,10 @@ Vec3 sample_strip(const StripLut& lut, const Vec3& t) {
   const double int_w = std::floor(w);
   const double frac_w = w - int_w;
   const double u = (uvw[0] + int_w) / n;
-  return mix(bilinear(*lut.strip, u, uvw[1]), bilinear(*lut.strip, u + 1.0 / n, uvw[1]), frac_w);
+  const Vec3 tap0 = bilinear(*lut.strip, u, uvw[1]);
+  const Vec3 tap1 = bilinear(*lut.strip, u + 1.0 / n, uvw[1]);
+  *trace = {uvw, w, int_w, frac_w, u, tap0, tap1};
+  return mix(tap0, tap1, frac_w);
 }
 
 Vec3 lookup(const StripLut& lut, const Vec3& pq, LutEval eval) {
@@ -117,10 +125,16 @@ Vec3 lookup(const StripLut& lut, const Vec3& pq, LutEval eval) {
 }
 
 Vec3 display_map(const ParamBlock& p, const Vec3& graded) {
+  return display_map(p, graded, nullptr);
+}
+
+Vec3 display_map(const ParamBlock& p, const Vec3& graded, operators::UeFilmicTrace* filmic) {
   if (p.pq_display == static_cast<int>(Display::kHdr)) {
     const grading::FilmParams film{p.film_slope, p.film_toe, p.film_shoulder, p.film_black_clip,
                                    p.film_white_clip};
-    return operators::ue_filmic(graded, film, {p.pq_rec709_to_ap1, p.pq_ap1_to_rec709});
+    const operators::UeFilmicSpace space{p.pq_rec709_to_ap1, p.pq_ap1_to_rec709};
+    return filmic ? operators::ue_filmic(graded, film, space, filmic)
+                  : operators::ue_filmic(graded, film, space);
   }
   if (p.pq_display == static_cast<int>(Display::kSdr))
     return {operators::aces_narkowicz(graded[0]), operators::aces_narkowicz(graded[1]),
@@ -149,11 +163,16 @@ Trace grade(const ParamBlock& p, const StripLut& lut, const Vec3& scene, LutEval
     t.exposed[c] = d3d::saturate(t.stored[c] * p.pq_exposure_fract);
     t.pq[c] = st2084::pq_from_nits(t.exposed[c] * st2084::kPeakNits);
   }
-  t.graded_pq = lookup(lut, t.pq, eval);
+  if (eval == LutEval::kStrip) {
+    t.lut_coord = domain_normalise(lut, t.pq);
+    t.graded_pq = sample_strip(lut, t.lut_coord, &t.strip);
+  } else {
+    t.graded_pq = lookup(lut, t.pq, eval);
+  }
   for (int c = 0; c < 3; ++c)
     t.graded[c] = st2084::nits_from_pq(t.graded_pq[c]) / st2084::kPeakNits / p.pq_exposure_fract *
                   p.pq_amplify;
-  t.display = display_map(p, t.graded);
+  t.display = display_map(p, t.graded, &t.filmic);
   for (int c = 0; c < 3; ++c) t.out[c] = encode_output(p, t.display[c]);
   return t;
 }
