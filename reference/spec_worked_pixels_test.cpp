@@ -11,12 +11,12 @@
 // PIPELINE is `operators`, `pq_grading` or `film_tonemap` (FilmToneMap alone: AP1 in, AP1 out,
 // its parameters from the operators' FilmPreset setting). Each row is an intermediate value's name
 // and its one or three numbers; the test evaluates the pixel with the reference's own stage
-// functions (their traces), and every row must equal the code's value to the 9 significant digits
-// printed, and every intermediate value the code names for that pixel must be in the block (the
-// FilmToneMap steps inside another pipeline's pixel are optional there: film_tonemap.md lists
-// them). A block whose info string starts with `spec-constants` lists parameter-block fields by
-// their params.json names (M3: nine numbers, row-major) for the settings given, checked the same
-// way. On a mismatch the test prints the block as the code computes it.
+// functions (their traces, by name: reference/named_values.h), and every row must equal the code's
+// value to the 9 significant digits printed, and every intermediate value the code names for that
+// pixel must be in the block (the FilmToneMap steps inside another pipeline's pixel are optional
+// there: film_tonemap.md lists them). A block whose info string starts with `spec-constants` lists
+// parameter-block fields by their params.json names (M3: nine numbers, row-major) for the settings
+// given, checked the same way. On a mismatch the test prints the block as the code computes it.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -188,30 +188,11 @@ ParamBlock operators_params(const Block& b) {
   return p;
 }
 
-void add_film_trace(const grading::FilmToneMapTrace& t, bool required, Computed* c) {
-  c->add("toe_scale", t.match.toe_scale, required);
-  c->add("shoulder_scale", t.match.shoulder_scale, required);
-  c->add("toe_match", t.match.toe_match, required);
-  c->add("straight_match", t.match.straight_match, required);
-  c->add("shoulder_match", t.match.shoulder_match, required);
-  c->add("ap0", t.ap0, required);
-  c->add("saturation", t.saturation, required);
-  c->add("yc", t.yc, required);
-  c->add("sigmoid", t.sigmoid, required);
-  c->add("glow", t.glow, required);
-  c->add("ap0_glow", t.ap0_glow, required);
-  c->add("hue", t.hue, required);
-  c->add("hue_weight", t.hue_weight, required);
-  c->add("ap0_red", t.ap0_red, required);
-  c->add("ap1_clamped", t.ap1_clamped, required);
-  c->add("ap1_desat", t.ap1_desat, required);
-  c->add("log_color", t.log_color, required);
-  c->add("toe", t.toe, required);
-  c->add("straight", t.straight, required);
-  c->add("shoulder", t.shoulder, required);
-  c->add("blend", t.blend, required);
-  c->add("tone", t.tone, required);
-  c->add("post_desat", t.post_desat, required);
+// The reference's named values of a pixel as the block's Computed (`detail` values optional).
+Computed computed_from(const std::vector<hdrc::ref::NamedValue>& values) {
+  Computed c;
+  for (const auto& v : values) c.add(v.name, v.v, !v.detail);
+  return c;
 }
 
 Vec3 input_of(const Block& b) {
@@ -225,60 +206,11 @@ Computed compute_film_tonemap(const Block& b) {
   const ParamBlock p = operators_params(b);
   const grading::FilmParams film{p.film_slope, p.film_toe, p.film_shoulder, p.film_black_clip,
                                  p.film_white_clip};
-  Computed c;
-  const Vec3 in = input_of(b);
-  c.add("input", in);
-  grading::FilmToneMapTrace t;
-  const Vec3 out = grading::film_tone_map(in, film, &t);
-  add_film_trace(t, true, &c);
-  c.add("out", out);
-  return c;
+  return computed_from(grading::film_tone_map_named_values(input_of(b), film));
 }
 
 Computed compute_operators(const Block& b) {
-  const ParamBlock p = operators_params(b);
-  Computed c;
-  const Vec3 in = input_of(b);
-  c.add("input", in);
-  c.add("exposure", p.op_exposure);
-  const Vec3 x{p.op_exposure * in[0], p.op_exposure * in[1], p.op_exposure * in[2]};
-  c.add("x", x);
-  switch (static_cast<ops::Operator>(p.op_operator)) {
-    case ops::Operator::kHable: {
-      const ops::RationalCurve k{p.op_hable_a, p.op_hable_b, p.op_hable_c,
-                                 p.op_hable_d, p.op_hable_e, p.op_hable_f};
-      Vec3 f;
-      for (int i = 0; i < 3; ++i) f[i] = ops::rational_curve(p.op_hable_exposure_bias * x[i], k);
-      c.add("f_bias_x", f);
-      c.add("f_w", ops::rational_curve(p.op_hable_w, k));
-      break;
-    }
-    case ops::Operator::kUnityNeutral: {
-      const double ws =
-          1.0 / ops::rational_curve(ops::kUnityNeutralWhiteLevel, ops::kUnityNeutralCurve);
-      c.add("white_scale", ws);
-      Vec3 n;
-      for (int i = 0; i < 3; ++i)
-        n[i] = ops::rational_curve(std::fmax(0.0, x[i]) * ws, ops::kUnityNeutralCurve);
-      c.add("curve", n);
-      break;
-    }
-    case ops::Operator::kUeFilmic: {
-      const grading::FilmParams film{p.film_slope, p.film_toe, p.film_shoulder, p.film_black_clip,
-                                     p.film_white_clip};
-      ops::UeFilmicTrace t;
-      ops::ue_filmic(x, film, {p.op_rec709_to_ap1, p.op_ap1_to_rec709}, &t);
-      c.add("ap1", t.ap1);
-      add_film_trace(t.film, false, &c);
-      c.add("tone_ap1", t.tone_ap1);
-      c.add("rec709", t.rec709);
-      break;
-    }
-    default:
-      break;
-  }
-  c.add("out", ops::apply_operator(p, in));
-  return c;
+  return computed_from(ops::named_values(operators_params(b), input_of(b)));
 }
 
 // The .cube as the loader hands it to the engines (its table as the strip texture).
@@ -295,11 +227,10 @@ Computed compute_pq_grading(const Block& b) {
   std::string cube_path;
   for (const auto& [name, value] : b.options)
     if (name == "cube") cube_path = value;
-  Computed c;
   auto cube = hdrc::cube::read_cube_file((kRoot / cube_path).string());
   if (cube_path.empty() || !cube) {
     ADD_FAILURE() << b.file << ":" << b.line << ": cube=" << cube_path << " cannot be read";
-    return c;
+    return {};
   }
   LoadedLut l;
   l.lut.size = cube->size_3d;
@@ -313,33 +244,7 @@ Computed compute_pq_grading(const Block& b) {
     p.user_lut_domain_max[i] = l.lut.domain_max[i];
   }
   const pqg::StripLut lut = pqg::strip_lut(l.strip, p);
-  const Vec3 in = input_of(b);
-  const pqg::Trace t = pqg::grade(p, lut, in, pqg::LutEval::kStrip);
-  c.add("input", in);
-  c.add("exposure_fract", p.pq_exposure_fract);
-  c.add("white_nits", p.pq_white_nits);
-  c.add("stored", t.stored);
-  c.add("exposed", t.exposed);
-  c.add("pq", t.pq);
-  c.add("lut_coord", t.lut_coord);
-  c.add("uvw", t.strip.uvw);
-  c.add("slice_w", t.strip.w);
-  c.add("slice_i", t.strip.i);
-  c.add("slice_f", t.strip.f);
-  c.add("u", t.strip.u);
-  c.add("tap0", t.strip.tap0);
-  c.add("tap1", t.strip.tap1);
-  c.add("graded_pq", t.graded_pq);
-  c.add("graded", t.graded);
-  if (p.pq_display == static_cast<int>(pqg::Display::kHdr)) {
-    c.add("ap1", t.filmic.ap1);
-    add_film_trace(t.filmic.film, false, &c);
-    c.add("tone_ap1", t.filmic.tone_ap1);
-    c.add("rec709", t.filmic.rec709);
-  }
-  c.add("display", t.display);
-  c.add("out", t.out);
-  return c;
+  return computed_from(pqg::named_values(p, lut, input_of(b)));
 }
 
 Computed compute_constants(const Block& b) {

@@ -145,6 +145,42 @@ Vec3 film_tone_map(const Vec3& ap1, const FilmParams& p, FilmToneMapTrace* trace
   return hlsl::max0(post);
 }
 
+void film_named_values(const FilmToneMapTrace& t, bool detail, std::vector<NamedValue>* out) {
+  add_named(out, "toe_scale", t.match.toe_scale, detail);
+  add_named(out, "shoulder_scale", t.match.shoulder_scale, detail);
+  add_named(out, "toe_match", t.match.toe_match, detail);
+  add_named(out, "straight_match", t.match.straight_match, detail);
+  add_named(out, "shoulder_match", t.match.shoulder_match, detail);
+  add_named(out, "ap0", t.ap0, detail);
+  add_named(out, "saturation", t.saturation, detail);
+  add_named(out, "yc", t.yc, detail);
+  add_named(out, "sigmoid", t.sigmoid, detail);
+  add_named(out, "glow", t.glow, detail);
+  add_named(out, "ap0_glow", t.ap0_glow, detail);
+  add_named(out, "hue", t.hue, detail);
+  add_named(out, "hue_weight", t.hue_weight, detail);
+  add_named(out, "ap0_red", t.ap0_red, detail);
+  add_named(out, "ap1_clamped", t.ap1_clamped, detail);
+  add_named(out, "ap1_desat", t.ap1_desat, detail);
+  add_named(out, "log_color", t.log_color, detail);
+  add_named(out, "toe", t.toe, detail);
+  add_named(out, "straight", t.straight, detail);
+  add_named(out, "shoulder", t.shoulder, detail);
+  add_named(out, "blend", t.blend, detail);
+  add_named(out, "tone", t.tone, detail);
+  add_named(out, "post_desat", t.post_desat, detail);
+}
+
+std::vector<NamedValue> film_tone_map_named_values(const Vec3& ap1, const FilmParams& p) {
+  std::vector<NamedValue> out;
+  add_named(&out, "input", ap1);
+  FilmToneMapTrace t;
+  const Vec3 result = film_tone_map(ap1, p, &t);
+  film_named_values(t, false, &out);
+  add_named(&out, "out", result);
+  return out;
+}
+
 const Mat3 kBlueCorrectAp0{{0.9404372683, -0.0183068787, 0.0778696104,  //
                             0.0083786969, 0.8286599939, 0.1629613092,   //
                             0.0005471261, -0.0008833746, 1.0003362486}};

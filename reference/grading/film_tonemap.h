@@ -9,6 +9,7 @@
 
 #include "reference/color/ue_matrices.h"
 #include "reference/color/vec.h"
+#include "reference/named_values.h"
 
 namespace hdrc::ref::grading {
 
@@ -70,6 +71,11 @@ struct FilmToneMapTrace {
   Vec3 post_desat;                 // 6. lerp(luma, tone, 0.93), before max(0, ·)
 };
 Vec3 film_tone_map(const Vec3& ap1, const FilmParams& p, FilmToneMapTrace* trace);
+// The trace by the names of docs/spec/film_tonemap.md (toe_scale ... post_desat), marked `detail`
+// when FilmToneMap is a step of another pipeline's pixel.
+void film_named_values(const FilmToneMapTrace& t, bool detail, std::vector<NamedValue>* out);
+// FilmToneMap's worked pixel: input, the trace, out.
+std::vector<NamedValue> film_tone_map_named_values(const Vec3& ap1, const FilmParams& p);
 
 // FilmToneMap's red-modifier hue weight: smoothstep(0, 1, 1 − |2·centered_hue/135|)², hue in
 // degrees. ACES 1.3's RRT uses cubic_basis_shaper(centered_hue, 135) instead (see the tests).

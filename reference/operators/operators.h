@@ -128,6 +128,11 @@ Vec3 ue_filmic(const Vec3& rec709, const grading::FilmParams& film, const UeFilm
 
 // --- The pipeline's one stage ---
 
+// One pixel's named intermediate values (docs/spec/operators.md, its worked pixels; probe --json):
+// input, exposure, x, the operator's own (Hable: f_bias_x, f_w; UnityNeutral: white_scale, curve;
+// UeFilmic: ap1, FilmToneMap's steps as `detail`, tone_ap1, rec709), out = apply_operator.
+std::vector<NamedValue> named_values(const ParamBlock& p, const Vec3& scene_linear);
+
 // x = op_exposure · scene_linear, then the operator op_operator with its op_* fields (UeFilmic:
 // film_* and the op_ matrices). An op_operator outside 0-5 gives NaN in every channel.
 Vec3 apply_operator(const ParamBlock& p, const Vec3& scene_linear);

@@ -177,6 +177,36 @@ Trace grade(const ParamBlock& p, const StripLut& lut, const Vec3& scene, LutEval
   return t;
 }
 
+std::vector<NamedValue> named_values(const ParamBlock& p, const StripLut& lut, const Vec3& scene) {
+  const Trace t = grade(p, lut, scene, LutEval::kStrip);
+  std::vector<NamedValue> out;
+  add_named(&out, "input", scene);
+  add_named(&out, "exposure_fract", p.pq_exposure_fract);
+  add_named(&out, "white_nits", p.pq_white_nits);
+  add_named(&out, "stored", t.stored);
+  add_named(&out, "exposed", t.exposed);
+  add_named(&out, "pq", t.pq);
+  add_named(&out, "lut_coord", t.lut_coord);
+  add_named(&out, "uvw", t.strip.uvw);
+  add_named(&out, "slice_w", t.strip.w);
+  add_named(&out, "slice_i", t.strip.i);
+  add_named(&out, "slice_f", t.strip.f);
+  add_named(&out, "u", t.strip.u);
+  add_named(&out, "tap0", t.strip.tap0);
+  add_named(&out, "tap1", t.strip.tap1);
+  add_named(&out, "graded_pq", t.graded_pq);
+  add_named(&out, "graded", t.graded);
+  if (p.pq_display == static_cast<int>(Display::kHdr)) {
+    add_named(&out, "ap1", t.filmic.ap1);
+    grading::film_named_values(t.filmic.film, true, &out);
+    add_named(&out, "tone_ap1", t.filmic.tone_ap1);
+    add_named(&out, "rec709", t.filmic.rec709);
+  }
+  add_named(&out, "display", t.display);
+  add_named(&out, "out", t.out);
+  return out;
+}
+
 // --- Device allowances ---
 
 spirv::Interval pq_from_nits_on_device(spirv::Interval nits) {

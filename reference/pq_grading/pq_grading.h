@@ -116,6 +116,10 @@ struct Trace {
   operators::UeFilmicTrace filmic;
 };
 Trace grade(const ParamBlock& p, const StripLut& lut, const Vec3& scene, LutEval eval);
+// The same pixel (kStrip) by the names of docs/spec/pq_grading.md (its worked pixels; probe
+// --json): input, exposure_fract, white_nits, stored ... graded, the HDR mapping's ap1,
+// FilmToneMap's steps (`detail`), tone_ap1, rec709, then display, out.
+std::vector<NamedValue> named_values(const ParamBlock& p, const StripLut& lut, const Vec3& scene);
 
 // --- Device allowances (docs/precision.md, "Device allowances") ---
 
