@@ -20,6 +20,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -365,8 +366,33 @@ TEST(SpecPages, EveryPipelinePageHasAWorkedPixelAndLinksTheSemantics) {
   }
 }
 
+// The anchors of a page's headings as GitHub makes them: lower case, every character but letters,
+// digits, spaces, '-' and '_' dropped, spaces as '-'.
+std::set<std::string> anchors_of(const fs::path& page) {
+  std::set<std::string> out;
+  std::istringstream text(read_text(page));
+  bool fenced = false;
+  for (std::string line; std::getline(text, line);) {
+    if (line.rfind("```", 0) == 0) fenced = !fenced;
+    if (fenced || line.empty() || line[0] != '#') continue;
+    const size_t start = line.find_first_not_of('#');
+    std::string slug;
+    for (char ch : line.substr(line.find_first_not_of(' ', start))) {
+      const unsigned char u = static_cast<unsigned char>(ch);
+      if (std::isalnum(u) || ch == '-' || ch == '_')
+        slug += static_cast<char>(std::tolower(u));
+      else if (ch == ' ')
+        slug += '-';
+      else if (u >= 0x80)
+        slug += ch;  // UTF-8 letters stay
+    }
+    out.insert(slug);
+  }
+  return out;
+}
+
 // The spec pages and the pages a port starts from link only files of this repository: every
-// relative link resolves, and no link or cited path is absolute.
+// relative link resolves, to a heading where it names one, and no link or cited path is absolute.
 TEST(SpecPages, LinksStayInsideTheRepository) {
   std::vector<fs::path> pages = spec_pages();
   for (const char* p : {"operators.md", "pq_grading.md", "candidate-protocol.md"})
@@ -377,10 +403,17 @@ TEST(SpecPages, LinksStayInsideTheRepository) {
     for (auto it = std::sregex_iterator(text.begin(), text.end(), link);
          it != std::sregex_iterator(); ++it) {
       const std::string target = (*it)[1];
-      if (target.empty() || target.rfind("http", 0) == 0) continue;
-      EXPECT_NE(target[0], '/') << page.filename() << ": absolute link " << target;
-      EXPECT_TRUE(fs::exists(page.parent_path() / target))
+      if (target.rfind("http", 0) == 0) continue;
+      EXPECT_TRUE(target.empty() || target[0] != '/')
+          << page.filename() << ": absolute link " << target;
+      const fs::path file = target.empty() ? page : page.parent_path() / target;
+      EXPECT_TRUE(fs::exists(file))
           << page.filename() << ": link to " << target << " does not resolve";
+      const std::string anchor = (*it)[2];
+      if (!anchor.empty() && file.extension() == ".md" && fs::exists(file)) {
+        EXPECT_TRUE(anchors_of(file).count(anchor.substr(1)))
+            << page.filename() << ": " << target << anchor << " names no heading";
+      }
     }
     for (const char* absolute : {"/work/", "/home/", "/tmp/"})
       EXPECT_EQ(text.find(absolute), std::string::npos)
