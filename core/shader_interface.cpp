@@ -21,6 +21,25 @@ std::string_view param_owner(std::string_view name) {
   return "";
 }
 
+bool param_carried_by(std::string_view name, std::string_view pipeline) {
+#define HDRC_SHARED_NAME(field) #field,
+  static const std::vector<std::pair<std::string_view, std::vector<std::string_view>>> shared = {
+      {"operators", {HDRC_OPERATORS_SHARED_PARAMS(HDRC_SHARED_NAME)}},
+      {"unity_urp", {HDRC_UNITY_URP_SHARED_PARAMS(HDRC_SHARED_NAME)}},
+      {"pq_grading", {HDRC_PQ_GRADING_SHARED_PARAMS(HDRC_SHARED_NAME)}},
+  };
+#undef HDRC_SHARED_NAME
+  const std::string_view owner = param_owner(name);
+  if (owner == pipeline) return true;
+  if (owner != "ue55") return false;
+  if (pipeline == "ue55") return true;
+  for (const auto& [p, fields] : shared)
+    if (p == pipeline)
+      for (std::string_view f : fields)
+        if (f == name) return true;
+  return false;
+}
+
 namespace {
 // std430 rules for the field kinds: scalars align to 4 bytes; a vec4 and an array of vec4 align to
 // 16 (arrays with a 16-byte stride).

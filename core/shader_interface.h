@@ -61,12 +61,10 @@ void for_each_param(Block& p, F&& f) {
 // pipeline's shaders read: image size, LUT geometry, aux image sizes), "operators", "unity_urp"; ""
 // for no field.
 std::string_view param_owner(std::string_view name);
-// True when `pipeline`'s cases carry field `name` (params.json, results.json): UE 5.5's fields and
-// the pipeline's own.
-inline bool param_carried_by(std::string_view name, std::string_view pipeline) {
-  const std::string_view owner = param_owner(name);
-  return owner == "ue55" || owner == pipeline;
-}
+// True when `pipeline`'s cases carry field `name` (params.json): its own fields, and of UE 5.5's
+// those it reads (every one for "ue55"; HDRC_<PIPELINE>_SHARED_PARAMS in the pipeline's params
+// header for the others), so that an export holds only what applies to its pipeline.
+bool param_carried_by(std::string_view name, std::string_view pipeline);
 
 // A field's declaration in the generated shader interface: "int", "float", "vec4"/"float4", and
 // a matrix as three rows ("vec4 name[3]"/"float4 name[3]"), ending in ";".

@@ -60,6 +60,10 @@ struct StageInfo {
   // rounds each value once to the nearest k/255, as UE's ColorLookupTable texture group stores
   // BGRA8; both engines see those values).
   bool user_lut_unorm8 = false;
+  // Another pipeline's stage (kOther): the docs section that defines its stored value, which
+  // params.json's output.formula names ("docs/spec/pq_grading.md#output-encoding"); "": the
+  // pipeline's `sources` page. UE 5.5's stages name their UE function instead (runner/export.cpp).
+  std::string_view output_spec = "";
 };
 
 // The pass shaders of `stage` that do not exist under `shader_dir` (empty: the stage has a complete

@@ -7,6 +7,13 @@
 // gpu/shaders/lib/film_tonemap.glsl runs unchanged), which derive_operators fills from FilmPreset.
 #pragma once
 
+// The fields of UE 5.5's part of the block that this pipeline reads (its shaders and reference):
+// the image size and FilmToneMap's parameters. A case of this pipeline carries these and its own
+// op_* fields, nothing else of UE's (param_carried_by, core/shader_interface.h).
+#define HDRC_OPERATORS_SHARED_PARAMS(Y) \
+  Y(width)                              \
+  Y(height) Y(film_slope) Y(film_toe) Y(film_shoulder) Y(film_black_clip) Y(film_white_clip)
+
 #define HDRC_OPERATORS_PARAMS(X)                                                                   \
   X(I, op_operator,                                                                                \
     "classic operator: 0 Reinhard, 1 ReinhardWhite, 2 Hable, 3 AcesNarkowicz, 4 UnityNeutral, "    \

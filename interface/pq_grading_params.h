@@ -6,6 +6,21 @@
 // fields (user_lut_size, user_lut_domain_min/max) and binding user_lut.
 #pragma once
 
+// The fields of UE 5.5's part of the block that this pipeline reads: the image size, FilmToneMap's
+// parameters and the user LUT's geometry. A case of this pipeline carries these and its own pq_*
+// fields, nothing else of UE's (param_carried_by, core/shader_interface.h).
+#define HDRC_PQ_GRADING_SHARED_PARAMS(Y) \
+  Y(width)                               \
+  Y(height)                              \
+  Y(film_slope)                          \
+  Y(film_toe)                            \
+  Y(film_shoulder)                       \
+  Y(film_black_clip)                     \
+  Y(film_white_clip)                     \
+  Y(user_lut_size)                       \
+  Y(user_lut_domain_min)                 \
+  Y(user_lut_domain_max)
+
 #define HDRC_PQ_GRADING_PARAMS(X)                                                               \
   X(I, pq_display, "display mapping: 0 SDR (Narkowicz's ACES fit), 1 HDR (UE's FilmToneMap)")   \
   X(I, pq_back_buffer,                                                                          \

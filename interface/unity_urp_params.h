@@ -10,6 +10,11 @@
 // (RGBA16F, HDR grading) or 3 (RGBA8 UNORM, LDR grading).
 #pragma once
 
+// The fields of UE 5.5's part of the block that this pipeline reads: the image size and the LUT
+// geometry (lut_size, lut_format, lut_layout, as above). A case of this pipeline carries these and
+// its own urp_* fields, nothing else of UE's (param_carried_by, core/shader_interface.h).
+#define HDRC_UNITY_URP_SHARED_PARAMS(Y) Y(width) Y(height) Y(lut_size) Y(lut_format) Y(lut_layout)
+
 #define HDRC_UNITY_URP_PARAMS(X)                                                                   \
   X(I, urp_grading_mode, "ColorGradingMode: 0 LowDynamicRange, 1 HighDynamicRange")                \
   X(I, urp_tonemap_mode, "TonemappingMode: 0 None, 1 Neutral, 2 ACES")                             \

@@ -410,9 +410,20 @@ json user_lut_json(const ResolvedCase& rc) {
           {"sampler", "linear filtering, clamp-to-edge, normalised coordinates"}};
 }
 
+// The case file relative to the folder the params.json is written to (`dir`), so an export names
+// no absolute path of the machine that made it; "" for a case without a file (probe).
+std::string case_file_relative(const std::string& file, const std::string& dir) {
+  if (file.empty()) return "";
+  std::error_code ec;
+  const fs::path from = fs::absolute(dir.empty() ? fs::path(".") : fs::path(dir), ec);
+  const fs::path to = fs::absolute(file, ec);
+  if (ec) return fs::path(file).filename().generic_string();
+  return to.lexically_normal().lexically_relative(from.lexically_normal()).generic_string();
+}
+
 }  // namespace
 
-json case_export_json(const ResolvedCase& rc) {
+json case_export_json(const ResolvedCase& rc, const std::string& dir) {
   const Case& c = rc.spec;
   json passes = json::array();
   for (const StagePass& p : c.stage->passes) passes.push_back(std::string(p.shader));
@@ -423,19 +434,20 @@ json case_export_json(const ResolvedCase& rc) {
                       {"height", a.image->height}};
   const OutputEncoding enc = output_encoding(*c.stage, rc.params);
   const StageId stage = c.stage->id;
+  const std::string pipeline(c.stage->pipeline);
   json doc = {
       {"format_version", kExportFormatVersion},
       {"format", "hdrconform case export " + std::to_string(kExportFormatVersion)},
       {"schema", "runner/params.schema.json"},
       {"id", c.id},
-      {"case_file", c.file},
+      {"case_file", case_file_relative(c.file, dir)},
       {"pipeline", std::string(c.stage->pipeline)},
       {"stage", std::string(c.stage->name)},
       {"passes", passes},
       {"cvars", explicit_cvars(c)},
       {"settings", explicit_settings(c)},
-      {"storage", storage_json(rc)},
-      {"resolved", resolved_values(rc, enc)},
+      {"storage", param_carried_by("lut_size", pipeline) ? storage_json(rc) : json(nullptr)},
+      {"resolved", pipeline == "ue55" ? resolved_values(rc, enc) : json(nullptr)},
       {"images", images},
       {"output",
        {{"width", rc.input.width},
@@ -447,8 +459,9 @@ json case_export_json(const ResolvedCase& rc) {
          stage == StageId::kOther ? std::string(c.stage->description) : output_value(stage)},
         {"alpha", output_alpha(stage)},
         {"encoding", enc.describe()},
-        {"formula", stage == StageId::kOther ? std::string(pipeline_of(*c.stage).sources)
-                                             : formula_name(stage, rc.params.output_device)},
+        {"formula", stage != StageId::kOther        ? formula_name(stage, rc.params.output_device)
+                    : !c.stage->output_spec.empty() ? std::string(c.stage->output_spec)
+                                                    : std::string(pipeline_of(*c.stage).sources)},
         {"quantisation", quantisation(stage, rc.params)},
         {"layout", layout(stage, rc)}}},
       {"user_lut", user_lut_json(rc)},
@@ -472,7 +485,7 @@ Status export_case(const ResolvedCase& rc, const std::string& dir) {
     if (!text) return text.error();
     if (Status st = write_file_atomic(dir + "/user_lut.cube", *text); !st) return st;
   }
-  return write_file_atomic(dir + "/params.json", dump_json(case_export_json(rc), 2) + "\n");
+  return write_file_atomic(dir + "/params.json", dump_json(case_export_json(rc, dir), 2) + "\n");
 }
 
 Result<ResolvedCase> load_exported_case(const std::string& params_path) {

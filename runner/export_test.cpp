@@ -10,7 +10,10 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <map>
+#include <regex>
 #include <set>
+#include <sstream>
 
 #include "core/pipeline.h"
 #include "runner/verify.h"
@@ -180,15 +183,30 @@ TEST(ParamsContract, EveryExportedParamsJsonMatchesTheSchema) {
   RecordProperty("params_json_validated", std::to_string(checked));
 }
 
-// The schema's parameter list is the parameter block's (one source: core/shader_interface.h).
+// The schema's parameter lists are the parameter block's (one source: core/shader_interface.h):
+// one oneOf branch per pipeline, requiring exactly the fields its cases carry (param_carried_by)
+// and refusing the others.
 TEST(ParamsContract, SchemaListsEveryParameterBlockField) {
-  std::vector<std::string> fields;
-  const auto block = hdrc::params_json(hdrc::ParamBlock{});
-  for (auto it = block.begin(); it != block.end(); ++it) fields.push_back(it.key());
-  EXPECT_EQ(params_schema()["properties"]["params"]["required"].get<std::vector<std::string>>(),
-            fields);
-  // Its properties are every field of the block: UE 5.5's (required), then each other pipeline's,
-  // which only that pipeline's cases carry.
+  std::set<std::string> branches;
+  for (const auto& branch : params_schema()["oneOf"]) {
+    const std::string pipeline = branch["properties"]["pipeline"]["const"].get<std::string>();
+    branches.insert(pipeline);
+    SCOPED_TRACE(pipeline);
+    std::vector<std::string> fields;
+    const auto block = hdrc::params_json(hdrc::ParamBlock{}, pipeline);
+    for (auto it = block.begin(); it != block.end(); ++it) fields.push_back(it.key());
+    const auto& params = branch["properties"]["params"];
+    EXPECT_EQ(params["required"].get<std::vector<std::string>>(), fields);
+    EXPECT_EQ(params["additionalProperties"], false);
+    std::vector<std::string> allowed;
+    for (const auto& [k, v] : params["properties"].items()) allowed.push_back(k);
+    EXPECT_EQ(allowed, fields);
+  }
+  std::set<std::string> pipelines;
+  for (const hdrc::Pipeline* p : hdrc::pipeline_table()) pipelines.insert(std::string(p->name));
+  EXPECT_EQ(branches, pipelines);
+  // Its properties are every field of the block: UE 5.5's, then each other pipeline's, which only
+  // that pipeline's cases carry.
   std::vector<std::string> all;
   hdrc::ParamBlock p;
   hdrc::for_each_param(p, [&](hdrc::FieldKind, const char* name, auto&) { all.push_back(name); });
@@ -230,6 +248,27 @@ TEST(ParamsContract, ValidatorLocatesViolations) {
             "output_gamut, max_luminance_nits, aces_tone_scale, shaper, output_encoding");
   bad = doc;
   bad["params"]["output_device"] = "NaN";
+  EXPECT_FALSE(hdrc::validate_json(bad, params_schema(), "p.json").empty());
+  // A UE 5.5 export without one of UE's fields, and a pipeline's export with a field of UE 5.5's it
+  // does not read (or UE's cvar resolution), match no branch of the schema.
+  bad = doc;
+  bad["params"].erase("output_gamut");
+  EXPECT_FALSE(hdrc::validate_json(bad, params_schema(), "p.json").empty());
+  auto loaded = hdrc::load_cases(std::string(HDRC_SOURCE_DIR) + "/cases");
+  const hdrc::Case* op_case = nullptr;
+  for (const auto& c : loaded.cases)
+    if (!op_case && c.stage->pipeline == "operators") op_case = &c;
+  ASSERT_TRUE(op_case);
+  auto ops =
+      nlohmann::ordered_json::parse(hdrc::case_export_json(*hdrc::resolve_case(*op_case)).dump());
+  ASSERT_TRUE(hdrc::validate_json(ops, params_schema(), "p.json").empty());
+  bad = ops;
+  bad["params"]["output_device"] = 0;
+  e = hdrc::validate_json(bad, params_schema(), "p.json");
+  ASSERT_FALSE(e.empty());
+  EXPECT_NE(e[0].message.find("alternatives of oneOf"), std::string::npos) << e[0].to_string();
+  bad = ops;
+  bad["resolved"] = doc["resolved"];
   EXPECT_FALSE(hdrc::validate_json(bad, params_schema(), "p.json").empty());
 }
 
@@ -277,6 +316,102 @@ TEST(ParamsContract, ResolvedValuesAndOutputBlock) {
   EXPECT_EQ(doc["output"]["formula"], "OutDeviceColor / 1.05, rounded to the LUT format");
   EXPECT_TRUE(doc["resolved"]["output_encoding"]["name"].get<std::string>().rfind("texel x 1.05, ",
                                                                                   0) == 0);
+}
+
+// Every ParamBlock field the GLSL of a pipeline reads as P.<field>: in `file` and the files it
+// #includes (the generated hdrc/interface.glsl aside), counted in the pipeline's own folder
+// (gpu/shaders/<pipeline>/) and the shared gpu/shaders/lib/, not in another pipeline's library
+// and what only that library includes: unity_urp includes operators.glsl for Unity's Neutral, whose
+// other functions (UE's FilmToneMap, P.film_*) are the operators pipeline's.
+void shader_fields(const std::filesystem::path& file, const std::string& pipeline, bool count,
+                   std::map<std::string, bool>* visited, std::set<std::string>* out) {
+  const std::string key = file.lexically_normal().string();
+  const std::string shaders = (std::filesystem::path(HDRC_SOURCE_DIR) / "gpu/shaders/").string();
+  const std::string rel = key.substr(std::min(key.size(), shaders.size()));
+  if (rel.find('/') != std::string::npos && rel.rfind("lib/", 0) != 0 &&
+      rel.rfind(pipeline + "/", 0) != 0)
+    count = false;  // another pipeline's folder
+  const auto seen = visited->find(key);
+  if (seen != visited->end() && (seen->second || !count)) return;
+  (*visited)[key] = count;
+  std::ifstream in(file);
+  ASSERT_TRUE(in) << file;
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string s = text.str();
+  static const std::regex field(R"(\bP\.([a-z_0-9]+))");
+  if (count)
+    for (auto it = std::sregex_iterator(s.begin(), s.end(), field); it != std::sregex_iterator();
+         ++it)
+      out->insert((*it)[1]);
+  static const std::regex include(R"re(#include\s+"([^"]+)")re");
+  for (auto it = std::sregex_iterator(s.begin(), s.end(), include); it != std::sregex_iterator();
+       ++it) {
+    const std::string inc = (*it)[1];
+    if (inc.rfind("hdrc/", 0) == 0) continue;
+    shader_fields(file.parent_path() / inc, pipeline, count, visited, out);
+  }
+}
+
+// A pipeline other than UE 5.5 exports only what applies to it (issue 28): of UE 5.5's fields
+// exactly those its shaders read (P.<field> in its stages' GLSL, shader_fields) or its host
+// derivation sets (a value other than the block's default in one of its cases), so a UE-only
+// field (output_device, the ACES coefficients, ...) in such an export fails here; no "resolved"
+// block (UE's cvar resolution); "storage" only with a LUT of its own; output.formula a docs
+// section, not a source file; case_file relative to the export folder.
+TEST(ParamsContract, OtherPipelinesExportOnlyWhatApplies) {
+  auto loaded = hdrc::load_cases(std::string(HDRC_SOURCE_DIR) + "/cases");
+  ASSERT_TRUE(loaded.errors.empty());
+  std::map<std::string, std::set<std::string>> used;  // pipeline -> UE fields read or set
+  std::map<std::string, size_t> cases;
+  const hdrc::ParamBlock defaults;
+  for (const hdrc::Pipeline* p : hdrc::pipeline_table()) {
+    const std::string name(p->name);
+    if (name == "ue55") continue;
+    std::map<std::string, bool> visited;
+    std::set<std::string> fields;
+    for (const hdrc::StageInfo& st : p->stages())
+      for (const hdrc::StagePass& pass : st.passes)
+        shader_fields(std::filesystem::path(HDRC_SOURCE_DIR) / "gpu/shaders" / pass.shader, name,
+                      true, &visited, &fields);
+    for (const std::string& f : fields)
+      if (hdrc::param_owner(f) == "ue55") used[name].insert(f);
+  }
+  for (const auto& c : loaded.cases) {
+    const std::string pipeline(c.stage->pipeline);
+    if (pipeline == "ue55") continue;
+    auto rc = hdrc::resolve_case(c);
+    ASSERT_TRUE(rc.ok()) << rc.error().to_string();
+    ++cases[pipeline];
+    const auto set = hdrc::params_json(rc->params, "ue55");
+    const auto def = hdrc::params_json(defaults, "ue55");
+    for (auto it = set.begin(); it != set.end(); ++it)
+      if (it.value() != def[it.key()]) used[pipeline].insert(it.key());
+    const std::string dir = std::string(HDRC_SOURCE_DIR) + "/build/export/cases/x";
+    const auto doc = hdrc::case_export_json(*rc, dir);
+    SCOPED_TRACE(c.id);
+    EXPECT_TRUE(doc["resolved"].is_null());
+    EXPECT_EQ(doc["storage"].is_null(), !used[pipeline].count("lut_size"));
+    std::set<std::string> carried_ue;
+    for (auto it = doc["params"].begin(); it != doc["params"].end(); ++it)
+      if (hdrc::param_owner(it.key()) == "ue55") carried_ue.insert(it.key());
+    EXPECT_EQ(carried_ue, used[pipeline]) << "UE 5.5 fields in a " << pipeline << " export";
+    const std::string formula = doc["output"]["formula"];
+    EXPECT_EQ(formula.rfind("docs/", 0), 0u) << formula;
+    for (const char* ext : {".h", ".cpp", ".glsl", ".comp"})
+      EXPECT_EQ(formula.find(ext), std::string::npos) << formula;
+    const std::string case_file = doc["case_file"];
+    EXPECT_NE(case_file.front(), '/');
+    EXPECT_TRUE(
+        std::filesystem::exists((std::filesystem::path(dir) / case_file).lexically_normal()))
+        << case_file;
+  }
+  EXPECT_GT(cases["operators"], 0u);
+  EXPECT_GT(cases["pq_grading"], 0u);
+  EXPECT_GT(cases["unity_urp"], 0u);
+  EXPECT_EQ(used["operators"],
+            (std::set<std::string>{"width", "height", "film_slope", "film_toe", "film_shoulder",
+                                   "film_black_clip", "film_white_clip"}));
 }
 
 }  // namespace

@@ -416,7 +416,9 @@ int main(int argc, char** argv) {
                    "--stage ui_composite: the UI pixel over each back-buffer line, premultiplied "
                    "sRGB-encoded r,g,b,a")
       ->capture_default_str();
-  probe->add_flag("--json", probe_opts.json, "print a JSON document instead of lines");
+  probe->add_flag("--json", probe_opts.json,
+                  "print a JSON document instead of lines (ue55: the --stage value; operators, "
+                  "pq_grading: every named value of docs/spec/<pipeline>.md)");
   probe->add_option("--cube", probe_opts.cube,
                     "a stage that takes a user LUT (docs/cases.md): the .cube file, sampled as the "
                     "engines sample a case's \"lut\"");

@@ -12,13 +12,15 @@
 #include <ostream>
 #include <sstream>
 
-#include "core/pipeline.h"
 #include "color/d3d_math.h"
-#include "reference/ue/combine_luts.h"
-#include "reference/ue/lut_shaper.h"
+#include "core/pipeline.h"
+#include "reference/operators/operators.h"
+#include "reference/pq_grading/pq_grading.h"
 #include "reference/reference_engine.h"
-#include "reference/ue/tonemap.h"
+#include "reference/ue/combine_luts.h"
 #include "reference/ue/cpp/resolve.h"
+#include "reference/ue/lut_shaper.h"
+#include "reference/ue/tonemap.h"
 #include "reference/ue/visualize/visualize_hdr.h"
 #include "runner/case_loader.h"
 
@@ -67,6 +69,14 @@ bool parse_rgb_fast(const std::string& line, double out[3]) {
     p = q;
   }
   return n == 3;
+}
+
+// A number for JSON, which has no NaN or Inf: those as the strings "NaN", "Infinity", "-Infinity"
+// (as params.json writes them).
+nlohmann::ordered_json json_number(double v) {
+  if (std::isnan(v)) return "NaN";
+  if (std::isinf(v)) return v > 0 ? "Infinity" : "-Infinity";
+  return v;
 }
 
 // Appends "a b c\n" with format_number's %.9g: std::to_chars with a precision formats as printf
@@ -191,9 +201,12 @@ Status run_pipeline_probe(const Pipeline& pipeline, const ProbeOptions& o, std::
     return Error{
         "--set", o.set.front(), "pipeline " + std::string(pipeline.name) + " has no cvars",
         "--setting NAME=VALUE (hdrconform cvars --pipeline " + std::string(pipeline.name) + ")"};
-  if (o.json)
-    return Error{"--json", "", "JSON output is UE 5.5's (its named intermediate stages)",
-                 "plain \"R G B\" lines"};
+  const bool named = pipeline.name == "operators" || pipeline.name == "pq_grading";
+  if (o.json && !named)
+    return Error{"--json", "",
+                 "JSON output is for the pipelines whose specification names each intermediate "
+                 "value",
+                 "--pipeline ue55, operators or pq_grading; plain \"R G B\" lines"};
   for (const std::string& kv : o.setting)
     if (Status st = parse_probe_setting(kv, &c.settings); !st) return st;
   // The user LUT (docs/cases.md): required where the stage takes one, refused elsewhere.
@@ -210,6 +223,7 @@ Status run_pipeline_probe(const Pipeline& pipeline, const ProbeOptions& o, std::
   }
 
   std::vector<ref::Vec3> colours;
+  std::vector<int> numbers;  // each colour's input line
   std::string line;
   for (int number = 1; read_bounded_line(in, &line, kMaxInputLine); ++number) {
     if (line.size() > kMaxInputLine)
@@ -226,6 +240,7 @@ Status run_pipeline_probe(const Pipeline& pipeline, const ProbeOptions& o, std::
       return Error{"<stdin>", "line " + std::to_string(number), "too many colours",
                    "at most " + std::to_string(kMaxProbeColours) + " per run"};
     colours.push_back(*rgb);
+    numbers.push_back(number);
   }
   if (colours.empty()) return {};
   ResolvedCase rc;
@@ -244,6 +259,32 @@ Status run_pipeline_probe(const Pipeline& pipeline, const ProbeOptions& o, std::
     if (Status st = attach_user_luts(resolution->user_luts, &rc); !st) return st;
   } else if (Status st = attach_user_lut(c.lut, &rc); !st) {
     return st;
+  }
+  if (o.json) {
+    // Every named intermediate value of docs/spec/<pipeline>.md (its worked pixels' rows), from
+    // the reference's own stage functions; "out" is the value the plain output prints.
+    ref::pq_grading::StripLut lut;
+    if (pipeline.name == "pq_grading") lut = ref::pq_grading::strip_lut(rc.user_luts[0], rc.params);
+    nlohmann::ordered_json rows = nlohmann::ordered_json::array();
+    for (size_t i = 0; i < colours.size(); ++i) {
+      const std::vector<ref::NamedValue> values =
+          pipeline.name == "pq_grading" ? ref::pq_grading::named_values(rc.params, lut, colours[i])
+                                        : ref::operators::named_values(rc.params, colours[i]);
+      nlohmann::ordered_json v = nlohmann::ordered_json::object();
+      for (const ref::NamedValue& n : values) {
+        nlohmann::ordered_json numbers_json = nlohmann::ordered_json::array();
+        for (double x : n.v) numbers_json.push_back(json_number(x));
+        v[n.name] = n.v.size() == 1 ? numbers_json[0] : numbers_json;
+      }
+      rows.push_back({{"line", numbers[i]}, {"values", v}});
+    }
+    const nlohmann::ordered_json doc = {
+        {"pipeline", std::string(pipeline.name)},
+        {"stage", std::string(c.stage->name)},
+        {"names", "docs/spec/" + std::string(pipeline.name) + ".md (the worked pixels' rows)"},
+        {"rows", rows}};
+    out << doc.dump(2) << '\n';
+    return {};
   }
   auto image = pipeline.reference(rc, /*analytic_lut=*/false);
   if (!image) return image.error();

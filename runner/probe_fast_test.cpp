@@ -3,7 +3,9 @@
 // parser does not take handled exactly as before.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <nlohmann/json.hpp>
 #include <random>
 #include <sstream>
 
@@ -67,6 +69,76 @@ TEST(ProbeFast, InputsTheFastParserLeavesBehaveAsBefore) {
   hdrc::Status st;
   EXPECT_EQ(probe("0.18 0.18 0.18\nbad\n", &st), probe("0.18 0.18 0.18\n"));
   EXPECT_FALSE(st.ok());
+}
+
+// probe --json for operators and pq_grading: one row per input line with every named value of the
+// pipeline's specification page (docs/spec/*.md, the worked pixels' rows), whose "out" is what the
+// plain output prints; non-finite values as strings; a pipeline without named values refuses it.
+TEST(ProbeJson, OperatorsAndPqGradingPrintTheSpecsNamedValues) {
+  const std::string text = "4 0.18 0.02\n# a comment\nnan 1 -inf\n";
+  struct Row {
+    const char* pipeline;
+    std::vector<std::string> setting;
+    std::string cube;
+    std::vector<const char*> names;  // some of the page's names, in its order
+  };
+  const std::string cube = std::string(HDRC_SOURCE_DIR) + "/cases/lut/cube/pq_look_33.cube";
+  for (const Row& r :
+       {Row{"operators", {"Operator=UeFilmic"}, "", {"input", "x", "ap1", "hue_weight", "out"}},
+        Row{"operators", {"Operator=Hable"}, "", {"input", "exposure", "f_bias_x", "f_w", "out"}},
+        Row{"pq_grading", {}, cube, {"stored", "lut_coord", "slice_f", "graded", "ap1", "out"}},
+        Row{"pq_grading", {"Display=SDR"}, cube, {"pq", "tap1", "display", "out"}}}) {
+    SCOPED_TRACE(std::string(r.pipeline) + " " + (r.setting.empty() ? "" : r.setting[0]));
+    hdrc::ProbeOptions o;
+    o.pipeline = r.pipeline;
+    o.setting = r.setting;
+    o.cube = r.cube;
+    std::istringstream in(text);
+    std::ostringstream plain;
+    ASSERT_TRUE(hdrc::run_probe(o, in, plain).ok());
+    o.json = true;
+    std::istringstream in2(text);
+    std::ostringstream json_out;
+    const hdrc::Status st = hdrc::run_probe(o, in2, json_out);
+    ASSERT_TRUE(st.ok()) << st.error().to_string();
+    const auto doc = nlohmann::ordered_json::parse(json_out.str());
+    ASSERT_EQ(doc["rows"].size(), 2u);
+    EXPECT_EQ(doc["rows"][0]["line"], 1);
+    EXPECT_EQ(doc["rows"][1]["line"], 3);
+    std::string from_json;
+    for (const auto& row : doc["rows"]) {
+      const auto& v = row["values"];
+      std::vector<std::string> keys;
+      for (auto it = v.begin(); it != v.end(); ++it) keys.push_back(it.key());
+      size_t at = 0;
+      for (const char* name : r.names) {
+        const auto found = std::find(keys.begin() + at, keys.end(), name);
+        EXPECT_NE(found, keys.end()) << name;
+        at = found == keys.end() ? at : size_t(found - keys.begin());
+      }
+      for (int k = 0; k < 3; ++k) {
+        const auto& x = v["out"][k];
+        from_json += (k ? " " : "") +
+                     (x.is_string() ? std::string("nan") : hdrc::format_number(x.get<double>()));
+      }
+      from_json += "\n";
+    }
+    // The plain output prints NaN as "nan" or "-nan"; the JSON's "NaN" strings are compared as
+    // "nan".
+    std::string plain_text = plain.str();
+    for (size_t at; (at = plain_text.find("-nan")) != std::string::npos;) plain_text.erase(at, 1);
+    EXPECT_EQ(from_json, plain_text);
+    EXPECT_EQ(doc["rows"][1]["values"]["input"][0], "NaN");
+    EXPECT_EQ(doc["rows"][1]["values"]["input"][2], "-Infinity");
+  }
+  hdrc::ProbeOptions o;
+  o.pipeline = "unity_urp";
+  o.json = true;
+  std::istringstream in(text);
+  std::ostringstream out;
+  const hdrc::Status st = hdrc::run_probe(o, in, out);
+  ASSERT_FALSE(st.ok());
+  EXPECT_NE(st.error().choices.find("operators or pq_grading"), std::string::npos);
 }
 
 }  // namespace

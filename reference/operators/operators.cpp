@@ -85,6 +85,57 @@ Vec3 ue_filmic(const Vec3& rec709, const grading::FilmParams& film, const UeFilm
   return grading::hlsl::max0(space.ap1_to_rec709 * tone_ap1);
 }
 
+Vec3 ue_filmic(const Vec3& rec709, const grading::FilmParams& film, const UeFilmicSpace& space,
+               UeFilmicTrace* trace) {
+  trace->ap1 = space.rec709_to_ap1 * rec709;
+  trace->tone_ap1 = grading::film_tone_map(trace->ap1, film, &trace->film);
+  trace->rec709 = space.ap1_to_rec709 * trace->tone_ap1;
+  return grading::hlsl::max0(trace->rec709);
+}
+
+std::vector<NamedValue> named_values(const ParamBlock& p, const Vec3& in) {
+  std::vector<NamedValue> out;
+  add_named(&out, "input", in);
+  add_named(&out, "exposure", p.op_exposure);
+  const Vec3 x{p.op_exposure * in[0], p.op_exposure * in[1], p.op_exposure * in[2]};
+  add_named(&out, "x", x);
+  switch (static_cast<Operator>(p.op_operator)) {
+    case Operator::kHable: {
+      const RationalCurve k{p.op_hable_a, p.op_hable_b, p.op_hable_c,
+                            p.op_hable_d, p.op_hable_e, p.op_hable_f};
+      Vec3 f;
+      for (int i = 0; i < 3; ++i) f[i] = rational_curve(p.op_hable_exposure_bias * x[i], k);
+      add_named(&out, "f_bias_x", f);
+      add_named(&out, "f_w", rational_curve(p.op_hable_w, k));
+      break;
+    }
+    case Operator::kUnityNeutral: {
+      const double ws = 1.0 / rational_curve(kUnityNeutralWhiteLevel, kUnityNeutralCurve);
+      add_named(&out, "white_scale", ws);
+      Vec3 n;
+      for (int i = 0; i < 3; ++i)
+        n[i] = rational_curve(d3d::max_num(0.0, x[i]) * ws, kUnityNeutralCurve);
+      add_named(&out, "curve", n);
+      break;
+    }
+    case Operator::kUeFilmic: {
+      const grading::FilmParams film{p.film_slope, p.film_toe, p.film_shoulder, p.film_black_clip,
+                                     p.film_white_clip};
+      UeFilmicTrace t;
+      ue_filmic(x, film, {p.op_rec709_to_ap1, p.op_ap1_to_rec709}, &t);
+      add_named(&out, "ap1", t.ap1);
+      grading::film_named_values(t.film, true, &out);
+      add_named(&out, "tone_ap1", t.tone_ap1);
+      add_named(&out, "rec709", t.rec709);
+      break;
+    }
+    default:
+      break;
+  }
+  add_named(&out, "out", apply_operator(p, in));
+  return out;
+}
+
 Vec3 apply_operator(const ParamBlock& p, const Vec3& scene_linear) {
   const Vec3 x = {p.op_exposure * scene_linear[0], p.op_exposure * scene_linear[1],
                   p.op_exposure * scene_linear[2]};

@@ -116,8 +116,22 @@ struct UeFilmicSpace {
 };
 UeFilmicSpace ue_filmic_space();
 Vec3 ue_filmic(const Vec3& rec709, const grading::FilmParams& film, const UeFilmicSpace& space);
+// The same with its named intermediate values (docs/spec/operators.md, the UeFilmic worked pixel).
+struct UeFilmicTrace {
+  Vec3 ap1;                        // rec709_to_ap1 · input
+  grading::FilmToneMapTrace film;  // FilmToneMap's steps
+  Vec3 tone_ap1;                   // FilmToneMap(ap1)
+  Vec3 rec709;                     // ap1_to_rec709 · tone_ap1, before max(0, ·)
+};
+Vec3 ue_filmic(const Vec3& rec709, const grading::FilmParams& film, const UeFilmicSpace& space,
+               UeFilmicTrace* trace);
 
 // --- The pipeline's one stage ---
+
+// One pixel's named intermediate values (docs/spec/operators.md, its worked pixels; probe --json):
+// input, exposure, x, the operator's own (Hable: f_bias_x, f_w; UnityNeutral: white_scale, curve;
+// UeFilmic: ap1, FilmToneMap's steps as `detail`, tone_ap1, rec709), out = apply_operator.
+std::vector<NamedValue> named_values(const ParamBlock& p, const Vec3& scene_linear);
 
 // x = op_exposure · scene_linear, then the operator op_operator with its op_* fields (UeFilmic:
 // film_* and the op_ matrices). An op_operator outside 0-5 gives NaN in every channel.

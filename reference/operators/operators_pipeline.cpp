@@ -25,7 +25,12 @@ const std::vector<StageInfo>& operators_stages() {
        "exposure Key / AdaptedLuminance; scene-linear Rec.709 in, display-linear Rec.709 out",
        {},
        true,
-       "operators"},
+       "operators",
+       0,
+       false,
+       1,
+       false,
+       "docs/spec/operators.md#output-encoding"},
   };
   return table;
 }
@@ -91,7 +96,7 @@ const Pipeline& operators_pipeline() {
   static const Pipeline pipeline{
       "operators",
       "Classic tone-mapping operators",
-      "reference/operators/operators.h",
+      "docs/spec/operators.md",
       "Reinhard, Uncharted 2 / Hable, Narkowicz's ACES fit, Unity's Neutral and UE's FilmToneMap "
       "presets, one definition each, shared by the other pipelines",
       &operators_stages,

@@ -98,6 +98,11 @@ Vec3 bilinear(const Image& img, double u, double v) {
 }  // namespace
 
 Vec3 sample_strip(const StripLut& lut, const Vec3& t) {
+  StripTrace unused;
+  return sample_strip(lut, t, &unused);
+}
+
+Vec3 sample_strip(const StripLut& lut, const Vec3& t, StripTrace* trace) {
   const double n = lut.size;
   Vec3 uvw;
   for (int c = 0; c < 3; ++c) uvw[c] = t[c] * ((n - 1.0) / n) + 0.5 / n;
@@ -105,7 +110,10 @@ Vec3 sample_strip(const StripLut& lut, const Vec3& t) {
   const double int_w = std::floor(w);
   const double frac_w = w - int_w;
   const double u = (uvw[0] + int_w) / n;
-  return mix(bilinear(*lut.strip, u, uvw[1]), bilinear(*lut.strip, u + 1.0 / n, uvw[1]), frac_w);
+  const Vec3 tap0 = bilinear(*lut.strip, u, uvw[1]);
+  const Vec3 tap1 = bilinear(*lut.strip, u + 1.0 / n, uvw[1]);
+  *trace = {uvw, w, int_w, frac_w, u, tap0, tap1};
+  return mix(tap0, tap1, frac_w);
 }
 
 Vec3 lookup(const StripLut& lut, const Vec3& pq, LutEval eval) {
@@ -117,10 +125,16 @@ Vec3 lookup(const StripLut& lut, const Vec3& pq, LutEval eval) {
 }
 
 Vec3 display_map(const ParamBlock& p, const Vec3& graded) {
+  return display_map(p, graded, nullptr);
+}
+
+Vec3 display_map(const ParamBlock& p, const Vec3& graded, operators::UeFilmicTrace* filmic) {
   if (p.pq_display == static_cast<int>(Display::kHdr)) {
     const grading::FilmParams film{p.film_slope, p.film_toe, p.film_shoulder, p.film_black_clip,
                                    p.film_white_clip};
-    return operators::ue_filmic(graded, film, {p.pq_rec709_to_ap1, p.pq_ap1_to_rec709});
+    const operators::UeFilmicSpace space{p.pq_rec709_to_ap1, p.pq_ap1_to_rec709};
+    return filmic ? operators::ue_filmic(graded, film, space, filmic)
+                  : operators::ue_filmic(graded, film, space);
   }
   if (p.pq_display == static_cast<int>(Display::kSdr))
     return {operators::aces_narkowicz(graded[0]), operators::aces_narkowicz(graded[1]),
@@ -149,13 +163,48 @@ Trace grade(const ParamBlock& p, const StripLut& lut, const Vec3& scene, LutEval
     t.exposed[c] = d3d::saturate(t.stored[c] * p.pq_exposure_fract);
     t.pq[c] = st2084::pq_from_nits(t.exposed[c] * st2084::kPeakNits);
   }
-  t.graded_pq = lookup(lut, t.pq, eval);
+  if (eval == LutEval::kStrip) {
+    t.lut_coord = domain_normalise(lut, t.pq);
+    t.graded_pq = sample_strip(lut, t.lut_coord, &t.strip);
+  } else {
+    t.graded_pq = lookup(lut, t.pq, eval);
+  }
   for (int c = 0; c < 3; ++c)
     t.graded[c] = st2084::nits_from_pq(t.graded_pq[c]) / st2084::kPeakNits / p.pq_exposure_fract *
                   p.pq_amplify;
-  t.display = display_map(p, t.graded);
+  t.display = display_map(p, t.graded, &t.filmic);
   for (int c = 0; c < 3; ++c) t.out[c] = encode_output(p, t.display[c]);
   return t;
+}
+
+std::vector<NamedValue> named_values(const ParamBlock& p, const StripLut& lut, const Vec3& scene) {
+  const Trace t = grade(p, lut, scene, LutEval::kStrip);
+  std::vector<NamedValue> out;
+  add_named(&out, "input", scene);
+  add_named(&out, "exposure_fract", p.pq_exposure_fract);
+  add_named(&out, "white_nits", p.pq_white_nits);
+  add_named(&out, "stored", t.stored);
+  add_named(&out, "exposed", t.exposed);
+  add_named(&out, "pq", t.pq);
+  add_named(&out, "lut_coord", t.lut_coord);
+  add_named(&out, "uvw", t.strip.uvw);
+  add_named(&out, "slice_w", t.strip.w);
+  add_named(&out, "slice_i", t.strip.i);
+  add_named(&out, "slice_f", t.strip.f);
+  add_named(&out, "u", t.strip.u);
+  add_named(&out, "tap0", t.strip.tap0);
+  add_named(&out, "tap1", t.strip.tap1);
+  add_named(&out, "graded_pq", t.graded_pq);
+  add_named(&out, "graded", t.graded);
+  if (p.pq_display == static_cast<int>(Display::kHdr)) {
+    add_named(&out, "ap1", t.filmic.ap1);
+    grading::film_named_values(t.filmic.film, true, &out);
+    add_named(&out, "tone_ap1", t.filmic.tone_ap1);
+    add_named(&out, "rec709", t.filmic.rec709);
+  }
+  add_named(&out, "display", t.display);
+  add_named(&out, "out", t.out);
+  return out;
 }
 
 // --- Device allowances ---

@@ -19,6 +19,7 @@
 #include <string_view>
 #include <vector>
 
+#include "color/vec.h"
 #include "core/cube/cube.h"
 #include "core/device_precision.h"
 #include "core/image.h"
@@ -26,7 +27,7 @@
 #include "core/shader_interface.h"
 #include "reference/color/noise_range.h"
 #include "reference/color/spirv_precision.h"
-#include "color/vec.h"
+#include "reference/operators/operators.h"
 
 namespace hdrc::ref::pq_grading {
 
@@ -81,6 +82,14 @@ Vec3 domain_normalise(const StripLut& lut, const Vec3& v);
 // Vulkan's (spec "Texel Filtering": texel coordinate u · width − 0.5, weights its fraction),
 // evaluated exactly in double.
 Vec3 sample_strip(const StripLut& lut, const Vec3& t);
+// The same with its named intermediate values (docs/spec/pq_grading.md, the worked pixels).
+struct StripTrace {
+  Vec3 uvw;         // t · (N − 1)/N + 0.5/N
+  double w, i, f;   // the slice: uvw.b · N − 0.5, floor(w), w − i
+  double u;         // (uvw.r + i)/N, the first tap's horizontal coordinate
+  Vec3 tap0, tap1;  // bilinear(u, uvw.g), bilinear(u + 1/N, uvw.g)
+};
+Vec3 sample_strip(const StripLut& lut, const Vec3& t, StripTrace* trace);
 
 // The .cube evaluated analytically (core/cube: trilinear or tetrahedral) on the same table and
 // domain, for comparison with the strip sampling (`verify --reference analytic`,
@@ -91,17 +100,26 @@ Vec3 lookup(const StripLut& lut, const Vec3& pq, LutEval eval);
 // UE's Default FilmToneMap (Scene.cpp FPostProcessSettings) on Rec.709, through the `operators`
 // pipeline's operators::ue_filmic, with the matrices of P.pq_rec709_to_ap1 / pq_ap1_to_rec709.
 Vec3 display_map(const ParamBlock& p, const Vec3& graded);
+// The same, HDR with FilmToneMap's intermediate values in *filmic (untouched for SDR).
+Vec3 display_map(const ParamBlock& p, const Vec3& graded, operators::UeFilmicTrace* filmic);
 
 // The back buffer's encoding of a display-mapped value (docs/pq_grading.md, decisions):
 // R10G10B10A2: saturate(PQ(d · pq_white_nits)); RGBA16F: d · pq_white_nits / 80;
 // sRGB8: srgb_encode(saturate(d)); RGB8: saturate(d)^(1/2.2). NaN for an unknown back buffer.
 double encode_output(const ParamBlock& p, double d);
 
-// The named intermediate values of one pixel (probe, tests).
+// The named intermediate values of one pixel (probe, tests, docs/spec/pq_grading.md's worked
+// pixels). lut_coord and strip are filled for LutEval::kStrip, filmic for the HDR display.
 struct Trace {
-  Vec3 stored, exposed, pq, graded_pq, graded, display, out;
+  Vec3 stored, exposed, pq, lut_coord, graded_pq, graded, display, out;
+  StripTrace strip;
+  operators::UeFilmicTrace filmic;
 };
 Trace grade(const ParamBlock& p, const StripLut& lut, const Vec3& scene, LutEval eval);
+// The same pixel (kStrip) by the names of docs/spec/pq_grading.md (its worked pixels; probe
+// --json): input, exposure_fract, white_nits, stored ... graded, the HDR mapping's ap1,
+// FilmToneMap's steps (`detail`), tone_ap1, rec709, then display, out.
+std::vector<NamedValue> named_values(const ParamBlock& p, const StripLut& lut, const Vec3& scene);
 
 // --- Device allowances (docs/precision.md, "Device allowances") ---
 

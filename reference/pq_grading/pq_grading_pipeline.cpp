@@ -25,7 +25,11 @@ const std::vector<StageInfo>& stages() {
        {},
        true,
        "pq_grading",
-       kLutSize},
+       kLutSize,
+       false,
+       1,
+       false,
+       "docs/spec/pq_grading.md#output-encoding"},
   };
   return table;
 }
@@ -108,7 +112,7 @@ const Pipeline& pq_grading_pipeline() {
   static const Pipeline pipeline{
       "pq_grading",
       "PQ-space grading with a .cube LUT",
-      "docs/pq_grading.md",
+      "docs/spec/pq_grading.md",
       "scene colour -> PQ -> an artist's 33^3 .cube (strip texture) -> display mapping (UE's "
       "FilmToneMap or Narkowicz's ACES fit) -> the back buffer's encoding",
       &stages,

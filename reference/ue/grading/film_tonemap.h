@@ -7,8 +7,9 @@
 // ~5.1/5.2 copy, commit 2dc09e8226da45ca87f8fcb812453ad02a75987b; docs/ue55-decisions.md D1).
 #pragma once
 
-#include "reference/color/ue_matrices.h"
 #include "color/vec.h"
+#include "reference/color/ue_matrices.h"
+#include "reference/named_values.h"
 
 namespace hdrc::ref::grading {
 
@@ -51,6 +52,30 @@ double film_curve(double w, const FilmParams& p);
 // NaN anywhere in the input makes every AP0 channel NaN; step 4's max turns them into 0, so the
 // result is 0 (on D3D; GLSL max is undefined for NaN and a port must guard).
 Vec3 film_tone_map(const Vec3& ap1, const FilmParams& p);
+
+// FilmToneMap's named intermediate values, in the order of the steps above (the worked pixel of
+// docs/spec/film_tonemap.md lists each one; reference/spec_worked_pixels_test.cpp compares them).
+struct FilmToneMapTrace {
+  FilmCurveMatch match;            // the curve's match points (parameters only)
+  Vec3 ap0;                        // 1. (XYZ_2_AP0 · AP1_2_XYZ) · C
+  double saturation, yc, sigmoid;  // 2. rgb_2_saturation, rgb_2_yc, sigmoid_shaper((sat−0.4)/0.2)
+  double glow;                     //    1 + glow_fwd(yc, 0.05 · sigmoid, 0.08)
+  Vec3 ap0_glow;                   //    AP0 · glow
+  double hue, hue_weight;          // 3. rgb_2_hue of ap0_glow (degrees), red_modifier_hue_weight
+  Vec3 ap0_red;                    //    after the red modifier
+  Vec3 ap1_clamped, ap1_desat;     // 4. max(0, AP0_2_AP1 · ap0_red), lerp(luma, ·, 0.96)
+  Vec3 log_color;                  // 5. log10 of ap1_desat
+  Vec3 toe, straight, shoulder;    //    the three segments at log_color
+  Vec3 blend;                      //    the smoothstep weight of shoulder_color
+  Vec3 tone;                       //    lerp(toe_color, shoulder_color, blend)
+  Vec3 post_desat;                 // 6. lerp(luma, tone, 0.93), before max(0, ·)
+};
+Vec3 film_tone_map(const Vec3& ap1, const FilmParams& p, FilmToneMapTrace* trace);
+// The trace by the names of docs/spec/film_tonemap.md (toe_scale ... post_desat), marked `detail`
+// when FilmToneMap is a step of another pipeline's pixel.
+void film_named_values(const FilmToneMapTrace& t, bool detail, std::vector<NamedValue>* out);
+// FilmToneMap's worked pixel: input, the trace, out.
+std::vector<NamedValue> film_tone_map_named_values(const Vec3& ap1, const FilmParams& p);
 
 // FilmToneMap's red-modifier hue weight: smoothstep(0, 1, 1 − |2·centered_hue/135|)², hue in
 // degrees. ACES 1.3's RRT uses cubic_basis_shaper(centered_hue, 135) instead (see the tests).
