@@ -24,6 +24,7 @@
 #include "core/atomic_file.h"
 #include "core/utf8.h"
 #include "reference/reference_engine.h"
+#include "runner/budget.h"
 #include "runner/descendants.h"
 #include "runner/export.h"
 #include "runner/json_read.h"
@@ -612,6 +613,21 @@ int run_suite(std::vector<Case> cases, const std::vector<KnownLimit>& limits,
                    "error: --shard %s selects no case: there are only %zu case(s) to share; "
                    "nothing was run\n",
                    options.shard.c_str(), all);
+      return kExitBadInput;
+    }
+  }
+  // The run's memory budget: every case must fit it alone (refused here, before any work, as
+  // the loader refused those over the per-case budget); -j runs as many at once as it holds.
+  ro.memory_budget = run_memory_budget(options.memory_budget);
+  if (ro.memory_budget > 0) {
+    size_t refused = 0;
+    for (const Case& c : cases)
+      if (Status st = check_case_budget(c, ro.memory_budget); !st) {
+        if (++refused <= 20) std::fprintf(stderr, "error: %s\n", st.error().to_string().c_str());
+      }
+    if (refused > 0) {
+      std::fprintf(stderr, "%zu case(s) over the run's memory budget of %s; nothing was run\n",
+                   refused, format_bytes(ro.memory_budget).c_str());
       return kExitBadInput;
     }
   }

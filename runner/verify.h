@@ -152,6 +152,9 @@ struct SuiteOptions {
   // --no-device-allowance clears it: a case within a device allowance only fails
   // (RunOptions::device_allowances).
   bool device_allowances = true;
+  // --memory-budget in bytes (0: the machine's, runner/budget.h run_memory_budget): a case whose
+  // estimate is over it is refused before any work (exit 2); RunOptions::memory_budget.
+  double memory_budget = 0;
 };
 
 // The reference engine a suite run compares against: "baked" samples the LUT UE bakes (the
