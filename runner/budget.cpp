@@ -159,7 +159,7 @@ Status check_case_budget(const Case& c, double memory_budget) {
                    "; run --memory-budget GB and --time-budget S set other limits)"};
 }
 
-double run_memory_budget(double configured) {
+double run_memory_budget(double configured, int jobs) {
   if (configured > 0) return configured;
   double budget = 0;
   std::ifstream meminfo("/proc/meminfo");
@@ -173,13 +173,8 @@ double run_memory_budget(double configured) {
     }
   rlimit as{};
   if (getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY) {
-    double size = 0;  // the process's current address space (VmSize)
-    std::ifstream status("/proc/self/status");
-    std::string line;
-    while (std::getline(status, line))
-      if (line.rfind("VmSize:", 0) == 0) size = std::atof(line.c_str() + 7) * 1024.0;
-    const double left =
-        std::max(0.0, static_cast<double>(as.rlim_cur) - size - kAddressSpaceReserve);
+    const double left = std::max(0.0, static_cast<double>(as.rlim_cur) - kAddressSpaceReserve -
+                                          kAddressSpacePerWorker * std::max(0, jobs - 1));
     budget = budget > 0 ? std::min(budget, left) : left;
   }
   return budget;

@@ -49,13 +49,16 @@ double case_budget_max_pixels(const StageInfo& stage);
 // run's: run_memory_budget) and cpu_seconds within case_cpu_budget().
 Status check_case_budget(const Case& c, double memory_budget = -1);
 
-// The memory a run may use for its cases at once: `configured` (bytes, --memory-budget) when
-// > 0, else the machine's: MemAvailable (/proc/meminfo) and, under an address-space limit
-// (ulimit -v, RLIMIT_AS), what the limit leaves beside the process's current size, with
-// kAddressSpaceReserve kept for its threads' stacks and allocator arenas (not resident, but
-// counted against the limit). 0 when none is known (no gate).
-double run_memory_budget(double configured = 0);
-inline constexpr double kAddressSpaceReserve = 1.0e9;
+// The memory a run of `jobs` workers may use (its cases and the process's own
+// kProcessFixedBytes): `configured` (bytes, --memory-budget) when > 0, else the machine's:
+// MemAvailable (/proc/meminfo) and, under an address-space limit (ulimit -v, RLIMIT_AS), the limit
+// less the address space the process reserves without making it resident: its threads' stacks
+// and allocator arenas, kAddressSpaceReserve and kAddressSpacePerWorker for each worker after the
+// first (measured: VmPeak - VmHWM of a 256x256 case, 1.02 GB at -j 1, 1.50 GB at -j 2; rounded
+// up). 0 when none is known (no gate).
+double run_memory_budget(double configured, int jobs = 1);
+inline constexpr double kAddressSpaceReserve = 1.1e9;
+inline constexpr double kAddressSpacePerWorker = 0.6e9;
 
 // "1.50 GB": a byte count for messages.
 std::string format_bytes(double bytes);

@@ -618,7 +618,10 @@ int run_suite(std::vector<Case> cases, const std::vector<KnownLimit>& limits,
   }
   // The run's memory budget: every case must fit it alone (refused here, before any work, as
   // the loader refused those over the per-case budget); -j runs as many at once as it holds.
-  ro.memory_budget = run_memory_budget(options.memory_budget);
+  const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+  ro.memory_budget = run_memory_budget(
+      options.memory_budget,
+      static_cast<int>(std::min<size_t>(options.jobs > 0 ? options.jobs : cores, cases.size())));
   if (ro.memory_budget > 0) {
     size_t refused = 0;
     for (const Case& c : cases)
