@@ -59,6 +59,12 @@ Status check_case_budget(const Case& c, double memory_budget = -1);
 double run_memory_budget(double configured, int jobs = 1);
 inline constexpr double kAddressSpaceReserve = 1.1e9;
 inline constexpr double kAddressSpacePerWorker = 0.6e9;
+// What a run holds besides its running cases: the case images it keeps for its report
+// (core/image.h written_images, main.cpp sets this capacity), up to 384 MiB, held from case to
+// case. The cases' share of a run's budget is the budget less this and kProcessFixedBytes
+// (measured: -j 2 under a 3 GB address-space limit ran out with three 2048x2048 cases when it
+// was counted as the cases').
+inline constexpr size_t kKeptImagesBytes = size_t{384} << 20;
 
 // "1.50 GB": a byte count for messages.
 std::string format_bytes(double bytes);

@@ -681,7 +681,7 @@ int main(int argc, char** argv) {
   suite.out_dir = outset ? outset->staging() : out_dir;
   // The case images the run writes stay in memory, up to 384 MB, for the report built at its end
   // (core/image.h written_images; the default suite's are 120-300 MB).
-  hdrc::written_images::set_capacity(size_t{384} << 20);
+  hdrc::written_images::set_capacity(hdrc::kKeptImagesBytes);
   // The run's last line names the report (README: the main job ends with the report's path).
   bool goldens_checked = false;
   auto finish = [&](int code) {

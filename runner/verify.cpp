@@ -622,6 +622,9 @@ int run_suite(std::vector<Case> cases, const std::vector<KnownLimit>& limits,
   ro.memory_budget = run_memory_budget(
       options.memory_budget,
       static_cast<int>(std::min<size_t>(options.jobs > 0 ? options.jobs : cores, cases.size())));
+  // The images kept for the report are held beside the running cases (runner/budget.h).
+  if (ro.memory_budget > 0)
+    ro.memory_budget = std::max(1.0, ro.memory_budget - static_cast<double>(kKeptImagesBytes));
   if (ro.memory_budget > 0) {
     size_t refused = 0;
     for (const Case& c : cases)
