@@ -105,6 +105,45 @@ def suite(binary, tmp, label, mesa_cache, cold, args):
             "goldens": next((l for l in lines if l.startswith("goldens: ")), "")}
 
 
+# One case per pipeline for the memory and time per pixel (issue 29): the stage and settings
+# of a typical case, the input a "random" stimulus of the size asked for.
+CASE_KINDS = [
+    ("ue55 tonemap", {"stage": "tonemap", "cvars": {"r.HDR.EnableHDROutput": 1,
+                      "r.HDR.Display.OutputDevice": 3, "r.HDR.Display.ColorGamut": 2,
+                      "r.HDR.Display.MaxLuminance": 1000}, "tolerance": "tonemap"}),
+    ("unity_urp color_grading", {"pipeline": "unity_urp", "stage": "color_grading",
+                                 "tolerance": "unity_urp_grading"}),
+    ("operators tone_curve", {"pipeline": "operators", "stage": "tone_curve",
+                              "settings": {"Operator": "Hable"}, "tolerance": "operators"}),
+    ("pq_grading pq_grade", {"pipeline": "pq_grading", "stage": "pq_grade",
+                             "lut": "lut/cube/pq_look_33.cube", "tolerance": "pq_grading"}),
+]
+
+
+def case_memory(binary, tmp, kind, case, side):
+    """One case of side x side pixels run alone (-j 1, every image kept, the report written):
+    (peak resident bytes, CPU s of user + system, wall s), by /usr/bin/time."""
+    d = os.path.join(tmp, f"mem-{kind.split()[0]}-{side}")
+    shutil.rmtree(d, ignore_errors=True)
+    os.makedirs(os.path.join(d, "cases", "lut", "cube"))
+    shutil.copy(os.path.join(ROOT, "cases", "defaults.json"), os.path.join(d, "cases"))
+    shutil.copy(os.path.join(ROOT, "cases", "lut", "cube", "pq_look_33.cube"),
+                os.path.join(d, "cases", "lut", "cube"))
+    c = dict(case, description="memory per pixel (bench/performance.py)",
+             input={"stimulus": "random", "width": side, "height": side})
+    with open(os.path.join(d, "cases", "m.json"), "w") as f:
+        json.dump(c, f)
+    stats = os.path.join(d, "time.txt")
+    p = subprocess.run(["/usr/bin/time", "-o", stats, "-f", "%M %U %S %e", binary, "run",
+                        "--cases", os.path.join(d, "cases"), "--out", os.path.join(d, "out"),
+                        "-j", "1"], env=clean_env(os.path.join(tmp, "mesa-mem")),
+                       stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    with open(stats) as f:
+        kb, user, system, wall = f.read().split()[-4:]
+    shutil.rmtree(d, ignore_errors=True)
+    return int(kb) * 1024, float(user) + float(system), float(wall), p.returncode
+
+
 def bench_values(text):
     values = {}
     for line in text.splitlines():
@@ -175,7 +214,19 @@ def main():
                 t4k[label].append(v["tonemap4k_s"])
                 t4k_first[label].append(v["tonemap4k_first_s"])
 
-    # 3. The exhaustive tier.
+    # 3. Memory and time per case: each pipeline's case at 256² and 2048², the difference over
+    # the pixels is the per-pixel figure (the 256² case: the process's fixed part).
+    memory = []
+    for kind, case in CASE_KINDS:
+        for label, binary in (("base", base_bin), ("new", new_bin)):
+            if not binary:
+                continue
+            small = case_memory(binary, tmp, kind, case, 256)
+            big = case_memory(binary, tmp, kind, case, 2048)
+            px = 2048 * 2048 - 256 * 256
+            memory.append((kind, label, big, (big[0] - small[0]) / px, (big[1] - small[1]) / px))
+
+    # 4. The exhaustive tier.
     exhaustive = None
     if a.exhaustive:
         exhaustive = suite(new_bin, tmp, "exhaustive", os.path.join(tmp, "mesa-own"), False,
@@ -330,6 +381,21 @@ def main():
     if t4k["base"] and t4k["new"]:
         L.append("")
         L.append(f"**Throughput new / base: {median(t4k['base']) / median(t4k['new']):.2f} ×.**")
+    L.append("")
+    L.append("## Memory and time per case")
+    L.append("")
+    L.append("One case of each pipeline at 2048×2048 (a `random` stimulus), run alone:"
+             " `/usr/bin/time` of `hdrconform run -j 1` (every image kept, the report written)."
+             " Per pixel: the 2048² case's figure minus a 256² case's (the process's fixed part),"
+             " over the pixels between them. runner/budget.cpp's estimate rests on these figures;"
+             " the per-case budget is 1.5 GB and 60 s of CPU (history: `docs/performance-notes.md`,"
+             " \"Memory and time per case\").")
+    L.append("")
+    L.append("| case | build | peak resident MB | CPU s | wall s | **bytes per pixel** | CPU µs per pixel |")
+    L.append("|---|---|---|---|---|---|---|")
+    for kind, label, big, bpp, cpp in memory:
+        L.append(f"| {kind} | {label} | {big[0] / 1e6:.0f} | {big[1]:.1f} | {big[2]:.1f} | "
+                 f"**{bpp:.0f}** | {cpp * 1e6:.2f} |")
     if exhaustive:
         L.append("")
         L.append("## The exhaustive tier")

@@ -58,8 +58,9 @@ struct Image {
   }
 };
 
-// The largest image any case, input or candidate may have (4096 x 4096): one Image of doubles is
-// then 512 MiB. Checked before any pixel is allocated or decoded.
+// The largest image file read (inputs, candidates, goldens) or stimulus made (4096 x 4096): one
+// Image of doubles is then 512 MiB. Checked before any pixel is allocated or decoded. A case is
+// limited further by its memory and time budget (runner/budget.h: about 2048 x 2048).
 inline constexpr size_t kMaxImagePixels = size_t{4096} * 4096;
 // The largest image file read (a 4096x4096 RGBA float EXR, uncompressed, plus headers).
 inline constexpr size_t kMaxImageFileBytes = kMaxImagePixels * 4 * 4 + (size_t{16} << 20);

@@ -664,6 +664,30 @@ struct Builder {
     const bool compared = c.has[1] && c.has[2];
     Image sampled[3];
     const Image* src[3] = {&img[0], &img[1], &img[2]};
+    Tolerance tol;  // only the limits the mask judges, from results.json
+    tol.rel_floor = c.tol.rel_floor;
+    for (int m = 0; m < kMetricCount; ++m)
+      if (auto it = c.tol.max.find(kMetricKeys[m]); it != c.tol.max.end())
+        tol.max(static_cast<Metric>(m)) = it->second;
+    if (!script_draws) {
+      // The mask's counts of every pixel, then the pictures from a sample of at most
+      // kMaxPicturePixels (report/images.h picture_size), each full image freed once sampled:
+      // a 4096x4096 case's report held its three images, their nits and six full-size pictures
+      // (5.4 GB with the run, issue 29).
+      if (compared) {
+        const ErrorMaps counts = error_counts(img[1], img[2], *enc, tol);
+        c.over_pixels = counts.over;
+        c.mismatch_pixels = counts.mismatch;
+      }
+      for (int i = 0; i < 3; ++i) {
+        if (!c.has[i]) continue;
+        const auto [pw, ph] = picture_size(img[i].width, img[i].height);
+        if (pw == img[i].width && ph == img[i].height) continue;
+        sampled[i] = sample_nearest(img[i], pw, ph);
+        img[i] = Image();
+        src[i] = &sampled[i];
+      }
+    }
     if (script_draws) {
       const auto [tw, th] = thumbnail_size(c.width, c.height, 160, 12, 40);
       for (int i = 0; i < 3; ++i)
@@ -695,17 +719,10 @@ struct Builder {
     }
     ErrorMaps maps;
     if (compared) {
-      Tolerance tol;  // only the limits the mask judges, from results.json
-      tol.rel_floor = c.tol.rel_floor;
-      for (int m = 0; m < kMetricCount; ++m)
-        if (auto it = c.tol.max.find(kMetricKeys[m]); it != c.tol.max.end())
-          tol.max(static_cast<Metric>(m)) = it->second;
+      // Script-drawn pages: the script counts the mask where it draws it; the others were
+      // counted above, over every pixel.
       maps = error_maps(*src[1], *src[2], nits[1], nits[2], *enc, tol, prev[1]);
       c.heat = true;
-      if (!script_draws) {  // the script counts them where it draws the mask
-        c.over_pixels = maps.over;
-        c.mismatch_pixels = maps.mismatch;
-      }
     }
     c.thumb[0] = thumbnail(prev[main], 160, 12, 40);  // script_draws: already that size
     if (c.heat) c.thumb[1] = thumbnail(maps.heat, 160, 12, 40);

@@ -294,6 +294,34 @@ Rgb8 thumbnail(const Rgb8& src, int max_w, int min_h, int max_h) {
   return out;
 }
 
+ErrorMaps error_counts(const Image& reference, const Image& candidate, const OutputEncoding& enc,
+                       const Tolerance& tol) {
+  ErrorMaps total;
+  if (candidate.width != reference.width || candidate.height != reference.height) return total;
+  // 64 rows: a 4096-wide strip pair and its nits are 34 MB.
+  constexpr int kStripRows = 64;
+  for (int y0 = 0; y0 < reference.height; y0 += kStripRows) {
+    const int rows = std::min(kStripRows, reference.height - y0);
+    Image r(reference.width, rows), c(reference.width, rows);
+    const size_t from = static_cast<size_t>(y0) * reference.width * Image::kChannels;
+    const size_t n = r.data.size();
+    std::copy_n(reference.data.begin() + static_cast<std::ptrdiff_t>(from), n, r.data.begin());
+    std::copy_n(candidate.data.begin() + static_cast<std::ptrdiff_t>(from), n, c.data.begin());
+    const ErrorMaps m = error_maps(r, c, enc, tol, Rgb8(reference.width, rows));
+    total.over += m.over;
+    total.mismatch += m.mismatch;
+  }
+  return total;
+}
+
+std::array<int, 2> picture_size(int width, int height) {
+  const double pixels = static_cast<double>(width) * height;
+  if (pixels <= static_cast<double>(kMaxPicturePixels)) return {width, height};
+  const double scale = std::sqrt(static_cast<double>(kMaxPicturePixels) / pixels);
+  return {std::max(1, static_cast<int>(width * scale)),
+          std::max(1, static_cast<int>(height * scale))};
+}
+
 Image sample_nearest(const Image& src, int width, int height) {
   Image out(width, height);
   for (int y = 0; y < height; ++y)

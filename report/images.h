@@ -99,6 +99,21 @@ ErrorMaps error_maps(const Image& reference, const Image& candidate, const Image
                      const Image& candidate_nits, const OutputEncoding& enc, const Tolerance& tol,
                      const Rgb8& ref_preview);
 
+// The over-tolerance and mismatch counts of error_maps over whole images, without their maps:
+// computed in strips of rows, so that the memory is a strip's and not the images' (a 4096x4096
+// pair's nits images and maps were 1.9 GB). Used where the pictures are made from sampled
+// pixels (picture_size) and the counts must still be of every pixel.
+ErrorMaps error_counts(const Image& reference, const Image& candidate, const OutputEncoding& enc,
+                       const Tolerance& tol);
+
+// The size of a case's pictures made here (the pages of images over 4 Mpixel, which get no float
+// data): the image's own size up to kMaxPicturePixels, else scaled down, aspect kept, to at most
+// that many pixels; the pictures are nearest-neighbour samples of the images (sample_nearest),
+// shown stretched to the image's size. 1 Mpixel: more than the page's view shows unzoomed (at most
+// 1100 CSS pixels wide), and a sixteenth of a 4096x4096 image's picture memory and PNG encoding.
+inline constexpr size_t kMaxPicturePixels = size_t{1} << 20;
+std::array<int, 2> picture_size(int width, int height);
+
 // A small copy for list pages: at most `max_w` wide, height stretched into [min_h, max_h].
 Rgb8 thumbnail(const Rgb8& src, int max_w, int min_h, int max_h);
 // The pixels of `src` a `width` x `height` nearest-neighbour thumbnail shows (the sampling of

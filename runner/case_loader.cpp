@@ -13,6 +13,7 @@
 #include "core/nearest.h"
 #include "core/pipeline.h"
 #include "core/utf8.h"
+#include "runner/budget.h"
 #include "runner/json_read.h"
 #include "runner/pairwise.h"
 #include "runner/stimuli.h"
@@ -1315,6 +1316,11 @@ LoadedCases load_cases(const std::string& cases_dir, const std::string& suite) {
       if (suite == "quick" && c.tier != "quick") continue;  // validated, not run
       if (Status st = check_case_id(c.id); !st) {
         result.errors.push_back(Error{c.file, "", st.error().message, st.error().choices});
+        continue;
+      }
+      // Its memory and time, estimated before any work (runner/budget.h).
+      if (Status st = check_case_budget(c); !st) {
+        result.errors.push_back(st.error());
         continue;
       }
       auto [it, inserted] = seen.emplace(c.id, c.file);

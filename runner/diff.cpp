@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 
 #include "color/gamma_correction.h"
 #include "color/st2084.h"
@@ -46,15 +47,15 @@ size_t nearest_rank_index(size_t n, double q) {
   return std::min(i, n - 1);
 }
 
-// The values at the nearest ranks `qs` (NaN-free values): selection (std::nth_element) instead of
-// a full sort, O(n) per rank. Ranks are selected in increasing order, each within the part above
-// the previous one, so every answer is the value a sort would put at that index.
-std::vector<double> nearest_ranks(std::vector<double>& values, const std::vector<double>& qs) {
-  std::vector<std::pair<size_t, size_t>> order;  // (index in sorted order, which q)
-  for (size_t k = 0; k < qs.size(); ++k)
-    order.push_back({nearest_rank_index(values.size(), qs[k]), k});
+// The value at sorted index `index` (NaN-free values) of each of `indices`: selection
+// (std::nth_element) instead of a full sort, O(n) per rank. Indices are selected in increasing
+// order, each within the part above the previous one, so every answer is the value a sort would
+// put at that index.
+std::vector<double> values_at(std::vector<double>& values, const std::vector<size_t>& indices) {
+  std::vector<std::pair<size_t, size_t>> order;  // (index in sorted order, which one)
+  for (size_t k = 0; k < indices.size(); ++k) order.push_back({indices[k], k});
   std::sort(order.begin(), order.end());
-  std::vector<double> out(qs.size());
+  std::vector<double> out(indices.size());
   auto from = values.begin();
   for (const auto& [index, k] : order) {
     const auto at = values.begin() + static_cast<std::ptrdiff_t>(index);
@@ -67,33 +68,84 @@ std::vector<double> nearest_ranks(std::vector<double>& values, const std::vector
   return out;
 }
 
+// The statistics of one metric's values (one band, or all), without keeping every value: the
+// count, sum, sum of squares, the largest value and where it is, how many exceed the limit, and
+// the `keep` largest values, from which finish() selects the nearest-rank percentiles. The ranks
+// asked for (p99, p99.9, 1 - allowed fraction) lie in the top (1 - q_min) n + 1 values of n, so a
+// bound on n (the image's values) fixes how many are enough; every statistic is the one a sort of
+// all values gives. Keeping all of them cost 8 bytes per value, 13 values per pixel (four metrics
+// of three channels and ΔE_ITP), plus the overall copy of each metric: 130-230 bytes per pixel,
+// the diff's largest share of a 4096x4096 case's memory (docs/performance.md, "Memory").
 struct Accumulator {
-  std::vector<double> values;
-  double sum = 0, sum_sq = 0;
+  Accumulator() = default;
+  // `bound`: the most values this accumulator (or the union it is part of) can take; `q_min`:
+  // the lowest rank finish() is asked for; `limit`: values over it are counted (NaN: all).
+  Accumulator(size_t bound, double q_min, double limit)
+      : keep(static_cast<size_t>(std::ceil(static_cast<double>(bound) * (1.0 - q_min))) + 1),
+        limit(limit) {}
+  size_t keep = 1;
+  double limit = 0;
+  size_t count = 0, over = 0;
+  double sum = 0, sum_sq = 0, values_max = 0;
   PixelRef worst;
+  // The largest values seen; once pruned, every value dropped is at most `threshold`, which is at
+  // most every value kept (ties are interchangeable), so `top` stays the largest top.size() values.
+  std::vector<double> top;
+  bool pruned = false;
+  double threshold = 0;
+
   void add(double v, const PixelRef& at) {
-    if (values.empty() || v > values_max) {
+    if (count == 0 || v > values_max) {
       values_max = v;
       worst = at;
     }
-    values.push_back(v);
+    ++count;
     sum += v;
     sum_sq += v * v;
+    if (std::isnan(limit) || v > limit) ++over;
+    if (pruned && !(v > threshold)) return;
+    top.push_back(v);
+    if (top.size() >= keep + keep / 2 + 1024) prune();
   }
-  MetricStats finish(double max_limit, double allowed_fraction) {
+  // Keeps the `keep` largest values (std::nth_element, O(n)).
+  void prune() {
+    if (top.size() <= keep) return;
+    std::nth_element(top.begin(), top.begin() + static_cast<std::ptrdiff_t>(keep - 1), top.end(),
+                     std::greater<>());
+    top.resize(keep);
+    threshold = top[keep - 1];
+    pruned = true;
+  }
+  // Takes in another accumulator's values (a band's into the overall one): the largest `keep` of
+  // the union are among the union of each one's largest `keep`.
+  void merge(const Accumulator& a) {
+    if (a.count == 0) return;
+    if (count == 0 || a.values_max > values_max) {
+      values_max = a.values_max;
+      worst = a.worst;
+    }
+    count += a.count;
+    over += a.over;
+    sum += a.sum;
+    sum_sq += a.sum_sq;
+    top.insert(top.end(), a.top.begin(), a.top.end());
+    prune();
+  }
+  MetricStats finish(double allowed_fraction) {
     MetricStats m;
-    m.count = values.size();
-    if (values.empty()) return m;
-    const double n = static_cast<double>(values.size());
-    m.max = *std::max_element(values.begin(), values.end());
+    m.count = count;
+    if (count == 0) return m;
+    const double n = static_cast<double>(count);
+    m.max = values_max;
     m.mean = sum / n;
     m.rms = std::sqrt(sum_sq / n);
-    // Values over the max (NaN-free values; a NaN limit puts every value over it).
-    m.over = std::isnan(max_limit)
-                 ? values.size()
-                 : static_cast<size_t>(std::count_if(values.begin(), values.end(),
-                                                     [&](double v) { return v > max_limit; }));
-    const auto ranks = nearest_ranks(values, {0.99, 0.999, 1.0 - allowed_fraction});
+    m.over = over;
+    // Sorted index i of all `count` values is index i - (count - top.size()) of the kept ones.
+    const size_t dropped = count - top.size();
+    std::vector<size_t> at;
+    for (double q : {0.99, 0.999, 1.0 - allowed_fraction})
+      at.push_back(nearest_rank_index(count, q) - std::min(dropped, nearest_rank_index(count, q)));
+    const auto ranks = values_at(top, at);
     m.p99 = ranks[0];
     m.p999 = ranks[1];
     m.at_allowed_fraction = ranks[2];
@@ -101,7 +153,6 @@ struct Accumulator {
     m.worst = worst;
     return m;
   }
-  double values_max = 0;
 };
 
 std::string fmt(double v) {
@@ -227,7 +278,15 @@ DiffStats diff_images(const Image& input, const Image& reference, const Image& c
   // Luminance Y of BT.2020 RGB: row 2 of its RGB→XYZ matrix (BT.2020 Table 4 primaries).
   const ref::Mat3 rec2020_to_xyz = ref::standard::rgb_to_xyz(ref::standard::kRec2020);
   const ref::Vec3 y_row{rec2020_to_xyz(1, 0), rec2020_to_xyz(1, 1), rec2020_to_xyz(1, 2)};
+  // Every accumulator keeps enough of its largest values for the lowest rank asked for, over as
+  // many values as the image has: three per pixel, one (ΔE_ITP) per pixel.
   std::array<std::array<Accumulator, kMetricCount>, kBandCount> acc;
+  for (int m = 0; m < kMetricCount; ++m) {
+    const Metric metric = static_cast<Metric>(m);
+    const size_t bound = reference.pixel_count() * (metric == Metric::kDeltaEItp ? 1 : 3);
+    const double q_min = std::min(0.99, 1.0 - tol.allowed_fraction[m]);
+    for (int b = 0; b < kBandCount; ++b) acc[b][m] = Accumulator(bound, q_min, tol.max(metric));
+  }
   const bool has_input = input.width == reference.width && input.height == reference.height;
   // combine_luts outputs the N² × N unwrapped LUT: messages name lattice points.
   const int lut_size = enc.stage == StageId::kCombineLuts && reference.height > 0 &&
@@ -357,18 +416,14 @@ DiffStats diff_images(const Image& input, const Image& reference, const Image& c
   for (int m = 0; m < kMetricCount; ++m) {
     const Metric metric = static_cast<Metric>(m);
     Accumulator all;
+    all.keep = acc[0][m].keep;  // the bound is the image's, for a band as for the union
     for (int b = 0; b < kBandCount; ++b) {
       Accumulator& a = acc[b][m];
-      if (!a.values.empty() && (all.values.empty() || a.values_max > all.values_max)) {
-        all.values_max = a.values_max;
-        all.worst = a.worst;
-      }
-      all.values.insert(all.values.end(), a.values.begin(), a.values.end());
-      all.sum += a.sum;
-      all.sum_sq += a.sum_sq;
-      s.band[b][m] = a.finish(tol.max(metric), tol.allowed_fraction[m]);
+      all.merge(a);
+      s.band[b][m] = a.finish(tol.allowed_fraction[m]);
+      a.top = std::vector<double>();
     }
-    s.metric[m] = all.finish(tol.max(metric), tol.allowed_fraction[m]);
+    s.metric[m] = all.finish(tol.allowed_fraction[m]);
     s.over_limit[m] = tol.max(metric);
   }
   // The worst value: of the metric using most of its max.

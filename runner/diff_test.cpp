@@ -91,6 +91,50 @@ TEST(Diff, PercentilesMeanRmsAndCountOver) {
   EXPECT_FALSE(hdrc::judge(s, t).pass);
 }
 
+// The statistics keep only the largest values a rank can need (issue 29: all of them were 8 bytes
+// a value, 13 values a pixel); every figure must be the one a sort of all values gives, in every
+// arrival order. 20 000 pixels, references in all six bands (2^-11 ... 32 x 100 nits: 0.05 to
+// 3200 nits), G off by k·2^-30 (exact in double) with k = 7919 i mod 20000 a permutation of
+// 0 … 19999 in scattered order; R and B exact. linear_abs: 60 000 values, 40 000 zeros and then
+// k·2^-30 sorted, so sorted index j ≥ 40 000 holds (j − 40 000)·2^-30. Nearest rank q is index
+// ceil(q·60000) − 1: p99 59 399 → 19 399, p99.9 59 939 → 19 939, 1 − 0.3 41 999 → 1999.
+TEST(Diff, PercentilesOfManyValuesInScatteredOrderAreThoseOfASort) {
+  const int n = 20000;
+  const double step = std::ldexp(1.0, -30);
+  const double levels[hdrc::kBandCount] = {
+      std::ldexp(1.0, -11), std::ldexp(1.0, -7), 0.0625, 0.5, 4.0, 32.0};
+  hdrc::Image in(n, 1), ref(n, 1), cand(n, 1);
+  for (int i = 0; i < n; ++i) {
+    const double v = levels[i % hdrc::kBandCount];
+    const int k = static_cast<int>((7919LL * i) % n);
+    for (int c = 0; c < 4; ++c)
+      in.px(i, 0)[c] = ref.px(i, 0)[c] = cand.px(i, 0)[c] = c == 3 ? 1 : v;
+    cand.px(i, 0)[1] = v + k * step;
+  }
+  hdrc::Tolerance t = tol(1, 1e-6, 10);
+  t.linear_abs = 10000 * step;  // over: k = 10001 … 19999
+  for (double fraction : {0.0, 0.3}) {
+    t.allowed_fraction[static_cast<int>(Metric::kLinearAbs)] = fraction;
+    const auto s = hdrc::diff_images(in, ref, cand, kShaper, t);
+    const auto& a = s[Metric::kLinearAbs];
+    EXPECT_EQ(a.count, 60000u);
+    EXPECT_EQ(a.max, 19999 * step);
+    EXPECT_EQ(a.p99, 19399 * step);
+    EXPECT_EQ(a.p999, 19939 * step);
+    EXPECT_EQ(a.at_allowed_fraction, fraction == 0 ? 19999 * step : 1999 * step);
+    EXPECT_EQ(a.over, 9999u);
+    EXPECT_EQ(a.worst.x, 2321);  // 7919 · 2321 = 18 379 999 ≡ 19999 (mod 20000)
+    // Each band holds every sixth pixel; the bands' counts add up to the whole.
+    size_t counted = 0;
+    for (int b = 0; b < hdrc::kBandCount; ++b) {
+      EXPECT_EQ(s.band[b][static_cast<int>(Metric::kLinearAbs)].count, 3u * ((n + 5 - b) / 6))
+          << "band " << b;
+      counted += s.band[b][static_cast<int>(Metric::kLinearAbs)].count;
+    }
+    EXPECT_EQ(counted, 60000u);
+  }
+}
+
 TEST(Diff, RelativeErrorUsesTheFloor) {
   hdrc::Image in = grey(1, 0), ref = grey(1, 0), cand = grey(1, 0);
   cand.px(0, 0)[0] = 1e-7;

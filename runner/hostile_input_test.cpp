@@ -355,6 +355,31 @@ std::vector<Row> rows() {
        kList,
        2,
        {"big.json", "/input", "8192x8192", "more pixels than the limit"}});
+  // Issue 29: the largest image is what fits the per-case budget (runner/budget.h); a case over
+  // it is refused before any work, naming the case, its size, the estimate and the budget.
+  add({"case_over_memory_budget",
+       [](const fs::path& t) {
+         case_file(
+             t, "big.json",
+             R"({"stage": "tonemap", "input": {"stimulus": "random", "width": 4096, "height": 4096}})");
+       },
+       kRun,
+       2,
+       {"big.json", "case big/random", "a 4096x4096 tonemap case needs an estimated",
+        "over the memory budget of 1.50 GB per case", "refused before any work",
+        "nothing was run"}});
+  // And a case over a budget set on the command line (--memory-budget GB): refused the same way.
+  add({"case_over_configured_memory_budget",
+       [](const fs::path& t) {
+         case_file(
+             t, "c.json",
+             R"({"stage": "shaper", "input": {"stimulus": "log_ramp", "width": 512, "height": 512}})");
+       },
+       kRun + " --memory-budget 0.2",
+       2,
+       {"c.json", "case c/log_ramp", "a 512x512 shaper case needs an estimated",
+        "over the memory budget of 0.20 GB per case", "refused before any work",
+        "nothing was run"}});
   add({"stimulus_width_huge",
        [](const fs::path& t) {
          case_file(

@@ -17,6 +17,7 @@
 #include "gpu/vulkan_engine.h"
 #include "reference/reference_engine.h"
 #include "report/html_report.h"
+#include "runner/budget.h"
 #include "runner/case_loader.h"
 #include "runner/coverage.h"
 #include "runner/export.h"
@@ -195,6 +196,7 @@ int main(int argc, char** argv) {
       "present; without timings a static cost model); give every shard the same file";
 
   int jobs = 0;
+  double memory_budget_gb = 0, time_budget_s = 0;
   std::string shard;
   const std::string jobs_help = "worker threads, each with its own engines (default: every core)";
   const std::string shard_help =
@@ -236,6 +238,16 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     add_jobs(sub);
     add_shard(sub);
+    sub->add_option("--memory-budget", memory_budget_gb,
+                    "GB the run may hold (default: 1.5 per case, and the machine's available "
+                    "memory and address-space limit for the run): a case estimated over it is "
+                    "refused before any work, and -j runs fewer large cases at once "
+                    "(runner/budget.h)")
+        ->check(CLI::Range(0.001, 1e6));
+    sub->add_option("--time-budget", time_budget_s,
+                    "CPU seconds a case may take (default 60): a case estimated over it is refused "
+                    "before any work")
+        ->check(CLI::Range(0.001, 1e9));
   };
 
   CLI::App* run = app.add_subcommand("run", "run cases on the reference and a candidate engine");
@@ -593,6 +605,11 @@ int main(int argc, char** argv) {
     }
     suite.failed_first = std::move(*ids);
   }
+  // The per-case budget the loader checks every case against (runner/budget.h).
+  if (memory_budget_gb > 0 || time_budget_s > 0)
+    hdrc::set_case_budget(
+        memory_budget_gb > 0 ? memory_budget_gb * 1e9 : hdrc::kCaseMemoryBudgetBytes,
+        time_budget_s > 0 ? time_budget_s : hdrc::kCaseCpuBudgetSeconds);
   if (int code = load_or_report(cases_dir, *selection, &cases, &limits, suite_name);
       code != hdrc::kExitPass)
     return code < 0 ? hdrc::kExitPass : code;
@@ -700,7 +717,7 @@ int main(int argc, char** argv) {
   suite.out_dir = outset ? outset->staging() : out_dir;
   // The case images the run writes stay in memory, up to 384 MB, for the report built at its end
   // (core/image.h written_images; the default suite's are 120-300 MB).
-  hdrc::written_images::set_capacity(size_t{384} << 20);
+  hdrc::written_images::set_capacity(hdrc::kKeptImagesBytes);
   // The run's last line names the report (README: the main job ends with the report's path).
   bool goldens_checked = false;
   auto finish = [&](int code) {
@@ -723,6 +740,7 @@ int main(int argc, char** argv) {
   };
   suite.jobs = jobs;
   suite.device_allowances = !no_device_allowance;
+  suite.memory_budget = memory_budget_gb * 1e9;
   suite.shard = shard;
   if (*run && run_reference != "baked") suite.reference = run_reference;
   const std::string shader_dir = !*run || engine != "vulkan" ? ""

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <condition_variable>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
@@ -11,6 +12,7 @@
 #include <thread>
 
 #include "core/pipeline.h"
+#include "runner/budget.h"
 #include "runner/case_loader.h"
 #include "runner/dither.h"
 #include "runner/goldens.h"
@@ -245,6 +247,44 @@ struct Worker {
   std::unique_ptr<Engine> reference, candidate;
 };
 
+// RunOptions::memory_budget: case i starts when every case before it has started and its
+// estimate fits beside the estimates of the cases running (or none is running).
+class MemoryGate {
+ public:
+  MemoryGate(double budget, const std::atomic<bool>* interrupt)
+      : budget_(budget), interrupt_(interrupt) {}
+  // False when the run was interrupted while waiting (the case is not started).
+  bool enter(size_t index, double bytes) {
+    std::unique_lock<std::mutex> lock(mu_);
+    for (;;) {
+      if (interrupt_ && interrupt_->load()) return false;
+      if (index == next_ && (budget_ <= 0 || running_ == 0 || in_use_ + bytes <= budget_)) break;
+      // Polled too: a SIGINT handler sets the flag without notifying.
+      cv_.wait_for(lock, std::chrono::milliseconds(100));
+    }
+    ++next_;
+    ++running_;
+    in_use_ += bytes;
+    cv_.notify_all();
+    return true;
+  }
+  void leave(double bytes) {
+    std::lock_guard<std::mutex> lock(mu_);
+    --running_;
+    in_use_ -= bytes;
+    cv_.notify_all();
+  }
+
+ private:
+  std::mutex mu_;
+  std::condition_variable cv_;
+  const double budget_;
+  const std::atomic<bool>* interrupt_;
+  size_t next_ = 0;  // the next case to start
+  int running_ = 0;
+  double in_use_ = 0;
+};
+
 class Executor {
  public:
   Executor(const RunOptions& o, const RunReport& report) : opt_(o), report_(report) {}
@@ -458,6 +498,9 @@ RunReport run_cases(const std::vector<Case>& cases, const EngineFactory& referen
   std::mutex mu;
   size_t emitted = 0;
   Executor exec(opt, report);
+  // The process's own part is not the cases' (runner/budget.h kProcessFixedBytes).
+  MemoryGate gate(opt.memory_budget > 0 ? std::max(1.0, opt.memory_budget - kProcessFixedBytes) : 0,
+                  opt.interrupt);
   auto interrupted = [&] { return opt.interrupt && opt.interrupt->load(); };
   std::atomic<int> failed{0};
   auto max_failed = [&] { return opt.max_fail > 0 && failed.load() >= opt.max_fail; };
@@ -475,7 +518,10 @@ RunReport run_cases(const std::vector<Case>& cases, const EngineFactory& referen
       if (interrupted() || max_failed()) return;
       const size_t i = next.fetch_add(1);
       if (i >= n) return;
+      const double bytes = case_cost(cases[i]).bytes;
+      if (!gate.enter(i, bytes)) return;
       CaseResult r = exec.run_one(cases[i], me);
+      gate.leave(bytes);
       failed += r.verdict == CaseVerdict::kFail || r.verdict == CaseVerdict::kError ||
                 r.verdict == CaseVerdict::kMissing;
       if (interrupted() && r.verdict == CaseVerdict::kError) {

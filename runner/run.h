@@ -146,6 +146,11 @@ struct RunOptions {
   // (docs/precision.md, "Device allowances"); within them it passes with a named allowance.
   // false (`--no-device-allowance`): such a case fails, for reference-grade results.
   bool device_allowances = true;
+  // The memory the run's cases may hold at once (bytes; runner/budget.h run_memory_budget): a
+  // worker starts a case only when its estimate (case_cost) fits beside the cases running, and
+  // cases start in case order, so a large one is not overtaken for ever by small ones; a case
+  // alone always starts. 0: no gate (every worker starts its next case at once).
+  double memory_budget = 0;
 };
 
 // Runs `cases` with a candidate engine against the reference engine. Each worker creates its own

@@ -25,6 +25,7 @@
 #include "core/atomic_file.h"
 #include "core/utf8.h"
 #include "reference/reference_engine.h"
+#include "runner/budget.h"
 #include "runner/descendants.h"
 #include "runner/export.h"
 #include "runner/json_read.h"
@@ -654,6 +655,27 @@ int run_suite(std::vector<Case> cases, const std::vector<KnownLimit>& limits,
                 static_cast<size_t>(first - cases.begin()), options.failed_first_dir.c_str());
   }
   ro.max_fail = options.max_fail;
+  // The run's memory budget: every case must fit it alone (refused here, before any work, as
+  // the loader refused those over the per-case budget); -j runs as many at once as it holds.
+  const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+  ro.memory_budget = run_memory_budget(
+      options.memory_budget,
+      static_cast<int>(std::min<size_t>(options.jobs > 0 ? options.jobs : cores, cases.size())));
+  // The images kept for the report are held beside the running cases (runner/budget.h).
+  if (ro.memory_budget > 0)
+    ro.memory_budget = std::max(1.0, ro.memory_budget - static_cast<double>(kKeptImagesBytes));
+  if (ro.memory_budget > 0) {
+    size_t refused = 0;
+    for (const Case& c : cases)
+      if (Status st = check_case_budget(c, ro.memory_budget); !st) {
+        if (++refused <= 20) std::fprintf(stderr, "error: %s\n", st.error().to_string().c_str());
+      }
+    if (refused > 0) {
+      std::fprintf(stderr, "%zu case(s) over the run's memory budget of %s; nothing was run\n",
+                   refused, format_bytes(ro.memory_budget).c_str());
+      return kExitBadInput;
+    }
+  }
   ro.jobs = options.jobs;
   ro.device_allowances = options.device_allowances;
   ro.known_limits = all_limits;

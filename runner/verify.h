@@ -164,6 +164,9 @@ struct SuiteOptions {
   // the shards stay those of the plan.
   std::string failed_first_dir;
   std::set<std::string> failed_first;
+  // --memory-budget in bytes (0: the machine's, runner/budget.h run_memory_budget): a case whose
+  // estimate is over it is refused before any work (exit 2); RunOptions::memory_budget.
+  double memory_budget = 0;
 };
 
 // The reference engine a suite run compares against: "baked" samples the LUT UE bakes (the
