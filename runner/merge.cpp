@@ -12,6 +12,7 @@
 #include "runner/output_set.h"
 #include "runner/results.h"
 #include "runner/run.h"
+#include "runner/verify.h"
 
 namespace hdrc {
 
@@ -81,37 +82,6 @@ Error refusal(std::string msg) {
   return Error{"", "", std::move(msg), ""};
 }
 
-// The words of a command line as provenance.command_line writes them (shell_quote: bare words,
-// '...' with '\'' for a quote).
-std::vector<std::string> shell_words(const std::string& text) {
-  std::vector<std::string> words;
-  std::string word;
-  bool in_word = false, quoted = false;
-  for (size_t i = 0; i < text.size(); ++i) {
-    const char c = text[i];
-    if (quoted) {
-      if (c == '\'')
-        quoted = false;
-      else
-        word += c;
-    } else if (c == '\'') {
-      quoted = in_word = true;
-    } else if (c == '\\' && i + 1 < text.size()) {
-      word += text[++i];
-      in_word = true;
-    } else if (c == ' ' || c == '\t' || c == '\n') {
-      if (in_word) words.push_back(std::move(word));
-      word.clear();
-      in_word = false;
-    } else {
-      word += c;
-      in_word = true;
-    }
-  }
-  if (in_word) words.push_back(std::move(word));
-  return words;
-}
-
 }  // namespace
 
 bool safe_image_path(const std::string& rel) {
@@ -125,7 +95,12 @@ std::vector<std::string> shard_input_folders(const json& doc) {
   const std::string line = field(doc, "/provenance/command_line");
   const std::string cwd = field(doc, "/provenance/cwd");
   if (line == "(absent)") return {};
-  const std::vector<std::string> words = shell_words(line);
+  // The words of the command line as provenance.command_line writes them (shell_quote: bare words,
+  // '...' with '\'' for a quote), split as verify splits a command template; a line that does not
+  // split names no folder.
+  auto split = split_command_template(line);
+  if (!split) return {};
+  const std::vector<std::string> words = std::move(*split);
   std::vector<std::string> out;
   for (size_t i = 0; i < words.size(); ++i)
     for (const std::string opt : {"--cases", "--goldens"}) {

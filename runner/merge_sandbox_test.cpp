@@ -688,7 +688,8 @@ void sandboxed_child_is_gone_at_case_end(bool timeout) {
   write(t / "cases/b.json", kCaseA);
   fs::copy_file("/bin/sleep", t / "marker_sleep");
   // Case a/log_ramp leaves the child (and waits until it has exec'd, its environment cleared;
-  // or past --timeout 2); case b/log_ramp takes 1.8 s, while this test looks.
+  // or past --timeout 2); case b/log_ramp takes 1.8 s, while this test looks. Without the timeout
+  // under test, --timeout is far above what the cases take, also on a loaded or sanitized build.
   // The child is orphaned at once (a double fork): no longer below the command's process.
   write(t / "cand.sh", "#!/bin/sh\nif [ \"$2\" = a/log_ramp ]; then (setsid env -i " +
                            (t / "marker_sleep").string() +
@@ -696,9 +697,9 @@ void sandboxed_child_is_gone_at_case_end(bool timeout) {
                            "; else sleep 1.8; fi\ncp " +
                            (t / "ref/cases/a/log_ramp/reference.exr").string() + " \"$1\"\n");
   const std::string cmd = "env -u CI timeout -s KILL 60 " + std::string(HDRC_BINARY) +
-                          " verify --sandbox -j 1 --timeout 2 --cases " + (t / "cases").string() +
-                          " --out " + (t / "out").string() + " --candidate-cmd 'sh " +
-                          (t / "cand.sh").string() + " {output} {id}' >" +
+                          " verify --sandbox -j 1 --timeout " + (timeout ? "2" : "30") +
+                          " --cases " + (t / "cases").string() + " --out " + (t / "out").string() +
+                          " --candidate-cmd 'sh " + (t / "cand.sh").string() + " {output} {id}' >" +
                           (t / "log.txt").string() + " 2>&1 </dev/null";
   std::FILE* p = popen(cmd.c_str(), "r");
   ASSERT_NE(p, nullptr);
