@@ -56,6 +56,11 @@ struct Pipeline {
   // the pipeline bakes a LUT, evaluate the grade at each pixel instead of sampling the baked LUT
   // (`verify --reference analytic`).
   Result<Image> (*reference)(const ResolvedCase& c, bool analytic_lut);
+  // What a case of this pipeline costs per pixel of its image, measured (runner/budget.h, which
+  // estimates a case from them before any work; docs/performance-notes.md): peak resident bytes
+  // and CPU nanoseconds. 0: not measured yet (the budget takes the dearest measured figures).
+  double bytes_per_pixel = 0;
+  double cpu_ns_per_pixel = 0;
 
   // A fresh settings set of this pipeline (its table and named values; unset values read as their
   // defaults).

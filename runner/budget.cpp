@@ -17,39 +17,38 @@ namespace hdrc {
 
 namespace {
 
-// Per pipeline, what one pixel of a case's image costs in a `run`: /usr/bin/time -v of
+// How each pipeline module's per-pixel figures (Pipeline::bytes_per_pixel, cpu_ns_per_pixel) were
+// measured, as what one pixel of a case's image costs in a `run`: /usr/bin/time -v of
 // `hdrconform run -j 1` on one case of each pipeline at 2048x2048 and at 256x256 (a "random"
 // stimulus; every image kept, the report written), lavapipe on 2 cores; the figure is the
 // difference of the two over the pixels between them, rounded up by 3-8 %
 // (docs/performance-notes.md, "Memory and time per case", 2026-11-27: bytes 281 / 220 / 242 /
-// 231, CPU µs 3.41 / 2.27 / 2.33 / 3.20, in this order). Memory: the input, reference and
-// candidate images (doubles, 32 bytes a pixel each), the Vulkan engine's float32 input and output
-// buffers (16 each; kept for the next case), the case images kept for the report (float32, 16
-// each), the EXR encoder's buffer and the report page's float data. CPU: user + system of the
-// process (the reference, lavapipe's threads, the diff, the EXRs and the report page). ue55 was
-// measured on its tonemap stage (the LUT bake, then the pass; its other image stages are passes
-// of the same kind).
+// 231, CPU µs 3.41 / 2.27 / 2.33 / 3.20 for ue55, unity_urp, operators, pq_grading). Memory: the
+// input, reference and candidate images (doubles, 32 bytes a pixel each), the Vulkan engine's
+// float32 input and output buffers (16 each; kept for the next case), the case images kept for the
+// report (float32, 16 each), the EXR encoder's buffer and the report page's float data. CPU: user +
+// system of the process (the reference, lavapipe's threads, the diff, the EXRs and the report
+// page). ue55 was measured on its tonemap stage (the LUT bake, then the pass; its other image
+// stages are passes of the same kind).
 struct PixelCost {
-  std::string_view pipeline;
   double bytes, cpu_ns;
 };
-constexpr PixelCost kPixelCosts[] = {
-    {"ue55", 290, 3600},
-    {"unity_urp", 235, 2450},
-    {"operators", 255, 2500},
-    {"pq_grading", 245, 3400},
-};
-// An unknown pipeline (a new module before it was measured): the dearest figures.
-constexpr PixelCost kUnmeasured{"", 290, 3600};
 // The largest LUT a bake stage makes: 65³ texels (Unity's LutSize clamps to [16, 65]; UE's
 // r.LUT.Size to [16, 64]), unwrapped 65² x 65.
 constexpr int kLargestLutEdge = 65;
 
-const PixelCost& pixel_cost(const StageInfo& stage) {
-  const std::string_view name = pipeline_of(stage).name;
-  for (const PixelCost& p : kPixelCosts)
-    if (p.pipeline == name) return p;
-  return kUnmeasured;
+// The stage's pipeline's measured figures (Pipeline::bytes_per_pixel, cpu_ns_per_pixel); for a
+// pipeline not measured yet, the dearest of those measured.
+PixelCost pixel_cost(const StageInfo& stage) {
+  const Pipeline& pipeline = pipeline_of(stage);
+  if (pipeline.bytes_per_pixel > 0 && pipeline.cpu_ns_per_pixel > 0)
+    return {pipeline.bytes_per_pixel, pipeline.cpu_ns_per_pixel};
+  PixelCost dearest{0, 0};
+  for (const Pipeline* p : pipeline_table()) {
+    dearest.bytes = std::max(dearest.bytes, p->bytes_per_pixel);
+    dearest.cpu_ns = std::max(dearest.cpu_ns, p->cpu_ns_per_pixel);
+  }
+  return dearest;
 }
 
 // An input's width and height: a stimulus's own, a file's from its header (checked first by

@@ -107,6 +107,9 @@ const Pipeline& operators_pipeline() {
       &no_lattice,
       &encoding,
       &reference,
+      // Measured per pixel, 2048x2048 minus 256x256, lavapipe (runner/budget.h).
+      255,
+      2500,
   };
   return pipeline;
 }

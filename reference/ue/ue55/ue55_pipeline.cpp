@@ -180,6 +180,9 @@ const Pipeline& ue55_pipeline() {
       &ue55_lattice,
       &ue55_output_encoding,
       &run_ue55,
+      // Measured per pixel, 2048x2048 minus 256x256, lavapipe (runner/budget.h).
+      290,
+      3600,
   };
   return pipeline;
 }
