@@ -82,6 +82,19 @@ std::string unique_name() {
   return buf;
 }
 
+// Removes a staging folder so that a kill at any moment leaves it recognisable as ours to the
+// next command (remove_stale_staging): everything but its .lock first, the .lock last.
+void remove_staging(const fs::path& dir) {
+  std::error_code ec;
+  std::vector<fs::path> children;
+  for (auto it = fs::directory_iterator(dir, ec); !ec && it != fs::directory_iterator();
+       it.increment(ec))
+    if (it->path().filename() != kLock) children.push_back(it->path());
+  for (const auto& c : children) fs::remove_all(c, ec);
+  fs::remove(dir / kLock, ec);
+  fs::remove(dir, ec);
+}
+
 // The staging folders beside `out` (canonical) that killed commands left: folders named
 // .<name>.hdrconform-* whose .lock is OUT's lock file (a hard link made when they were created),
 // or empty ones (killed between mkdir and link). Anything else of that name is left alone.
@@ -100,7 +113,7 @@ void remove_stale_staging(const fs::path& out) {
                       st.st_dev == lock_st.st_dev && st.st_ino == lock_st.st_ino;
     if (ours || fs::is_empty(it->path(), ec)) stale.push_back(it->path());
   }
-  for (const auto& p : stale) fs::remove_all(p, ec);
+  for (const auto& p : stale) remove_staging(p);
 }
 
 // OUT may hold only what hdrconform writes, since a run replaces it whole: nothing, or a
@@ -311,14 +324,12 @@ Status OutputSet::publish() {
                      "; it is not published",
                  "a local file system that supports RENAME_EXCHANGE (ext4, xfs, btrfs, tmpfs)"};
   published_ = true;
-  std::error_code ec;
-  fs::remove_all(staging_, ec);  // the previous output, now under the staging name
+  remove_staging(staging_);  // the previous output, now under the staging name
   return {};
 }
 
 OutputSet::~OutputSet() {
-  std::error_code ec;
-  if (!published_ && !staging_.empty()) fs::remove_all(staging_, ec);  // an unpublished run
+  if (!published_ && !staging_.empty()) remove_staging(staging_);  // an unpublished run
   if (lock_fd_ >= 0) ::close(lock_fd_);
 }
 
