@@ -16,6 +16,7 @@
 #include <sstream>
 
 #include "core/image.h"
+#include "core/pipeline.h"
 #include "runner/test_support.h"
 
 #ifndef HDRC_BINARY
@@ -117,10 +118,16 @@ TEST(Cli, UsageErrorsNameTheNearestChoiceAndWriteNothing) {
     EXPECT_NE(ran.out.find(r.says), std::string::npos) << r.args << "\n" << ran.out;
     EXPECT_FALSE(fs::exists(out)) << r.args << " wrote " << out;
   }
-  // The top-level help names every pipeline.
+  // The top-level help names every pipeline by its title, and probe's help by its name (a
+  // pipeline added later is checked without editing this test).
   const Ran help = run("--help");
-  for (const char* title : {"Unreal Engine 5.5", "Unity URP", "tone-mapping operators", "PQ-space"})
-    EXPECT_NE(help.out.find(title), std::string::npos) << title << "\n" << help.out;
+  const Ran probe_help = run("probe --help");
+  for (const hdrc::Pipeline* p : hdrc::pipeline_table()) {
+    EXPECT_NE(help.out.find(std::string(p->title)), std::string::npos) << p->title << "\n"
+                                                                       << help.out;
+    EXPECT_NE(probe_help.out.find(std::string(p->name)), std::string::npos) << p->name << "\n"
+                                                                            << probe_help.out;
+  }
 }
 
 // No Vulkan driver at all (an ICD list naming no file): unavailable with the reason, exit 3.

@@ -399,9 +399,12 @@ int main(int argc, char** argv) {
   hdrc::ProbeOptions probe_opts;
   CLI::App* probe = app.add_subcommand(
       "probe",
-      "print what UE 5.5 computes for colours read as \"R G B\" lines from standard input\n"
-      "(scene-linear, working colour space, at the centre of the screen: no vignette, bloom or\n"
-      "dither); one \"R G B\" line out per line in, 9 significant digits");
+      "print what a pipeline's reference computes for colours read as \"R G B\" lines from\n"
+      "standard input, one \"R G B\" line out per line in, 9 significant digits: --pipeline\n"
+      "picks it (" +
+          hdrc::pipeline_names() +
+          "; default ue55: scene-linear, working colour space,\n"
+          "at the centre of the screen: no vignette, bloom or dither)");
   probe->footer(
       std::string("Example:\n  printf '0.18 0.18 0.18\\n' | hdrconform probe --set "
                   "r.HDR.EnableHDROutput=1 \\\n    --set r.HDR.Display.OutputDevice=3 --set "
