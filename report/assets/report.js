@@ -476,7 +476,16 @@ const REC2020_TO_XYZ = [0.636958, 0.144617, 0.168881, 0.262700, 0.677998, 0.0593
 // Summary page: static; only marks itself ready.
 
 function initSummary() {
+  openReasons();
   ready();
+}
+
+// The case lists' reasons are cut to two lines (report.css div.reason); a click shows one whole.
+function openReasons() {
+  document.addEventListener('click', (e) => {
+    const r = e.target.closest && e.target.closest('table.cases div.reason');
+    if (r) r.classList.toggle('open');
+  });
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -493,6 +502,7 @@ function initCases() {
     if (keep) s.value = keep;
   };
   const uniq = (f) => Array.from(new Set(cases.map(f))).sort(compareValues);
+  fill('#f-pipeline', uniq((c) => c.pipeline || ''));
   fill('#f-stage', uniq((c) => c.stage));
   fill('#f-verdict', uniq((c) => c.verdict).concat(['WARN', 'NEAR_MISS', 'TIGHTEN']));
   const cvarNames = Array.from(new Set(cases.flatMap((c) => Object.keys(c.cvars)))).sort();
@@ -510,6 +520,7 @@ function initCases() {
     if (name) for (const v of uniq((c) => cvarValue(c, name))) s.append(el('option', { value: v, text: valueLabel(name, v) }));
   };
   const h = parseHash();
+  if (h.pipeline) $('#f-pipeline').value = h.pipeline;
   if (h.stage) $('#f-stage').value = h.stage;
   if (h.verdict) $('#f-verdict').value = h.verdict;
   if (h.text) $('#f-text').value = h.text;
@@ -527,7 +538,7 @@ function initCases() {
   let sortKey = h.sort || '', sortDir = h.dir === 'desc' ? -1 : 1;
 
   const apply = () => {
-    const stage = $('#f-stage').value, verdict = $('#f-verdict').value;
+    const pipeline = $('#f-pipeline').value, stage = $('#f-stage').value, verdict = $('#f-verdict').value;
     const cvar = $('#f-cvar').value, cval = $('#f-cvar-value').value;
     const text = $('#f-text').value.trim().toLowerCase();
     const metric = $('#f-metric').value;
@@ -539,7 +550,7 @@ function initCases() {
       const c = byIndex.get(r.dataset.i);
       const okVerdict = !verdict || c.verdict === verdict || (verdict === 'WARN' && c.warn) ||
         (verdict === 'NEAR_MISS' && c.near) || (verdict === 'TIGHTEN' && c.tighten);
-      const ok = c && (!stage || c.stage === stage) && okVerdict &&
+      const ok = c && (!pipeline || c.pipeline === pipeline) && (!stage || c.stage === stage) && okVerdict &&
         cons.every(([k, v]) => cvarValue(c, k) === v) &&
         (!text || (c.id + ' ' + c.input + ' ' + c.reason).toLowerCase().includes(text));
       r.hidden = !ok;
@@ -575,7 +586,7 @@ function initCases() {
       th.classList.toggle('sorted-asc', th.dataset.sort === sortKey && sortDir > 0);
       th.classList.toggle('sorted-desc', th.dataset.sort === sortKey && sortDir < 0);
     }
-    setHash({ stage, verdict, text, metric, sort: sortKey, dir: sortDir < 0 ? 'desc' : '',
+    setHash({ pipeline, stage, verdict, text, metric, sort: sortKey, dir: sortDir < 0 ? 'desc' : '',
       cv: cons.map(([k, v]) => k + ':' + v) });
   };
   $('#f-cvar').addEventListener('change', () => {
@@ -583,7 +594,7 @@ function initCases() {
     fillCvarValues();
     apply();
   });
-  for (const id of ['#f-stage', '#f-verdict', '#f-cvar-value', '#f-metric'])
+  for (const id of ['#f-pipeline', '#f-stage', '#f-verdict', '#f-cvar-value', '#f-metric'])
     $(id).addEventListener('change', apply);
   $('#f-text').addEventListener('input', apply);
   $('#filters').addEventListener('submit', (e) => e.preventDefault());
@@ -596,6 +607,7 @@ function initCases() {
       }
       apply();
     });
+  openReasons();
   apply();
   ready();
 }
@@ -609,7 +621,10 @@ function initMatrix() {
   const stageSel = $('#m-stage'), rowSel = $('#m-rows'), colSel = $('#m-cols'), showSel = $('#m-show');
   for (const s of Array.from(new Set(all.map((c) => c.stage))).sort())
     stageSel.append(el('option', { value: s, text: s }));
-  const metricNames = Array.from(new Set(all.flatMap((c) => Object.keys(c.metrics)))).sort();
+  // A metric's value counts only for the cases whose tolerance judges it (data.js judged: from the
+  // tolerance each case ran with, results.json); a metric no case judges is not offered.
+  const judges = (c, m) => !c.judged || c.judged.includes(m.split('.')[0]);
+  const metricNames = Array.from(new Set(all.flatMap((c) => Object.keys(c.metrics).filter((m) => judges(c, m))))).sort();
   showSel.append(el('option', { value: 'budget', text: 'budget used (max)' }));
   for (const m of metricNames) showSel.append(el('option', { value: 'm:' + m, text: m + ' (max)' }));
   if (h.stage) stageSel.value = h.stage;
@@ -644,7 +659,8 @@ function initMatrix() {
   const cellValue = (cs) => {
     const show = showSel.value;
     if (show === 'verdict') return undefined;
-    const vals = cs.map((c) => toNumber(show === 'budget' ? c.budget : c.metrics[show.slice(2)]))
+    const vals = cs.filter((c) => show === 'budget' || judges(c, show.slice(2)))
+      .map((c) => toNumber(show === 'budget' ? c.budget : c.metrics[show.slice(2)]))
       .filter((v) => v !== undefined);
     if (!vals.length) return undefined;
     return vals.reduce((a, b) => (Number.isNaN(b) || b > a ? b : a));
@@ -667,7 +683,7 @@ function initMatrix() {
     let metricRange = null;
     const metricPosition = (v) => {
       if (!metricRange) {
-        const vals = cases.map((c) => toNumber(c.metrics[show.slice(2)])).filter((x) => x > 0 && Number.isFinite(x));
+        const vals = cases.filter((c) => judges(c, show.slice(2))).map((c) => toNumber(c.metrics[show.slice(2)])).filter((x) => x > 0 && Number.isFinite(x));
         metricRange = vals.length ? [Math.log10(Math.min(...vals)), Math.log10(Math.max(...vals))] : [0, 0];
       }
       const [lo, hi] = metricRange;
@@ -699,7 +715,9 @@ function initMatrix() {
           td.textContent = Object.entries(counts).map(([k, n]) => (cs.length > 1 ? n + ' ' : '') + k).join(' · ');
         } else {
           const v = cellValue(cs);
-          td.textContent = show === 'budget' ? pct(v) : fmt(v);
+          const unjudged = show !== 'budget' && !cs.some((c) => judges(c, show.slice(2)));
+          td.textContent = show === 'budget' ? pct(v) : unjudged ? 'not judged' : fmt(v);
+          if (unjudged) td.classList.add('cell-skip', 'not-judged');
           if (v !== undefined) {
             // Budget: Colorize over log10 from 0.1 % to 200 %; other metrics over their range.
             const x = show === 'budget' ? (Math.log10(Math.max(v, 1e-12)) + 3) / (3 + Math.log10(2)) :
@@ -730,7 +748,7 @@ function initMatrix() {
     } else {
       legend.append(show === 'budget' ?
         'Colour: VisualizeHDR\'s Colorize ramp over log10(budget used), 0.1 % blue … 200 % red; black: exact.' :
-        'Colour: Colorize ramp over log10 of the metric across the grid; black: exact.');
+        'Colour: Colorize ramp over log10 of the metric across the grid, over the cases whose tolerance judges it; black: exact; grey: no case of the cell is judged on it.');
     }
     setHash({ stage: stageSel.value, rows: rd, cols: cd, show });
     if (selected) {
