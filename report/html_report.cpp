@@ -351,16 +351,15 @@ std::string thumb_img(const CaseView& c, int which, bool lazy) {
 
 // The list pages' case cell: the case's id, shortened to fit a line (short_case_id; the full id
 // in the link's title and the row's data-id), and beneath it the reason, cut to two lines by the
-// stylesheet (the full text in its title; a click on it shows it all, assets/report.js).
+// stylesheet (a click on it shows it all, assets/report.js; no copy in a title: a list of 1408
+// cases carries its reasons once).
 constexpr size_t kShortIdChars = 64;
 std::string case_cell(const CaseView& c) {
   const std::string shown = report::short_case_id(c.id, kShortIdChars);
   std::string h = "<a class=\"case-link\" href=\"c/" + url_path_escape(c.slug) +
                   ".html\" title=\"" + html_escape(c.id) + "\"><code>" + html_escape(shown) +
                   "</code></a>";
-  if (!c.reason.empty())
-    h += "<div class=\"reason\" title=\"" + html_escape(c.reason) + "\">" + html_escape(c.reason) +
-         "</div>";
+  if (!c.reason.empty()) h += "<div class=\"reason\">" + html_escape(c.reason) + "</div>";
   return h;
 }
 
@@ -640,12 +639,12 @@ std::string short_case_id(const std::string& id, size_t max_chars) {
   if (head >= cps.size() || head + 3 > max_chars / 3) head = 0;
   const std::string prefix = head ? joined(cps, 0, head) + "/…" : "…";
   const size_t room = max_chars - (head ? head + 2 : 1);  // for the end of the id
-  // The end of the id from the first segment start within the room ("/" kept), else its last
-  // `room` code points.
+  // The end of the id, from a separator ('/' kept, after a '_') when one lies in the first
+  // quarter of the room (no word cut there), else its last `room` code points.
   size_t from = cps.size() - room;
-  for (size_t i = from; i + 1 < cps.size(); ++i)
-    if (cps[i] == "/") {
-      from = i;
+  for (size_t i = from + 1; i <= from + room / 4 && i < cps.size(); ++i)
+    if (cps[i - 1] == "/" || cps[i - 1] == "_") {
+      from = cps[i - 1] == "/" ? i - 1 : i;
       break;
     }
   return prefix + joined(cps, from, cps.size());
