@@ -350,7 +350,7 @@ std::string thumb_img(const CaseView& c, int which, bool lazy) {
 }
 
 // The list pages' case cell: the case's id, shortened to fit a line (short_case_id; the full id
-// in the link's title and the row's data-id), and beneath it the reason, cut to two lines by the
+// in the link's title), and beneath it the reason, cut to two lines by the
 // stylesheet (a click on it shows it all, assets/report.js; no copy in a title: a list of 1408
 // cases carries its reasons once).
 constexpr size_t kShortIdChars = 64;
@@ -1353,10 +1353,9 @@ struct Builder {
          "<th class=\"images\">images</th></tr></thead><tbody>\n";
     for (const auto& c : cases) {
       const std::string input = text(get(*c.j, {"input"}));
-      h += "<tr data-i=\"" + std::to_string(c.index) + "\" data-id=\"" + html_escape(c.id) +
-           "\"><td>" + badge(c.verdict) + markers(c) + "</td><td>" + case_cell(c) +
-           "</td><td class=\"stage\" title=\"" + html_escape(c.pipeline) + " / " +
-           html_escape(c.stage) + "\">" + html_escape(c.stage) +
+      h += "<tr data-i=\"" + std::to_string(c.index) + "\"><td>" + badge(c.verdict) + markers(c) +
+           "</td><td>" + case_cell(c) + "</td><td class=\"stage\" title=\"" +
+           html_escape(c.pipeline) + " / " + html_escape(c.stage) + "\">" + html_escape(c.stage) +
            "</td><td class=\"input\" title=\"" + html_escape(input) + "\">" + html_escape(input) +
            "</td><td class=\"num\">" + (c.budget ? fmt(*c.budget * 100, "%.3g") + " %" : "—") +
            "</td><td class=\"num metric\">—</td><td class=\"images\">";

@@ -137,16 +137,16 @@ async function rgbAt(page, selector, x, y) {
 // (not squeezed into a column), cut to two lines but holding the full text.
 const ROW_LIMIT_PX = 120;
 async function listLayout(page, rows, what, count) {
-  const got = await page.$$eval(rows, (trs) => trs.map((tr) => {
+  const got = await page.$$eval(rows, (trs, ids) => trs.map((tr) => {
     const a = tr.querySelector('a.case-link'), r = tr.querySelector('div.reason');
     const code = a && a.querySelector('code');
-    return { id: tr.dataset.id, h: tr.getBoundingClientRect().height, shown: code && code.textContent, title: a && a.title,
+    return { id: tr.dataset.id || ids[Number(tr.dataset.i)], h: tr.getBoundingClientRect().height, shown: code && code.textContent, title: a && a.title,
       idFits: a ? a.scrollWidth <= a.clientWidth + 1 : false,
       reasonW: r ? r.getBoundingClientRect().width : 0,
       cellW: r ? r.parentElement.clientWidth - parseFloat(getComputedStyle(r.parentElement).paddingLeft) - parseFloat(getComputedStyle(r.parentElement).paddingRight) : 0,
       reasonBelow: r && a ? r.getBoundingClientRect().top >= a.getBoundingClientRect().bottom - 1 : true,
       reasonText: r ? r.textContent : null };
-  }));
+  }), RESULTS.cases.map((c) => c.id));
   if (count !== undefined) check(got.length === count, `${what}: ${count} rows`, got.length);
   const tallest = Math.max(...got.map((g) => g.h));
   check(got.length > 0 && got.every((g) => g.h <= ROW_LIMIT_PX), `${what}: every row at most ${ROW_LIMIT_PX} px tall (tallest ${tallest.toFixed(0)} px)`, got.filter((g) => g.h > ROW_LIMIT_PX));
@@ -292,7 +292,8 @@ async function fixtureTest(dir, artifacts) {
   console.log('case list');
   {
     const { page, dialogs: d } = await openPage(context, url('cases.html'), 'case list');
-    const visible = () => page.$$eval('#case-table tbody tr:not([hidden])', (e) => e.map((x) => x.dataset.id));
+    const ids = results.cases.map((c) => c.id); // a row's data-i is its case's index in results.json
+    const visible = () => page.$$eval('#case-table tbody tr:not([hidden])', (e, ids) => e.map((x) => ids[Number(x.dataset.i)]), ids);
     check((await visible()).length === results.cases.length, 'all cases listed');
     await page.selectOption('#f-verdict', 'FAIL');
     let v = await visible();
@@ -358,9 +359,9 @@ async function fixtureTest(dir, artifacts) {
     const { page, dialogs: d } = await openPage(ctx, url('cases.html') + '#verdict=FAIL', `failing-case list at ${width} px`);
     await listLayout(page, '#case-table tbody tr:not([hidden])', `failing-case list at ${width} px`, expect.verdicts.FAIL);
     // A reason opens in full on a click (and closes on another).
-    const long = await page.$eval(`#case-table tbody tr[data-id^="${expect.long_ids}"] div.reason`, (r) => r.getBoundingClientRect().height);
-    await page.click(`#case-table tbody tr[data-id^="${expect.long_ids}"] div.reason`);
-    const opened = await page.$eval(`#case-table tbody tr[data-id^="${expect.long_ids}"] div.reason`, (r) => [r.getBoundingClientRect().height, r.scrollHeight]);
+    const long = await page.$eval(`#case-table tbody tr:has(a.case-link[title^="${expect.long_ids}"]) div.reason`, (r) => r.getBoundingClientRect().height);
+    await page.click(`#case-table tbody tr:has(a.case-link[title^="${expect.long_ids}"]) div.reason`);
+    const opened = await page.$eval(`#case-table tbody tr:has(a.case-link[title^="${expect.long_ids}"]) div.reason`, (r) => [r.getBoundingClientRect().height, r.scrollHeight]);
     check(opened[0] >= long && opened[0] >= opened[1] - 1, `a click shows a reason whole (${long.toFixed(0)} → ${opened[0].toFixed(0)} px)`, opened);
     drove('cases', 'reason click');
     await ctx.close();
@@ -544,7 +545,7 @@ async function fixtureTest(dir, artifacts) {
         ({ w: c.width, h: c.height, d: Array.from(c.getContext('2d').getImageData(0, 0, c.width, c.height).data) }));
       const { page: list } = await openPage(ctx, url('cases.html'), null);
       const geo = await list.evaluate((id) => {
-        const row = [...document.querySelectorAll('#case-table tbody tr')].find((tr) => tr.dataset.id === id);
+        const row = [...document.querySelectorAll('#case-table tbody tr')].find((tr) => tr.querySelector('a.case-link').title === id);
         const im = row && row.querySelector('.thumb[data-key="main"] img');
         if (!im) return null;
         const box = im.parentElement;
@@ -730,7 +731,7 @@ async function fixtureTest(dir, artifacts) {
 async function caseSlug(context, listUrl, id) {
   const { page } = await openPage(context, listUrl, null);
   const href = await page.$$eval('#case-table tbody tr', (trs, id) => {
-    const tr = trs.find((x) => x.dataset.id === id);
+    const tr = trs.find((x) => x.querySelector('a.case-link').title === id);
     return tr ? tr.querySelector('a').getAttribute('href') : null;
   }, id);
   await page.close();
