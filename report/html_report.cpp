@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -16,12 +17,12 @@
 #include <sstream>
 #include <thread>
 
+#include "color/st2084.h"
 #include "core/cvars.h"
 #include "core/pipeline.h"
 #include "core/settings.h"
 #include "core/stage.h"
 #include "core/utf8.h"
-#include "color/st2084.h"
 #include "reference/ue/visualize/histogram.h"
 #include "report/assets.h"
 #include "report/images.h"
@@ -348,6 +349,20 @@ std::string thumb_img(const CaseView& c, int which, bool lazy) {
          ".png\" style=\"margin-top:" + css_px(-c.thumb_y[which]) + "\"></span>";
 }
 
+// The list pages' case cell: the case's id, shortened to fit a line (short_case_id; the full id
+// in the link's title), and beneath it the reason, cut to two lines by the
+// stylesheet (a click on it shows it all, assets/report.js; no copy in a title: a list of 1408
+// cases carries its reasons once).
+constexpr size_t kShortIdChars = 64;
+std::string case_cell(const CaseView& c) {
+  const std::string shown = report::short_case_id(c.id, kShortIdChars);
+  std::string h = "<a class=\"case-link\" href=\"c/" + url_path_escape(c.slug) +
+                  ".html\" title=\"" + html_escape(c.id) + "\"><code>" + html_escape(shown) +
+                  "</code></a>";
+  if (!c.reason.empty()) h += "<div class=\"reason\">" + html_escape(c.reason) + "</div>";
+  return h;
+}
+
 std::string badge(const std::string& verdict) {
   return "<span class=\"badge v-" + verdict_class(verdict) + "\">" + html_escape(verdict) +
          "</span>";
@@ -591,6 +606,110 @@ std::string goldens_section(const json& doc) {
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
+// The list pages' short ids, the metrics a case is judged on, and the class of a failure.
+
+namespace {
+
+// The code points of UTF-8 text (a lead byte and its continuation bytes each).
+std::vector<std::string> code_points(const std::string& s) {
+  std::vector<std::string> out;
+  for (size_t i = 0; i < s.size(); ++i) {
+    if ((static_cast<unsigned char>(s[i]) & 0xC0) == 0x80 && !out.empty())
+      out.back() += s[i];
+    else
+      out.emplace_back(1, s[i]);
+  }
+  return out;
+}
+
+std::string joined(const std::vector<std::string>& cps, size_t from, size_t to) {
+  std::string s;
+  for (size_t i = from; i < to && i < cps.size(); ++i) s += cps[i];
+  return s;
+}
+
+}  // namespace
+
+std::string short_case_id(const std::string& id, size_t max_chars) {
+  const std::vector<std::string> cps = code_points(id);
+  if (cps.size() <= max_chars || max_chars < 8) return id;
+  // The first segment (the suite, up to its '/') when it takes at most a third of the room.
+  size_t head = 0;
+  while (head < cps.size() && cps[head] != "/") ++head;
+  if (head >= cps.size() || head + 3 > max_chars / 3) head = 0;
+  const std::string prefix = head ? joined(cps, 0, head) + "/…" : "…";
+  const size_t room = max_chars - (head ? head + 2 : 1);  // for the end of the id
+  // The end of the id, from a separator ('/' kept, after a '_') when one lies in the first
+  // quarter of the room (no word cut there), else its last `room` code points.
+  size_t from = cps.size() - room;
+  for (size_t i = from + 1; i <= from + room / 4 && i < cps.size(); ++i)
+    if (cps[i - 1] == "/" || cps[i - 1] == "_") {
+      from = cps[i - 1] == "/" ? i - 1 : i;
+      break;
+    }
+  return prefix + joined(cps, from, cps.size());
+}
+
+std::vector<std::string> judged_metrics(const json& c) {
+  std::vector<std::string> out;
+  const json* t = get(c, {"tolerance"});
+  if (!t || !t->is_object()) return out;
+  // Metric entries: an object (max, allowed_fraction, hard, warn) or, in older results, a number;
+  // the dither criterion an object; rel_floor, reason and source are not metrics. The diff's
+  // metrics first, in the runner's order (core/case.h Metric, the order judge() decides in),
+  // then any other (a metric this report does not know yet), then dither.
+  auto judged = [&](const std::string& k) {
+    const json* v = get(*t, {k});
+    return v && (v->is_object() || (v->is_number() && k != "rel_floor"));
+  };
+  for (const char* k : kMetricKeys)
+    if (judged(k)) out.push_back(k);
+  for (const auto& [k, v] : t->items())
+    if (k != "dither" && std::find(out.begin(), out.end(), k) == out.end() && judged(k))
+      out.push_back(k);
+  if (judged("dither")) out.push_back("dither");
+  return out;
+}
+
+std::string FailureClass::label() const {
+  return metric.empty() || kind.rfind(metric, 0) == 0 ? kind : metric + " " + kind;
+}
+
+FailureClass failure_class(const json& c) {
+  const std::string verdict = text(get(c, {"verdict"}));
+  std::string lower;
+  for (char ch : verdict) lower += static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  if (verdict != "FAIL") return {"", lower};
+  if (num(get(c, {"nonfinite", "mismatch"})).value_or(0) > 0)
+    return {"non-finite", "non-finite mismatch"};
+  // A dither criterion: runner/dither.cpp names it first in the reason ("dither mean: ...",
+  // "exact pattern (...)").
+  const std::string reason = text(get(c, {"reason"}));
+  if (truthy(get(c, {"dither"}))) {
+    if (reason.rfind("dither ", 0) == 0 && reason.find(':') != std::string::npos)
+      return {reason.substr(0, reason.find(':')), "over tolerance"};
+    if (reason.rfind("exact pattern", 0) == 0) return {"dither exact pattern", "over tolerance"};
+  }
+  // The metrics in the tolerance's order (runner/diff.cpp judge: hard cap, then max or allowed
+  // fraction, metric by metric; the first over decides).
+  const json* t = get(c, {"tolerance"});
+  for (const std::string& k : judged_metrics(c)) {
+    if (k == "dither") continue;
+    const json* st = metric_stats(c, k);
+    const json* tk = get(*t, {k});
+    if (!st || !tk) continue;
+    const auto max = num(get(*st, {"max"}));
+    if (!max) continue;
+    const auto limit = tk->is_number() ? num(tk) : num(get(*tk, {"max"}));
+    const auto hard = num(get(*tk, {"hard"}));
+    const double fraction = num(get(*tk, {"allowed_fraction"})).value_or(0);
+    if (hard && !(*max <= *hard)) return {k, "over hard cap"};
+    const bool over = fraction > 0 ? !(num(get(*st, {"fraction_over"})).value_or(0) <= fraction)
+                                   : limit && !(*max <= *limit);
+    if (over) return {k, "over tolerance"};
+  }
+  return {"", "fail"};
+}
 
 namespace {
 
@@ -1131,36 +1250,65 @@ struct Builder {
     h += pipelines_section();
     h += goldens_section(doc);
 
-    // Worst cases: failures and errors first, then by budget used.
-    std::vector<const CaseView*> worst;
-    for (const auto& c : cases)
-      if (c.verdict == "FAIL" || c.verdict == "MISSING" || c.verdict == "ERROR" ||
-          (c.budget && *c.budget > 0))
-        worst.push_back(&c);
-    auto rank = [](const CaseView* c) {
-      return c->verdict == "FAIL" || c->verdict == "MISSING" ? 0 : c->verdict == "ERROR" ? 1 : 2;
-    };
-    std::stable_sort(worst.begin(), worst.end(), [&](const CaseView* a, const CaseView* b) {
-      if (rank(a) != rank(b)) return rank(a) < rank(b);
+    // Worst cases, grouped by the class of their failure (failure_class: the metric and the
+    // kind), the class holding most failures first; in a class, the cases by budget used. Then
+    // the passing cases that used most of their budget.
+    const auto by_budget = [](const CaseView* a, const CaseView* b) {
       const double ba = a->budget.value_or(-1), bb = b->budget.value_or(-1);
-      return ba > bb || (std::isnan(bb) && !std::isnan(ba));
+      return ba > bb || (std::isnan(ba) && !std::isnan(bb));
+    };
+    std::map<std::string, std::vector<const CaseView*>> classes;
+    std::vector<const CaseView*> passed;
+    for (const auto& c : cases) {
+      if (c.verdict == "FAIL" || c.verdict == "MISSING" || c.verdict == "ERROR")
+        classes[failure_class(*c.j).label()].push_back(&c);
+      else if (c.verdict == "PASS" && c.budget && *c.budget > 0)
+        passed.push_back(&c);
+    }
+    std::vector<std::pair<std::string, std::vector<const CaseView*>>> groups(classes.begin(),
+                                                                             classes.end());
+    std::stable_sort(groups.begin(), groups.end(), [](const auto& a, const auto& b) {
+      return a.second.size() > b.second.size();
     });
-    if (worst.size() > 15) worst.resize(15);
+    for (auto& [label, members] : groups)
+      std::stable_sort(members.begin(), members.end(), by_budget);
+    std::stable_sort(passed.begin(), passed.end(), by_budget);
+    constexpr size_t kPerGroup = 5;
     h += "<h2>Worst cases</h2>\n";
-    if (worst.empty()) {
+    if (groups.empty() && passed.empty()) {
       h += "<p class=\"muted\">No case was evaluated with an error.</p>\n";
     } else {
-      h += "<table class=\"cases\" id=\"worst-cases\"><thead><tr><th>verdict</th><th>case</th>"
-           "<th>budget used</th><th></th><th>reason</th></tr></thead><tbody>\n";
-      for (const CaseView* c : worst) {
-        h += "<tr><td>" + badge(c->verdict) + markers(*c) + "</td><td><a href=\"c/" +
-             url_path_escape(c->slug) + ".html\"><code>" + html_escape(c->id) +
-             "</code></a></td><td class=\"num\">" +
-             (c->budget ? fmt(*c->budget * 100, "%.3g") + " %" : "—") + "</td><td>" +
-             (c->heat ? thumb_img(*c, 1, false) : "") + "</td><td class=\"reason\">" +
-             html_escape(c->reason) + "</td></tr>\n";
-      }
-      h += "</tbody></table>\n";
+      h += "<p class=\"muted\">Failures by class (the metric and the kind of failure), the class "
+           "with most failures first; in a class, the " +
+           std::to_string(kPerGroup) +
+           " that used most of their budget.</p>\n<table class=\"cases\" id=\"worst-cases\">"
+           "<thead><tr><th class=\"verdict\">verdict</th><th>case and reason</th><th "
+           "class=\"num budget\">budget used</th><th class=\"images\"></th></tr></thead>\n";
+      auto group = [&](const std::string& label, const std::string& count,
+                       const std::vector<const CaseView*>& members) {
+        h += "<tbody class=\"class-group\" data-class=\"" + html_escape(label) +
+             "\"><tr class=\"group\"><th colspan=\"4\"><span class=\"class-label\">" +
+             html_escape(label) + "</span>: <span class=\"class-count\">" + count + "</span>" +
+             (members.size() > kPerGroup
+                  ? " (the " + std::to_string(kPerGroup) + " that used most of their budget)"
+                  : "") +
+             "</th></tr>\n";
+        for (size_t k = 0; k < members.size() && k < kPerGroup; ++k) {
+          const CaseView* c = members[k];
+          h += "<tr class=\"case\" data-id=\"" + html_escape(c->id) + "\"><td>" +
+               badge(c->verdict) + markers(*c) + "</td><td>" + case_cell(*c) +
+               "</td><td class=\"num\">" +
+               (c->budget ? fmt(*c->budget * 100, "%.3g") + " %" : "—") + "</td><td>" +
+               (c->heat ? thumb_img(*c, 1, false) : "") + "</td></tr>\n";
+        }
+        h += "</tbody>\n";
+      };
+      for (const auto& [label, members] : groups)
+        group(label, std::to_string(members.size()) + " case" + (members.size() == 1 ? "" : "s"),
+              members);
+      if (!passed.empty())
+        group("passed, most budget used", std::to_string(passed.size()) + " cases", passed);
+      h += "</table>\n";
     }
     auto list = [&](const std::string& title, const std::string& id, auto pred) {
       std::string rows;
@@ -1185,6 +1333,8 @@ struct Builder {
   std::string cases_page() {
     std::string h = page_head("Cases — hdrconform", "", "cases");
     h += "<h1>Cases</h1>\n<form id=\"filters\" class=\"toolbar\" autocomplete=\"off\">"
+         "<label>pipeline <select id=\"f-pipeline\"><option value=\"\">all</option></select>"
+         "</label>"
          "<label>stage <select id=\"f-stage\"><option value=\"\">all</option></select></label>"
          "<label>verdict <select id=\"f-verdict\"><option value=\"\">all</option></select></label>"
          "<label>cvar <select id=\"f-cvar\"><option value=\"\">—</option></select></label>"
@@ -1193,22 +1343,25 @@ struct Builder {
          "</label><label>metric column <select id=\"f-metric\"></select></label>"
          "<span id=\"shown\"></span></form>\n";
     // The table is written here in full (readable without scripts); the script filters and sorts.
-    h +=
-        "<table class=\"cases\" id=\"case-table\"><thead><tr><th data-sort=\"verdict\">verdict</th>"
-        "<th data-sort=\"id\">case</th><th data-sort=\"stage\">stage</th><th data-sort=\"input\">"
-        "input</th><th data-sort=\"budget\" class=\"num\">budget used</th><th "
-        "data-sort=\"metric\" class=\"num\" id=\"metric-head\">metric</th><th>images</th><th>"
-        "reason</th></tr></thead><tbody>\n";
+    // Fixed column widths but the case's (report.css table.cases.list): the reason sits under
+    // the id, so a row keeps to a few lines at any common width.
+    h += "<table class=\"cases list\" id=\"case-table\"><thead><tr><th data-sort=\"verdict\" "
+         "class=\"verdict\">verdict</th><th data-sort=\"id\" class=\"case\">case and reason</th>"
+         "<th data-sort=\"stage\" class=\"stage\">stage</th><th data-sort=\"input\" "
+         "class=\"input\">input</th><th data-sort=\"budget\" class=\"num budget\">budget "
+         "used</th><th data-sort=\"metric\" class=\"num metric\" id=\"metric-head\">metric</th>"
+         "<th class=\"images\">images</th></tr></thead><tbody>\n";
     for (const auto& c : cases) {
+      const std::string input = text(get(*c.j, {"input"}));
       h += "<tr data-i=\"" + std::to_string(c.index) + "\"><td>" + badge(c.verdict) + markers(c) +
-           "</td><td><a href=\"c/" + url_path_escape(c.slug) + ".html\"><code>" +
-           html_escape(c.id) + "</code></a></td><td>" + html_escape(c.stage) + "</td><td>" +
-           esc_text(get(*c.j, {"input"})) + "</td><td class=\"num\">" +
-           (c.budget ? fmt(*c.budget * 100, "%.3g") + " %" : "—") +
-           "</td><td class=\"num metric\">—</td><td>";
+           "</td><td>" + case_cell(c) + "</td><td class=\"stage\" title=\"" +
+           html_escape(c.pipeline) + " / " + html_escape(c.stage) + "\">" + html_escape(c.stage) +
+           "</td><td class=\"input\" title=\"" + html_escape(input) + "\">" + html_escape(input) +
+           "</td><td class=\"num\">" + (c.budget ? fmt(*c.budget * 100, "%.3g") + " %" : "—") +
+           "</td><td class=\"num metric\">—</td><td class=\"images\">";
       if (c.has[0] || c.has[1] || c.has[2]) h += thumb_img(c, 0, true);
       if (c.heat) h += thumb_img(c, 1, true);
-      h += "</td><td class=\"reason\">" + html_escape(c.reason) + "</td></tr>\n";
+      h += "</td></tr>\n";
     }
     h += "</tbody></table>\n";
     return h + page_tail("", {"data.js"});
@@ -1252,6 +1405,7 @@ struct Builder {
       list.push_back({{"i", c.index},
                       {"id", c.id},
                       {"slug", c.slug},
+                      {"pipeline", c.pipeline},
                       {"stage", c.stage},
                       {"verdict", c.verdict},
                       {"warn", !c.warnings.empty()},
@@ -1265,6 +1419,9 @@ struct Builder {
                       {"cvars", cv},
                       {"settings", st},
                       {"metrics", metrics},
+                      // The metrics the case's tolerance judges: the matrix shows a metric's
+                      // value only for these (a metric of stats.overall that is not judged).
+                      {"judged", judged_metrics(*c.j)},
                       {"heat", c.heat}});
     }
     return "HDRC.data(" + script_safe_json(json{{"cases", list}}.dump()) + ");\n";

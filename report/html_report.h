@@ -38,7 +38,9 @@
 #pragma once
 
 #include <cstddef>
+#include <nlohmann/json_fwd.hpp>
 #include <string>
+#include <vector>
 
 #include "core/result.h"
 
@@ -58,6 +60,34 @@ std::string case_slug(const std::string& id);
 // Serialises JSON-encoded text for a <script> element: '<', '>', '&', U+2028 and U+2029 are
 // written as \u escapes, so no string in the data can close the element or start markup.
 std::string script_safe_json(const std::string& json_text);
+
+// A case id as the list pages show it, at most `max_chars` characters (UTF-8 code points): the
+// id itself when it fits, else its first path segment (the suite), "…", and the end of the id
+// (its most specific part), e.g. "tonemap/…/dev3_gamut2_log_ramp". The full id goes in the
+// link's title.
+std::string short_case_id(const std::string& id, size_t max_chars);
+
+// The metrics a case of results.json is judged on, from the tolerance the run used (its
+// "tolerance" object, runner/tolerance.cpp tolerance_json: a metric key whose entry is not null
+// is judged), in the order results.json lists them; "dither" when the dither criterion is judged.
+// The matrix shows a metric only for the cases that judge it.
+std::vector<std::string> judged_metrics(const nlohmann::json& result_case);
+
+// Why a case did not pass, as a class the summary groups its worst cases by: the metric and the
+// kind of failure, as the runner judged them (runner/diff.cpp judge: the first non-finite
+// mismatch decides, then each metric in turn its hard cap, then its max or allowed fraction;
+// runner/dither.cpp judge_dither: the dither criterion named by the reason). Read from the
+// case's recorded statistics and tolerance:
+//   {"non-finite", "non-finite mismatch"}     nonfinite.mismatch > 0
+//   {<metric key>, "over hard cap"}           stats.overall.<metric>.max > tolerance.<metric>.hard
+//   {<metric key>, "over tolerance"}          over its max (or its allowed fraction)
+//   {"dither <criterion>", "over tolerance"}  a dither criterion (amplitude, mean, std, ...)
+//   {"", <verdict, lower case>}               ERROR, MISSING, or a FAIL none of these explains
+struct FailureClass {
+  std::string metric, kind;
+  std::string label() const;  // "pq_code10 over tolerance", "error"
+};
+FailureClass failure_class(const nlohmann::json& result_case);
 
 struct ReportInfo {
   std::string index_path;  // DIR/report/index.html

@@ -345,21 +345,39 @@ async function decodeExr(b64, w, h) {
       for (let i = 0; i < half; i++) data[2 * i] = z[i];
       for (let i = 0; 2 * i + 1 < raw; i++) data[2 * i + 1] = z[half + i];
     } else if (size !== raw) fail('chunk ' + k + ' size');
+    // Each channel's row through a typed-array view where its bytes are aligned (OpenEXR is
+    // little-endian, as every host we target: decodePacked assumes it too), else through the
+    // DataView; halves through a table of all 65536 (a LUT-64³ page decodes 2 M values: the
+    // DataView call per value was ~0.4 s of its time to interactive, issue 27).
     const cv = new DataView(data.buffer, data.byteOffset, data.byteLength);
+    const table = chans.some((c) => c.type === 1) ? halfTable() : null;
     let p = 0;
     for (let r = 0; r < rows; r++) {
       const base = (y0 + r) * w * 4;
       for (const c of chans) {
-        const s = slot[c.name];
-        if (c.type === 2) for (let x = 0; x < w; x++, p += 4) out[base + x * 4 + s] = cv.getFloat32(p, true);
-        else for (let x = 0; x < w; x++, p += 2) out[base + x * 4 + s] = halfToFloat(cv.getUint16(p, true));
+        const s = slot[c.name], at = data.byteOffset + p;
+        if (c.type === 2) {
+          if (at % 4 === 0) {
+            const src = new Float32Array(data.buffer, at, w);
+            for (let x = 0; x < w; x++) out[base + x * 4 + s] = src[x];
+          } else for (let x = 0; x < w; x++) out[base + x * 4 + s] = cv.getFloat32(p + x * 4, true);
+          p += w * 4;
+        } else {
+          if (at % 2 === 0) {
+            const src = new Uint16Array(data.buffer, at, w);
+            for (let x = 0; x < w; x++) out[base + x * 4 + s] = table[src[x]];
+          } else for (let x = 0; x < w; x++) out[base + x * 4 + s] = table[cv.getUint16(p + x * 2, true)];
+          p += w * 2;
+        }
       }
     }
   }));
   return out;
 }
-// Base64 → bytes.
+// Base64 → bytes: the engine's own decoder where it has one (Uint8Array.fromBase64, TC39's
+// proposal-arraybuffer-base64, in Chromium since 140), else atob byte by byte.
 function bytesOf(b64) {
+  if (typeof Uint8Array.fromBase64 === 'function') return Uint8Array.fromBase64(b64);
   const bin = atob(b64);
   const bytes = new Uint8Array(bin.length);
   for (let i = 0; i < bin.length; i++) bytes[i] = bin.charCodeAt(i);
@@ -383,6 +401,15 @@ async function inflateBounded(z, n) {
   }
   if (got !== n) throw new Error('OpenEXR data: a chunk inflates to ' + got + ' bytes, not ' + n);
   return out;
+}
+// Every binary16 value as float32, made once.
+let HALF_TABLE = null;
+function halfTable() {
+  if (!HALF_TABLE) {
+    HALF_TABLE = new Float32Array(65536);
+    for (let u = 0; u < 65536; u++) HALF_TABLE[u] = halfToFloat(u);
+  }
+  return HALF_TABLE;
 }
 // IEEE 754 binary16 → number.
 function halfToFloat(u) {
@@ -408,8 +435,19 @@ class FloatImage {
     if (c === 3 && this.ch === 3) return this.alpha;
     return this.v[i * this.ch + c];
   }
+  // Each value's nits, decoded once for the whole image (toNits is pow-bound: the previews, the
+  // error pass and the plots read them many times over; a LUT-64³ page has 786 432 values).
   nits(i, c) {
-    return toNits(this.enc, this.v[i * this.ch + c]);
+    if (!this.n) {
+      const n = new Float64Array(this.w * this.h * 3);
+      for (let p = 0, q = 0; p < n.length; p += 3, q += this.ch) {
+        n[p] = toNits(this.enc, this.v[q]);
+        n[p + 1] = toNits(this.enc, this.v[q + 1]);
+        n[p + 2] = toNits(this.enc, this.v[q + 2]);
+      }
+      this.n = n;
+    }
+    return this.n[i * 3 + c];
   }
 }
 
@@ -476,7 +514,16 @@ const REC2020_TO_XYZ = [0.636958, 0.144617, 0.168881, 0.262700, 0.677998, 0.0593
 // Summary page: static; only marks itself ready.
 
 function initSummary() {
+  openReasons();
   ready();
+}
+
+// The case lists' reasons are cut to two lines (report.css div.reason); a click shows one whole.
+function openReasons() {
+  document.addEventListener('click', (e) => {
+    const r = e.target.closest && e.target.closest('table.cases div.reason');
+    if (r) r.classList.toggle('open');
+  });
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -493,6 +540,7 @@ function initCases() {
     if (keep) s.value = keep;
   };
   const uniq = (f) => Array.from(new Set(cases.map(f))).sort(compareValues);
+  fill('#f-pipeline', uniq((c) => c.pipeline || ''));
   fill('#f-stage', uniq((c) => c.stage));
   fill('#f-verdict', uniq((c) => c.verdict).concat(['WARN', 'NEAR_MISS', 'TIGHTEN']));
   const cvarNames = Array.from(new Set(cases.flatMap((c) => Object.keys(c.cvars)))).sort();
@@ -510,6 +558,7 @@ function initCases() {
     if (name) for (const v of uniq((c) => cvarValue(c, name))) s.append(el('option', { value: v, text: valueLabel(name, v) }));
   };
   const h = parseHash();
+  if (h.pipeline) $('#f-pipeline').value = h.pipeline;
   if (h.stage) $('#f-stage').value = h.stage;
   if (h.verdict) $('#f-verdict').value = h.verdict;
   if (h.text) $('#f-text').value = h.text;
@@ -527,7 +576,7 @@ function initCases() {
   let sortKey = h.sort || '', sortDir = h.dir === 'desc' ? -1 : 1;
 
   const apply = () => {
-    const stage = $('#f-stage').value, verdict = $('#f-verdict').value;
+    const pipeline = $('#f-pipeline').value, stage = $('#f-stage').value, verdict = $('#f-verdict').value;
     const cvar = $('#f-cvar').value, cval = $('#f-cvar-value').value;
     const text = $('#f-text').value.trim().toLowerCase();
     const metric = $('#f-metric').value;
@@ -539,7 +588,7 @@ function initCases() {
       const c = byIndex.get(r.dataset.i);
       const okVerdict = !verdict || c.verdict === verdict || (verdict === 'WARN' && c.warn) ||
         (verdict === 'NEAR_MISS' && c.near) || (verdict === 'TIGHTEN' && c.tighten);
-      const ok = c && (!stage || c.stage === stage) && okVerdict &&
+      const ok = c && (!pipeline || c.pipeline === pipeline) && (!stage || c.stage === stage) && okVerdict &&
         cons.every(([k, v]) => cvarValue(c, k) === v) &&
         (!text || (c.id + ' ' + c.input + ' ' + c.reason).toLowerCase().includes(text));
       r.hidden = !ok;
@@ -575,7 +624,7 @@ function initCases() {
       th.classList.toggle('sorted-asc', th.dataset.sort === sortKey && sortDir > 0);
       th.classList.toggle('sorted-desc', th.dataset.sort === sortKey && sortDir < 0);
     }
-    setHash({ stage, verdict, text, metric, sort: sortKey, dir: sortDir < 0 ? 'desc' : '',
+    setHash({ pipeline, stage, verdict, text, metric, sort: sortKey, dir: sortDir < 0 ? 'desc' : '',
       cv: cons.map(([k, v]) => k + ':' + v) });
   };
   $('#f-cvar').addEventListener('change', () => {
@@ -583,7 +632,7 @@ function initCases() {
     fillCvarValues();
     apply();
   });
-  for (const id of ['#f-stage', '#f-verdict', '#f-cvar-value', '#f-metric'])
+  for (const id of ['#f-pipeline', '#f-stage', '#f-verdict', '#f-cvar-value', '#f-metric'])
     $(id).addEventListener('change', apply);
   $('#f-text').addEventListener('input', apply);
   $('#filters').addEventListener('submit', (e) => e.preventDefault());
@@ -596,6 +645,7 @@ function initCases() {
       }
       apply();
     });
+  openReasons();
   apply();
   ready();
 }
@@ -609,7 +659,10 @@ function initMatrix() {
   const stageSel = $('#m-stage'), rowSel = $('#m-rows'), colSel = $('#m-cols'), showSel = $('#m-show');
   for (const s of Array.from(new Set(all.map((c) => c.stage))).sort())
     stageSel.append(el('option', { value: s, text: s }));
-  const metricNames = Array.from(new Set(all.flatMap((c) => Object.keys(c.metrics)))).sort();
+  // A metric's value counts only for the cases whose tolerance judges it (data.js judged: from the
+  // tolerance each case ran with, results.json); a metric no case judges is not offered.
+  const judges = (c, m) => !c.judged || c.judged.includes(m.split('.')[0]);
+  const metricNames = Array.from(new Set(all.flatMap((c) => Object.keys(c.metrics).filter((m) => judges(c, m))))).sort();
   showSel.append(el('option', { value: 'budget', text: 'budget used (max)' }));
   for (const m of metricNames) showSel.append(el('option', { value: 'm:' + m, text: m + ' (max)' }));
   if (h.stage) stageSel.value = h.stage;
@@ -644,7 +697,8 @@ function initMatrix() {
   const cellValue = (cs) => {
     const show = showSel.value;
     if (show === 'verdict') return undefined;
-    const vals = cs.map((c) => toNumber(show === 'budget' ? c.budget : c.metrics[show.slice(2)]))
+    const vals = cs.filter((c) => show === 'budget' || judges(c, show.slice(2)))
+      .map((c) => toNumber(show === 'budget' ? c.budget : c.metrics[show.slice(2)]))
       .filter((v) => v !== undefined);
     if (!vals.length) return undefined;
     return vals.reduce((a, b) => (Number.isNaN(b) || b > a ? b : a));
@@ -667,7 +721,7 @@ function initMatrix() {
     let metricRange = null;
     const metricPosition = (v) => {
       if (!metricRange) {
-        const vals = cases.map((c) => toNumber(c.metrics[show.slice(2)])).filter((x) => x > 0 && Number.isFinite(x));
+        const vals = cases.filter((c) => judges(c, show.slice(2))).map((c) => toNumber(c.metrics[show.slice(2)])).filter((x) => x > 0 && Number.isFinite(x));
         metricRange = vals.length ? [Math.log10(Math.min(...vals)), Math.log10(Math.max(...vals))] : [0, 0];
       }
       const [lo, hi] = metricRange;
@@ -699,7 +753,9 @@ function initMatrix() {
           td.textContent = Object.entries(counts).map(([k, n]) => (cs.length > 1 ? n + ' ' : '') + k).join(' · ');
         } else {
           const v = cellValue(cs);
-          td.textContent = show === 'budget' ? pct(v) : fmt(v);
+          const unjudged = show !== 'budget' && !cs.some((c) => judges(c, show.slice(2)));
+          td.textContent = show === 'budget' ? pct(v) : unjudged ? 'not judged' : fmt(v);
+          if (unjudged) td.classList.add('cell-skip', 'not-judged');
           if (v !== undefined) {
             // Budget: Colorize over log10 from 0.1 % to 200 %; other metrics over their range.
             const x = show === 'budget' ? (Math.log10(Math.max(v, 1e-12)) + 3) / (3 + Math.log10(2)) :
@@ -730,7 +786,7 @@ function initMatrix() {
     } else {
       legend.append(show === 'budget' ?
         'Colour: VisualizeHDR\'s Colorize ramp over log10(budget used), 0.1 % blue … 200 % red; black: exact.' :
-        'Colour: Colorize ramp over log10 of the metric across the grid; black: exact.');
+        'Colour: Colorize ramp over log10 of the metric across the grid, over the cases whose tolerance judges it; black: exact; grey: no case of the cell is judged on it.');
     }
     setHash({ stage: stageSel.value, rows: rd, cols: cd, show });
     if (selected) {
@@ -931,8 +987,9 @@ async function initCase() {
   function heatData() {
     if (heatCache.has(heatKey)) return heatCache.get(heatKey);
     const d = new ImageData(w, h);
+    const e = errorPass(heatKey === 'itp')[heatKey];
     for (let i = 0; i < w * h; i++) {
-      const [r, g, b] = heatColour(pixelError(i), HEAT[heatKey]);
+      const [r, g, b] = heatColour(e[i], HEAT[heatKey]);
       d.data.set([r, g, b, 255], i * 4);
     }
     heatCache.set(heatKey, d);
@@ -943,19 +1000,37 @@ async function initCase() {
   // over the max of a judged metric (linear_abs, linear_rel, pq_code10, pq_code12; ΔE_ITP per
   // pixel) is over (red); the rest show the reference's 0 EV preview as dim grey. A metric with
   // no max in the tolerance is not judged; a NaN error is over (!(v <= max)).
-  let maskCache = null;
-  function maskData() {
-    if (maskCache) return maskCache;
-    const r = imgs.reference, c = imgs.candidate;
-    const refPrev = previewData('reference', 0, 'clip').data;
-    const d = new ImageData(w, h);
+  // One pass over the pixels gives every per-pixel error the page shows (the heatmaps, the mask
+  // and its counts, the LUT's worst lattice point, the ΔE_ITP histogram), each pixel's PQ signals
+  // and ICtCp computed once (a LUT-64³ page computed them four times over: 4.1–4.4 s to
+  // interactive, issue 27). Per pixel, as report/images.cpp error_maps:
+  //   pq10  the largest |PQ(nits(cand)) − PQ(nits(ref))| · 1023 of its colour channels; NaN for a
+  //         non-finite mismatch (drawn white)
+  //   itp   ΔE_ITP of the BT.2020 colours; 0 when a colour channel is non-finite on both sides
+  //         consistently, NaN for a mismatch
+  //   flag  the mask: 2 a non-finite value paired inconsistently (alpha too; magenta), 1 a colour
+  //         value over the max of a judged metric (linear_abs, linear_rel, pq_code10, pq_code12;
+  //         ΔE_ITP per pixel; red), 0 within tolerance. A metric with no max is not judged; a NaN
+  //         error is over (!(v <= max)).
+  //   hist  1 where all six nits are finite: the pixels the ΔE_ITP histogram counts
+  // ΔE_ITP (two ICtCp conversions, twelve pow a pixel) is computed in this pass only when the
+  // tolerance judges it (the mask needs it); else on first use (errorPass(true): the ΔE_ITP
+  // heatmap, the histogram), so a page whose case does not judge it (every LUT case) does not
+  // pay for it before it is interactive.
+  let errorCache = null;
+  const LAZY_PIXELS = 1 << 16; // larger images draw their ΔE_ITP histogram when it is shown
+  function errorPass(wantItp) {
+    if (errorCache && (errorCache.itp || !wantItp)) return errorCache;
+    const r = imgs.reference, c = imgs.candidate, n = w * h;
+    const pq10 = new Float64Array(n), itp = new Float64Array(n);
+    const flag = new Uint8Array(n), hist = new Uint8Array(n);
     const max = (k) => (typeof tol[k] === 'number' ? tol[k] : Infinity);
     const mAbs = max('linear_abs'), mRel = max('linear_rel'), m10 = max('pq_code10'), m12 = max('pq_code12'), mItp = max('delta_e_itp');
     const floor = tol.rel_floor || 0;
-    let over = 0, mismatch = 0;
-    for (let i = 0; i < w * h; i++) {
-      let mis = false, ov = false, finite = true, same = true;
-      const rn = [0, 0, 0], cn = [0, 0, 0];
+    const withItp = !!wantItp || mItp < Infinity;
+    const rn = [0, 0, 0], cn = [0, 0, 0];
+    for (let i = 0; i < n; i++) {
+      let mis = false, ov = false, finite = true, worst = 0;
       for (let ch = 0; ch < 4; ch++) {
         const rv = r.value(i, ch), cv = c.value(i, ch);
         const rf = Number.isFinite(rv), cf = Number.isFinite(cv);
@@ -967,23 +1042,42 @@ async function initCase() {
         if (ch === 3) continue;
         rn[ch] = r.nits(i, ch);
         cn[ch] = c.nits(i, ch);
-        const eq = Object.is(rv, cv);
-        same = same && eq;
         const abs = Math.abs(cv - rv);
         const rel = abs === 0 ? 0 : abs / Math.max(Math.abs(rv), floor);
-        const dq = eq ? 0 : Math.abs(pqSignal(cn[ch]) - pqSignal(rn[ch]));
+        const dq = Object.is(rv, cv) ? 0 : Math.abs(pqSignal(cn[ch]) - pqSignal(rn[ch]));
+        worst = Math.max(worst, dq * 1023);
         ov = ov || !(abs <= mAbs) || !(rel <= mRel) || !(dq * 1023 <= m10) || !(dq * 4095 <= m12);
       }
-      if (finite) {
-        const itp = same ? 0 : deltaEItp(ictcp(mul3(m2020, cn)), ictcp(mul3(m2020, rn)));
-        ov = ov || !(itp <= mItp);
+      let e = 0;
+      if (finite && withItp) {
+        const same = Object.is(r.value(i, 0), c.value(i, 0)) && Object.is(r.value(i, 1), c.value(i, 1)) && Object.is(r.value(i, 2), c.value(i, 2));
+        e = same ? 0 : deltaEItp(ictcp(mul3(m2020, cn)), ictcp(mul3(m2020, rn)));
+        ov = ov || !(e <= mItp);
       }
+      pq10[i] = mis ? NaN : worst;
+      itp[i] = mis ? NaN : e;
+      flag[i] = mis ? 2 : ov ? 1 : 0;
+      hist[i] = finite && Number.isFinite(rn[0] + rn[1] + rn[2] + cn[0] + cn[1] + cn[2]) ? 1 : 0;
+    }
+    errorCache = { pq10, itp: withItp ? itp : null, flag, hist };
+    return errorCache;
+  }
+  // The over-tolerance mask and its counts (errorPass flag); within tolerance, the reference's
+  // 0 EV preview as dim grey.
+  let maskCache = null;
+  function maskData() {
+    if (maskCache) return maskCache;
+    const refPrev = previewData('reference', 0, 'clip').data;
+    const { flag } = errorPass();
+    const d = new ImageData(w, h);
+    let over = 0, mismatch = 0;
+    for (let i = 0; i < w * h; i++) {
       const o = i * 4;
       d.data[o + 3] = 255;
-      if (mis) {
+      if (flag[i] === 2) {
         d.data.set([255, 0, 255], o);
         mismatch++;
-      } else if (ov) {
+      } else if (flag[i] === 1) {
         d.data.set([255, 0, 0], o);
         over++;
       } else {
@@ -1326,26 +1420,9 @@ async function initCase() {
     if (imgs.reference && imgs.candidate) mk('error per lattice point (' + HEAT[heatKey].unit + ')', (i) => heatColour(pixelError(i), HEAT[heatKey]));
     $('#lut-panels').replaceChildren(...panels);
   }
+  // The heatmap's error of pixel i in the chosen metric (errorPass).
   function pixelError(i) {
-    const r = imgs.reference, c = imgs.candidate;
-    // As report/images.cpp: a consistent non-finite channel is skipped (and leaves ΔE_ITP at 0),
-    // an inconsistent one on any channel is a mismatch (NaN: drawn white).
-    let worst = 0, finite = true;
-    const rn = [0, 0, 0], cn = [0, 0, 0];
-    for (let ch = 0; ch < 4; ch++) {
-      const rv = r.value(i, ch), cv = c.value(i, ch);
-      if (!Number.isFinite(rv) || !Number.isFinite(cv)) {
-        if (!((Number.isNaN(rv) && Number.isNaN(cv)) || rv === cv)) return NaN;
-        if (ch < 3) finite = false;
-        continue;
-      }
-      if (ch === 3) continue;
-      rn[ch] = r.nits(i, ch);
-      cn[ch] = c.nits(i, ch);
-      worst = Math.max(worst, Math.abs(pqSignal(cn[ch]) - pqSignal(rn[ch])) * 1023);
-    }
-    if (heatKey === 'pq10') return worst;
-    return finite ? deltaEItp(ictcp(mul3(m2020, cn)), ictcp(mul3(m2020, rn))) : 0;
+    return errorPass(heatKey === 'itp')[heatKey][i];
   }
   function lutProbe(r, g, b) {
     const n = meta.lut_size;
@@ -1418,14 +1495,14 @@ async function initCase() {
         }
       }
     }
-    if (r && c) {
-      // ΔE_ITP per pixel: exact 0 in the first bar, then log10 bins of 0.25 from 1e-4 to 100.
+    // ΔE_ITP per pixel: exact 0 in the first bar, then log10 bins of 0.25 from 1e-4 to 100.
+    const histogram = () => {
       const bins = new Array(26).fill(0);
+      const { itp, hist } = errorPass(true);
       let n = 0;
       for (let i = 0; i < w * h; i++) {
-        const rn = [0, 1, 2].map((ch) => r.nits(i, ch)), cn = [0, 1, 2].map((ch) => c.nits(i, ch));
-        if (rn.concat(cn).some((v) => !Number.isFinite(v))) continue;
-        const e = deltaEItp(ictcp(mul3(m2020, cn)), ictcp(mul3(m2020, rn)));
+        if (!hist[i]) continue;
+        const e = itp[i];
         n++;
         if (!(e > 0)) bins[0]++;
         else bins[Math.min(25, Math.max(1, 1 + Math.floor((Math.log10(e) + 4) * 4)))]++;
@@ -1438,7 +1515,21 @@ async function initCase() {
         g.append(svgEl('rect', { class: 'bar' + (t > 0 && lo >= t ? ' over' : ''), x: X(b) + 1, y: Y(cnt), width: Math.max(1, X(b + 1) - X(b) - 2), height: Y(0) - Y(cnt), 'data-count': cnt },
           svgEl('title', {}, (b === 0 ? 'exact' : '≥ ' + fmt(lo, 3)) + ': ' + cnt + ' pixels')));
       });
-      box.append(el('figure', { class: 'plot' }, el('figcaption', { text: 'ΔE_ITP histogram (' + n + ' finite pixels' + (t > 0 ? '; red: at or over the tolerance ' + fmt(t) : '') + ')' }), g));
+      return el('figure', { class: 'plot' }, el('figcaption', { text: 'ΔE_ITP histogram (' + n + ' finite pixels' + (t > 0 ? '; red: at or over the tolerance ' + fmt(t) : '') + ')' }), g);
+    };
+    if (r && c) {
+      if (w * h <= LAZY_PIXELS || (errorCache && errorCache.itp)) box.append(histogram());
+      else {
+        // A large image whose ΔE_ITP is not computed yet: drawn when the plot scrolls into view.
+        const slot = el('figure', { class: 'plot', id: 'itp-histogram-slot' }, el('figcaption', { text: 'ΔE_ITP histogram: drawn when shown' }));
+        box.append(slot);
+        const seen = new IntersectionObserver((es) => {
+          if (!es.some((e) => e.isIntersecting)) return;
+          seen.disconnect();
+          if (slot.isConnected) slot.replaceWith(histogram());
+        }, { rootMargin: '200px' });
+        seen.observe(slot);
+      }
     }
     if (r && /hue_sweep|colorchecker|primaries/.test(input)) {
       const { g, X, Y } = plotFrame(420, 420, [0, 0.8], [0, 0.9], { xlog: false, ylog: false, id: 'xy-plot', xlabel: 'CIE x', ylabel: 'CIE y' });

@@ -17,6 +17,12 @@
 //                                          the candidate compresses every output over 200 nits
 //                                          (PQ signal − 0.04 above PQ(200 nits)); FAILS
 //   fixture/hue/hue_sweep                  hue sweeps for the chromaticity plot; passes
+//   fixture/lut64                          a 64³ CombineLUTs LUT (4096 × 64), passing, every value
+//                                          off by up to 2 float32 ulps (a GPU's rounding): the
+//                                          heaviest case page of the default suite
+//   fixture/long-ids/<long family>/...     failing cases with ids and reasons longer than a list
+//                                          row's line, from two pipelines (ue55 shaper,
+//                                          operators tone_curve): every value × 1.002
 // and a golden check with one regression (fixture/lut), recorded as the runner records it.
 //
 // Usage: report_fixture OUT_DIR. Also writes OUT_DIR/expect.json: what the fixture planted, for
@@ -59,6 +65,8 @@ const std::map<std::string, Plant>& plants() {
 }
 
 const std::string kAcesId = "fixture/aces/log_ramp";
+const std::string kLongIds = "fixture/long-ids/";
+const std::string kLut64 = "fixture/lut64";
 
 // Writes the first `channels` channels of `img` (R, G, B[, A]) as an EXR with `compression`
 // (OpenImageIO's name) in `type`.
@@ -122,6 +130,12 @@ class PlantedEngine final : public hdrc::Engine {
           if (v > 0.5791) v = static_cast<float>(v - 0.04);
         }
     }
+    if (c.spec.id.rfind(kLongIds, 0) == 0)
+      for (double& v : img->data) v = static_cast<float>(v * 1.002);
+    if (c.spec.id == kLut64)
+      for (size_t i = 0; i < img->data.size(); ++i)
+        img->data[i] = static_cast<float>(
+            img->data[i] * (1.0 + std::ldexp(static_cast<double>(i % 5) - 2.0, -23)));
     if (auto it = plants().find(c.spec.id); it != plants().end()) {
       const Plant& p = it->second;
       double& v = img->px(p.x, p.y)[p.channel];
@@ -151,6 +165,34 @@ const char* kLut = R"({
   "settings": {"LUTFormat": 2, "LUTLayout": 1},
   "tolerance": {"linear_rel": 5e-3, "rel_floor": 1e-4, "pq_code10": 0.5,
                 "reason": "report fixture: one lattice point bumped by 0.2 %"}
+})";
+
+const char* kLut64Case = R"({
+  "stage": "combine_luts",
+  "cvars": {"r.HDR.EnableHDROutput": 1, "r.HDR.Display.OutputDevice": 3, "r.LUT.Size": 64},
+  "settings": {"LUTFormat": 2, "LUTLayout": 1},
+  "tolerance": {"linear_rel": 1e-5, "rel_floor": 1e-4, "pq_code10": 0.05,
+                "reason": "report fixture: every value off by up to 2 float32 ulps"}
+})";
+
+// Failing cases whose ids and reasons are longer than a list row (issue 27: at 1400 px a row of
+// the failing-case list was ~842 px tall): every value × 1.002, over a tolerance with an
+// allowed fraction (the longest form of the judge's reason).
+const char* kLongUe = R"({
+  "stage": "shaper",
+  "input": {"stimulus": "log_ramp", "width": 64, "height": 4},
+  "tolerance": {"linear_rel": {"max": 1e-4, "allowed_fraction": 0.001, "hard": 0.1},
+                "rel_floor": 1e-4, "pq_code10": null,
+                "reason": "report fixture: a long failing case of the ue55 pipeline"}
+})";
+const char* kLongOps = R"({
+  "pipeline": "operators",
+  "stage": "tone_curve",
+  "settings": {"Operator": "Hable", "AdaptedLuminance": 0.72, "Key": 0.09},
+  "input": {"stimulus": "log_ramp", "width": 64, "height": 4},
+  "tolerance": {"linear_rel": {"max": 1e-4, "allowed_fraction": 0.001, "hard": 0.1},
+                "rel_floor": 1e-3, "pq_code10": null,
+                "reason": "report fixture: a long failing case of the operators pipeline"}
 })";
 
 const char* kShaper = R"({
@@ -218,6 +260,11 @@ int main(int argc, char** argv) {
   add(&main_cases, kShaper, "<script>alert(1)</script>");
   add(&main_cases, kAces, "fixture/aces");
   add(&main_cases, kHue, "fixture/hue");
+  add(&main_cases, kLut64Case, kLut64);
+  add(&main_cases, kLongUe,
+      kLongIds + "ue55_shaper_of_the_log_ramp_with_a_case_family_name_far_longer_than_a_line");
+  add(&main_cases, kLongOps,
+      kLongIds + "operators_hable_tone_curve_adapted_luminance_and_key_off_default_too_long");
   add(&skipped_cases, kShaper, "fixture/skipped");
   if (!errors.empty()) {
     for (const auto& e : errors) std::fprintf(stderr, "error: %s\n", e.to_string().c_str());
@@ -254,7 +301,7 @@ int main(int argc, char** argv) {
 
   // What the browser test checks, from the fixture's own design and the images it ran.
   nlohmann::json expect = {
-      {"verdicts", {{"PASS", 8}, {"FAIL", 2}, {"KNOWN_LIMIT", 1}, {"DEGENERATE", 1}, {"SKIP", 1}}},
+      {"verdicts", {{"PASS", 9}, {"FAIL", 4}, {"KNOWN_LIMIT", 1}, {"DEGENERATE", 1}, {"SKIP", 1}}},
       {"aces", kAcesId},
       {"hue", "fixture/hue/hue_sweep"},
       {"golden_regression", "fixture/lut"},
@@ -263,11 +310,21 @@ int main(int argc, char** argv) {
       {"warned_case", "fixture/linear/dev7_gamut1_log_ramp"},
       {"hostile", "<script>alert(1)</script>/log_ramp"},
       {"lut", "fixture/lut"},
+      {"lut64", kLut64},
+      {"long_ids", kLongIds},
       {"matrix",
        {{"rows", "r.HDR.Display.OutputDevice"},
         {"cols", "r.HDR.Display.ColorGamut"},
         {"fail_cell", {"8", "2"}},
         {"warn_cell", {"7", "1"}}}}};
+  // The class of each failure, by design (the summary groups its worst cases by class): the
+  // planted pixel's linear_rel 0.01 and the long cases' 0.002 are over linear_rel's max (the
+  // first metric judged), the ACES case judges pq_code10 alone.
+  expect["classes"]["linear_rel over tolerance"] = {expect["failing"]};
+  for (const auto& c : report.cases)
+    if (c.spec.id.rfind(kLongIds, 0) == 0)
+      expect["classes"]["linear_rel over tolerance"].push_back(c.spec.id);
+  expect["classes"]["pq_code10 over tolerance"] = {kAcesId};
   for (const auto& c : report.cases) {
     auto it = plants().find(c.spec.id);
     if (it == plants().end()) continue;

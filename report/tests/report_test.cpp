@@ -12,11 +12,13 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "report/html_report.h"
 #include "report/images.h"
 #include "runner/diff.h"
+#include "runner/tolerance.h"
 
 namespace {
 
@@ -487,4 +489,128 @@ TEST(ReportData, ExrEmbeddableAcceptsTheFormsTheScriptDecodesAndRefusesTheRest) 
     EXPECT_FALSE(exr_embeddable(bad, 37, 19));
   }
   std::filesystem::remove_all(dir);
+}
+
+// ---------------------------------------------------------------------------------------------
+// The list pages' short ids, the metrics a case is judged on, the class of a failure (issue 27).
+
+TEST(ReportLists, ShortIdsKeepTheSuiteAndTheEnd) {
+  EXPECT_EQ(short_case_id("tonemap/dev3_gamut2", 64), "tonemap/dev3_gamut2");  // fits: as is
+  const std::string id =
+      "tonemap/aces_devices/a_family_name_that_goes_on/dev3_gamut2_hdr1_log_ramp_maxlum1000";
+  const std::string s = short_case_id(id, 48);
+  EXPECT_EQ(s, "tonemap/…/dev3_gamut2_hdr1_log_ramp_maxlum1000");
+  // No segment start within the room: the id's last characters after the suite.
+  EXPECT_EQ(short_case_id("ue/" + std::string(60, 'x') + "yz", 20),
+            "ue/…" + std::string(14, 'x') + "yz");
+  // Code points, not bytes: a multi-byte character is never cut.
+  EXPECT_EQ(short_case_id("s/" + std::string(30, 'a') + "ΔE_ITP", 16), "s/…aaaaaaaΔE_ITP");
+}
+
+// The judged metrics are the tolerance the runner recorded (runner/tolerance.cpp tolerance_json,
+// what results.json holds): a metric with a max, a hard cap or a warn level, and the dither
+// criterion when it is set; nothing named per stage.
+TEST(ReportLists, JudgedMetricsAreTheRecordedTolerancesJudgedEntries) {
+  hdrc::Tolerance t;
+  t.linear_rel = 1e-5;
+  t.hard[static_cast<int>(hdrc::Metric::kPqCode12)] = 2;  // judged by its hard cap alone
+  t.dither.judged = true;
+  const nlohmann::json c = {{"tolerance", nlohmann::json::parse(hdrc::tolerance_json(t).dump())}};
+  EXPECT_EQ(judged_metrics(c), (std::vector<std::string>{"linear_rel", "pq_code12", "dither"}));
+  hdrc::Tolerance itp;
+  itp.delta_e_itp = 0.5;
+  itp.pq_code10 = 0.05;
+  const nlohmann::json d = {{"tolerance", nlohmann::json::parse(hdrc::tolerance_json(itp).dump())}};
+  EXPECT_EQ(judged_metrics(d), (std::vector<std::string>{"pq_code10", "delta_e_itp"}));
+  EXPECT_TRUE(judged_metrics(nlohmann::json::object()).empty());
+}
+
+// Each kind of failure the runner's judge reports (runner/diff.cpp judge, runner/dither.cpp),
+// written as results.json records it.
+TEST(ReportLists, FailureClassIsTheMetricAndTheKind) {
+  auto fail = [](nlohmann::json tol, nlohmann::json overall, std::string reason = "") {
+    return nlohmann::json{{"verdict", "FAIL"},
+                          {"reason", reason},
+                          {"tolerance", tol},
+                          {"stats", {{"overall", overall}}},
+                          {"nonfinite", {{"mismatch", 0}}}};
+  };
+  const nlohmann::json rel = {{"max", 1e-4}, {"allowed_fraction", 0}, {"hard", 0.1}};
+  const nlohmann::json pq = {{"max", 0.05}, {"allowed_fraction", 0}, {"hard", nullptr}};
+  // Over its max.
+  auto c = fail({{"linear_rel", rel}, {"pq_code10", pq}},
+                {{"linear_rel", {{"max", 5e-5}}}, {"pq_code10", {{"max", 0.3}}}});
+  EXPECT_EQ(failure_class(c).label(), "pq_code10 over tolerance");
+  // Over its hard cap (decides before any max, metric by metric in the runner's order).
+  c = fail({{"linear_rel", rel}, {"pq_code10", pq}},
+           {{"linear_rel", {{"max", 0.5}}}, {"pq_code10", {{"max", 0.3}}}});
+  EXPECT_EQ(failure_class(c).metric, "linear_rel");
+  EXPECT_EQ(failure_class(c).kind, "over hard cap");
+  // With an allowed fraction: the share over decides, not the max.
+  nlohmann::json frac = rel;
+  frac["allowed_fraction"] = 0.01;
+  c = fail({{"linear_rel", frac}}, {{"linear_rel", {{"max", 0.05}, {"fraction_over", 0.005}}}});
+  EXPECT_EQ(failure_class(c).kind, "fail");  // within its fraction: no metric explains it
+  c = fail({{"linear_rel", frac}}, {{"linear_rel", {{"max", 0.05}, {"fraction_over", 0.02}}}});
+  EXPECT_EQ(failure_class(c).label(), "linear_rel over tolerance");
+  // A metric the tolerance does not judge never explains a failure.
+  c = fail({{"linear_rel", rel}, {"delta_e_itp", nullptr}},
+           {{"linear_rel", {{"max", 2e-4}}}, {"delta_e_itp", {{"max", 700}}}});
+  EXPECT_EQ(failure_class(c).label(), "linear_rel over tolerance");
+  // A non-finite mismatch decides first.
+  c["nonfinite"]["mismatch"] = 3;
+  EXPECT_EQ(failure_class(c).label(), "non-finite mismatch");
+  // The dither criterion the reason names.
+  c = fail({{"dither", {{"mean_sigmas", 4}}}}, nlohmann::json::object(),
+           "dither mean: block 3 (256 pixels) of G has a mean noise of 5 standard errors");
+  c["dither"] = {{"amount", 1}};
+  EXPECT_EQ(failure_class(c).label(), "dither mean over tolerance");
+  EXPECT_EQ(failure_class({{"verdict", "ERROR"}}).label(), "error");
+}
+
+// The summary's worst cases: one group per class, the class holding most failures first (not
+// the case with the largest number), each case under its class.
+TEST_F(WriteReport, WorstCasesAreGroupedByClassMostFailuresFirst) {
+  const std::string tol =
+      R"("tolerance": {"linear_rel": {"max": 1e-4, "allowed_fraction": 0, "hard": 0.1},
+                       "pq_code10": {"max": 0.05, "allowed_fraction": 0, "hard": null},
+                       "delta_e_itp": null, "rel_floor": 1e-4})";
+  auto fail = [&](const std::string& id, double rel, double pq, double budget) {
+    return R"({"id": ")" + id + R"(", "verdict": "FAIL", "stage": "linear_device", )" + tol +
+           R"(, "budget_used": )" + std::to_string(budget) +
+           R"(, "nonfinite": {"mismatch": 0}, "stats": {"overall": {"linear_rel": {"max": )" +
+           std::to_string(rel) + R"(}, "pq_code10": {"max": )" + std::to_string(pq) +
+           R"(}, "delta_e_itp": {"max": 720}}}})";
+  };
+  std::ofstream(dir_ / "results.json")
+      << R"({"cases": [)" << fail("hard/a", 0.5, 0.01, 5000) << ","  // the largest budget
+      << fail("pq/a", 1e-5, 0.2, 4) << "," << fail("pq/b", 1e-5, 0.9, 18) << ","
+      << fail("pq/c", 1e-5, 0.1, 2) << ","
+      << R"({"id": "err/a", "verdict": "ERROR", "stage": "linear_device", "reason": "x"},
+            {"id": "ok/a", "verdict": "PASS", "stage": "linear_device", "budget_used": 0.7}]})";
+  auto r = hdrc::write_report(dir_.string());
+  ASSERT_TRUE(r) << r.error().to_string();
+  const std::string index = read_file(dir_ / "report" / "index.html");
+  auto at = [&](const std::string& s) { return index.find(s); };
+  const size_t pq = at("data-class=\"pq_code10 over tolerance\""),
+               hard = at("data-class=\"linear_rel over hard cap\""),
+               err = at("data-class=\"error\""),
+               passed = at("data-class=\"passed, most budget used\"");
+  ASSERT_NE(pq, std::string::npos);
+  ASSERT_NE(hard, std::string::npos);
+  ASSERT_NE(err, std::string::npos);
+  ASSERT_NE(passed, std::string::npos);
+  EXPECT_LT(pq, hard);  // 3 failures before 1, although hard/a used most budget
+  EXPECT_LT(hard, passed);
+  EXPECT_LT(err, passed);
+  // In the pq class, by budget used: b (18), a (4), c (2).
+  EXPECT_LT(at("data-id=\"pq/b\""), at("data-id=\"pq/a\""));
+  EXPECT_LT(at("data-id=\"pq/a\""), at("data-id=\"pq/c\""));
+  EXPECT_GT(at("data-id=\"pq/b\""), pq);
+  EXPECT_LT(at("data-id=\"pq/c\""), hard);
+  // data.js carries each case's judged metrics (the matrix shows a metric only for these):
+  // ΔE_ITP has statistics here but is not judged.
+  const std::string data = read_file(dir_ / "report" / "data.js");
+  EXPECT_NE(data.find(R"("judged":["linear_rel","pq_code10"])"), std::string::npos);
+  EXPECT_EQ(data.find(R"("judged":["linear_rel","pq_code10","delta_e_itp"])"), std::string::npos);
 }
