@@ -106,6 +106,10 @@ Status write_exr(const std::string& path, const Image& image, int zip_level) {
   spec.attribute("compression", zip_level < 0
                                     ? std::string("zip")
                                     : "zip:" + std::to_string(std::clamp(zip_level, 1, 9)));
+  // No time in the header (OpenImageIO's EXR writer stamps DateTime, capDate, with the time of
+  // writing unless the spec sets it): the file is a function of the pixels, so an image written
+  // again with the same pixels has the same bytes (goldens: git shows no change).
+  spec.attribute("DateTime", "");
   std::vector<float> pixels(image.data.begin(), image.data.end());
   auto out = OIIO::ImageOutput::create(tmp);
   if (!out || !out->open(tmp, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()) ||

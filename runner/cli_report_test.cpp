@@ -45,8 +45,8 @@ std::string stable_page(std::string html) {
       std::regex_replace(html, std::regex("<h3>Timings and device</h3>[\\s\\S]*?</section>"), "");
   html = std::regex_replace(
       html, std::regex("<table class=\"kv\" id=\"run-meta\">[\\s\\S]*?</table>"), "");
-  // A case page carries its EXR files (the float data, base64), and OpenImageIO writes each
-  // EXR's time into it (capDate): the files' bytes are compared out of the page, without it.
+  // A case page carries its EXR files (the float data, base64), whose bytes are compared out of
+  // the page (EXRs written before core/image.cpp left DateTime empty carried their time, capDate).
   html = std::regex_replace(html, std::regex("\"exr\":\"[A-Za-z0-9+/=]*\""), "\"exr\":\"\"");
   return html;
 }

@@ -14,6 +14,7 @@
 #include <map>
 #include <mutex>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <thread>
@@ -23,6 +24,7 @@
 #include "reference/reference_engine.h"
 #include "runner/case_loader.h"
 #include "runner/golden_compare.h"
+#include "runner/goldens_diff.h"
 #include "runner/json_read.h"
 #include "runner/results.h"
 #include "runner/tolerance.h"
@@ -522,20 +524,22 @@ GoldenUpdateReport update_goldens(const std::vector<Case>& cases, const std::str
       json values = json::object();
       for (const auto& [k, v] : img->values) values[k] = v;
       side["values"] = values;
-      // Unchanged: keep the file (and its date) as it is.
+      // Unchanged: keep the files (their bytes and date) as they are. The reference version is
+      // not compared: a change of the reference that leaves this case's output, hashes and named
+      // values as they were leaves its golden as it was (the sidecar keeps the version that wrote
+      // it), so that git shows only the goldens that moved.
       bool unchanged = false;
-      if (auto old = read_json(paths.sidecar); old && old->is_object() && fs::exists(paths.exr)) {
+      std::optional<Image> before;  // the golden's pixels before this update, when readable
+      if (std::error_code ec; fs::exists(paths.exr, ec))
+        if (auto g = read_image(paths.exr)) before = std::move(*g);
+      const bool same_image =
+          before && sha256_hex(image_bytes(*before)) == side["output_hash"].get<std::string>();
+      if (auto old = read_json(paths.sidecar); old && old->is_object() && same_image) {
         const json& o = *old;
         unchanged = o.value("case_hash", "") == side["case_hash"] &&
                     o.value("input_hash", "") == side["input_hash"] &&
                     o.value("output_hash", "") == side["output_hash"] &&
-                    o.value("reference_version", "") == version &&
                     values_equal(o.value("values", json::object()), img->values);
-        if (unchanged) {
-          // The EXR itself must still hold those pixels.
-          auto g = read_image(paths.exr);
-          unchanged = g && sha256_hex(image_bytes(*g)) == side["output_hash"].get<std::string>();
-        }
       }
       if (unchanged) {
         std::lock_guard<std::mutex> lock(mu);
@@ -551,7 +555,20 @@ GoldenUpdateReport update_goldens(const std::vector<Case>& cases, const std::str
                   "golden paths inside " + valid_utf8(goldens_dir)});
         continue;
       }
-      Status st = write_exr(paths.exr, *img);
+      // How far the golden moved (runner/goldens_diff.h: the run's metrics, old as the
+      // reference), before it is overwritten.
+      std::string line;
+      GoldenMove move;
+      if (!before) {
+        line = "new " + c.id + ": wrote " + paths.exr;
+      } else if (same_image) {
+        line = "sidecar " + c.id + ": same pixels, wrote " + paths.sidecar;
+      } else {
+        move = golden_move(c, *resolved, *before, *img);
+        line = "changed " + c.id + ": " + describe_move(move) + "; wrote " + paths.exr;
+      }
+      // The image only when its pixels changed: an EXR of the same pixels is left byte for byte.
+      Status st = same_image ? Status{} : write_exr(paths.exr, *img);
       if (st) st = write_file_atomic(paths.sidecar, dump_json(side, 2) + "\n");
       std::lock_guard<std::mutex> lock(mu);
       if (!st) {
@@ -559,7 +576,14 @@ GoldenUpdateReport update_goldens(const std::vector<Case>& cases, const std::str
         continue;
       }
       ++report.written;
-      report.lines.push_back("wrote " + paths.exr);
+      if (before && !same_image) {
+        ++report.changed;
+        if (move.resized || move.pq10_max > report.largest_pq10.first)
+          report.largest_pq10 = {move.resized ? kNotJudged : move.pq10_max, c.id};
+        if (!move.resized && move.itp_max > report.largest_itp.first)
+          report.largest_itp = {move.itp_max, c.id};
+      }
+      report.lines.push_back(line);
     }
   };
   const int n = jobs > 0 ? jobs : std::max(1u, std::thread::hardware_concurrency());

@@ -16,7 +16,9 @@
 // reference's outputs against them (check_golden).
 #pragma once
 
+#include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/case.h"
@@ -73,13 +75,21 @@ GoldenCheck check_golden(const std::string& goldens_dir, const Case& c,
 
 struct GoldenUpdateReport {
   int written = 0, unchanged = 0, skipped_degenerate = 0, removed = 0;
-  std::vector<std::string> lines;  // one per written/removed golden, and errors
+  int changed = 0;  // written over a golden whose pixels differ (the others: new, or a sidecar)
+  // The largest moves of those (runner/goldens_diff.h, GoldenMove) and their case ids: 10-bit PQ
+  // codes (+inf for a golden whose size changed), ΔE_ITP.
+  std::pair<double, std::string> largest_pq10{0.0, ""}, largest_itp{0.0, ""};
+  // One per written/removed golden, in id order: "changed ID: <how far it moved>; wrote PATH",
+  // "new ID: wrote PATH", "sidecar ID: same pixels, wrote PATH", "removed PATH"; and errors.
+  std::vector<std::string> lines;
   std::vector<Error> errors;
 };
 
 // Runs the reference on `cases` (with `jobs` threads; 0 = every core) and writes each output and
-// its sidecar to `goldens_dir` atomically, unless the golden there already has the same hashes
-// and reference version (so unchanged goldens keep their date and bytes). Degenerate cases get no
+// its sidecar to `goldens_dir` atomically, unless the golden there already has the same pixels,
+// hashes and named values (so unchanged goldens keep their date and bytes, whatever the reference
+// version: the sidecar keeps the version that wrote it). An EXR whose pixels are unchanged is
+// never rewritten (only its sidecar, when a hash changed). Degenerate cases get no
 // golden. With `prune`, goldens of cases not in `cases` are deleted (use it with the full suite
 // only).
 GoldenUpdateReport update_goldens(const std::vector<Case>& cases, const std::string& goldens_dir,
@@ -98,6 +108,15 @@ GoldenRunSummary check_run_against_goldens(const std::vector<Case>& cases,
                                            const std::string& out_dir,
                                            const std::string& goldens_dir,
                                            const std::string& update_extra = "", int jobs = 1);
+
+// The goldens' size budget, enforced by Goldens.TheRepositorysGoldensStayWithinTheirBudget
+// (docs/goldens.md, "Size"). Measured 2026-11-27: 1381 goldens, 33.45 MB (76 % of the tracked
+// tree's bytes, 83 % of its files); the largest image 2.52 MB (lut/storage/lut64_dev3_fmt2_layout1,
+// a 64³ float LUT), the largest sidecar 818 bytes. The budget leaves about 8 % for new cases:
+// more needs a decision (smaller images, coarser stimuli), not a silent growth.
+inline constexpr uintmax_t kGoldensBudgetBytes = 36'000'000;     // the whole folder
+inline constexpr uintmax_t kGoldenImageBudgetBytes = 3'000'000;  // one EXR
+inline constexpr uintmax_t kGoldenSidecarBudgetBytes = 4096;     // one sidecar
 
 // Total size in bytes of the files under `goldens_dir`.
 uintmax_t directory_bytes(const std::string& dir);

@@ -599,6 +599,22 @@ std::vector<Row> rows() {
        "goldens update --cases {T}/cases --goldens ''",
        2,
        {"--goldens"}});
+  // goldens diff (runner/goldens_diff.h): its --out is protected like run's, its sources named.
+  add({"goldens_diff_out_is_cases",
+       nullptr,
+       "goldens diff --cases {T}/cases --goldens {T}/out --old {T}/out --out {T}/cases",
+       2,
+       {"--out", "itself"}});
+  add({"goldens_diff_out_is_old",
+       nullptr,
+       "goldens diff --cases {T}/cases --goldens {T}/cases/g --old {T}/out --out {T}/out",
+       2,
+       {"--out", "itself"}});
+  add({"goldens_diff_old_missing",
+       nullptr,
+       "goldens diff --cases {T}/cases --goldens {T}/cases --old {T}/nowhere --out {T}/out/r",
+       2,
+       {"--old", "nowhere", "not a folder"}});
   add({"goldens_prunes_only_its_own",
        [](const fs::path& t) {
          write(t / "out/package.json", "{\"name\": \"x\"}");

@@ -22,6 +22,7 @@
 #include "runner/coverage.h"
 #include "runner/export.h"
 #include "runner/goldens.h"
+#include "runner/goldens_diff.h"
 #include "runner/lut_cli.h"
 #include "runner/merge.h"
 #include "runner/output_set.h"
@@ -316,6 +317,25 @@ int main(int argc, char** argv) {
   goldens_update->add_option("--goldens", goldens_dir,
                              "golden directory (default: the repository's goldens/)");
   add_jobs(goldens_update);
+  // goldens diff: the review page of a golden change (runner/goldens_diff.h).
+  std::string goldens_since = "HEAD", goldens_old;
+  CLI::App* goldens_diff = goldens->add_subcommand(
+      "diff",
+      "write a review page of the goldens that changed: the goldens of git revision --since\n"
+      "(default HEAD) or of --old DIR against the working tree's, each changed one with the\n"
+      "report's views (old as the reference, new as the candidate) and its ramp plot");
+  goldens_diff->footer(kExitCodes);
+  goldens_diff->add_option("--cases", cases_dir, "case directory (the goldens' cases)")
+      ->capture_default_str();
+  goldens_diff->add_option("--goldens", goldens_dir,
+                           "the new goldens (default: the repository's goldens/)");
+  goldens_diff->add_option("--since", goldens_since,
+                           "git revision holding the old goldens (default HEAD)");
+  goldens_diff->add_option("--old", goldens_old,
+                           "a folder of old goldens instead of a git revision");
+  goldens_diff->add_option("--out", out_dir, "output directory: review.html, report/, cases/")
+      ->required();
+  add_jobs(goldens_diff);
 
   CLI::App* list = app.add_subcommand("list", "list the expanded case ids");
   list->footer(kExitCodes);
@@ -679,7 +699,64 @@ int main(int argc, char** argv) {
         rep.written, rep.unchanged, rep.removed, rep.skipped_degenerate,
         hdrc::reference_version().c_str(), goldens_dir.c_str(),
         hdrc::directory_bytes(goldens_dir) / 1e6);
+    if (rep.changed > 0) {
+      // How far the changed goldens moved, and the page that shows it (runner/goldens_diff.h).
+      std::printf(
+          "goldens: %d changed; largest move PQ %.3g (10-bit codes, %s), ΔE_ITP %.3g (%s)\n",
+          rep.changed, rep.largest_pq10.first, rep.largest_pq10.second.c_str(),
+          rep.largest_itp.first, rep.largest_itp.second.c_str());
+      std::printf(
+          "goldens: review the change: hdrconform goldens diff%s --out DIR (DIR/review.html)\n",
+          golden_extra.empty() ? "" : (" " + golden_extra).c_str());
+    }
     return rep.errors.empty() ? hdrc::kExitPass : hdrc::kExitFail;
+  }
+
+  if (*goldens_diff) {
+    if (goldens_dir.empty()) {
+      std::fprintf(stderr,
+                   "error: --goldens DIR is required with --cases %s (the repository's goldens/ "
+                   "belong to its cases/)\n",
+                   cases_dir.c_str());
+      return hdrc::kExitBadInput;
+    }
+    if (!goldens_old.empty() && goldens_diff->count("--since")) {
+      std::fprintf(stderr, "error: --since and --old: give one (the old goldens' source)\n");
+      return hdrc::kExitBadInput;
+    }
+    // Published like a run's output (runner/output_set.h): the cases, the goldens and --old are
+    // protected and must not change while the page is written.
+    std::vector<std::string> watched = {cases_dir, goldens_dir};
+    if (!goldens_old.empty()) watched.push_back(goldens_old);
+    auto set = hdrc::OutputSet::open(out_dir, watched);
+    if (!set) {
+      std::fprintf(stderr, "error: %s\n", set.error().to_string().c_str());
+      return hdrc::kExitBadInput;
+    }
+    hdrc::GoldensDiffOptions opt;
+    opt.goldens_dir = goldens_dir;
+    opt.old_dir = goldens_old;
+    opt.since = goldens_since;
+    opt.command_line = hdrc::command_line(argc, argv);
+    opt.jobs = jobs;
+    auto rep = hdrc::goldens_diff(cases, opt, (*set)->staging());
+    if (!rep) {
+      std::fprintf(stderr, "error: %s\n", rep.error().to_string().c_str());
+      return hdrc::kExitBadInput;
+    }
+    if (hdrc::Status st = (*set)->publish(); !st) {
+      std::fprintf(stderr, "error: %s\n", st.error().to_string().c_str());
+      return hdrc::kExitFail;
+    }
+    for (const auto& l : rep->lines) std::printf("%s\n", l.c_str());
+    std::error_code ec;
+    std::printf(
+        "goldens diff: %d changed, %d added, %d removed, %d with the same pixels, %d without a "
+        "case (old: %s)\nreview: %s\n",
+        rep->changed, rep->added, rep->removed, rep->bytes_only, rep->no_case,
+        goldens_old.empty() ? goldens_since.c_str() : goldens_old.c_str(),
+        std::filesystem::absolute(out_dir + "/" + rep->review_page, ec).lexically_normal().c_str());
+    return hdrc::kExitPass;
   }
 
   if (!shard.empty() && !*run && !*verify) {

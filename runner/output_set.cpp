@@ -27,9 +27,10 @@ namespace {
 
 constexpr const char* kLock = ".lock";
 // The top-level names hdrconform writes into OUT; `.runs` and `current` are those of the layout
-// before plain files (a published run behind symlinks), replaced whole by the next run.
+// before plain files (a published run behind symlinks), replaced whole by the next run;
+// review.html is `goldens diff`'s page (runner/goldens_diff.h).
 constexpr const char* kOurs[] = {"results.json", "junit.xml", "goldens.json", "report",
-                                 "cases",        ".runs",     "current"};
+                                 "cases",        ".runs",     "current",      "review.html"};
 // Staging folders are named PARENT/.<OUT's name><kStagingInfix><unique>.
 constexpr const char* kStagingInfix = ".hdrconform-";
 

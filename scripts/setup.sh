@@ -15,6 +15,9 @@ packages+=(libexpat1-dev)
 # The sanitizer build and the fuzzers (scripts/sanitize.sh, fuzz/): clang with its ASan, UBSan and
 # libFuzzer runtimes (Debian puts those in libclang-rt-14-dev, which `clang` does not pull in).
 packages+=(clang libclang-rt-14-dev)
+# `goldens diff --since REV` reads the old goldens from git (runner/goldens_diff.h), and its test
+# makes a repository.
+packages+=(git)
 # The real-GPU check (scripts/gpu-check.py), which CTest's gpu_check.lavapipe runs end to end.
 packages+=(python3)
 # The report's browser test (report/browser_test): Debian's Chromium, and Node.js with npm unless

@@ -41,6 +41,7 @@
 #include "reference/reference_engine.h"
 #include "report/images.h"
 #include "runner/case_loader.h"
+#include "runner/goldens.h"
 #include "runner/results.h"
 #include "runner/run.h"
 
@@ -430,6 +431,50 @@ int main(int argc, char** argv) {
         expect["exr_forms"].push_back(
             {{"file", "exr-forms/" + name}, {"w", 37}, {"h", 19}, {"rgba", v}});
       }
+  // The golden review (`hdrconform goldens diff`, runner/goldens_diff.h): a planted change of
+  // one reference constant. goldens-review/cases holds the ACES case, old/ its golden as
+  // `goldens update` writes it, new/ the golden the reference makes with one coefficient of the
+  // working colour space -> AP0 matrix changed in its 4th significant digit (the change
+  // GoldenCompare.ARealChangeOfAConstantFailsAgainstTheRepositorysGolden makes in the 5th).
+  // run.sh runs `goldens diff --old old --goldens new`; expect.json's "review" has the largest
+  // move in 10-bit PQ codes computed here from the two EXRs: the output is a PQ signal (device
+  // 3), so the PQ move of a value is |new − old| · 1023 (ST 2084: PQ(nits(v)) = v).
+  {
+    const std::string rv = out + "/goldens-review";
+    fs::create_directories(rv + "/cases/review", ec);
+    std::ofstream(rv + "/cases/review/aces.json") << kAces;
+    hdrc::LoadedCases loaded = hdrc::load_cases(rv + "/cases");
+    if (!loaded.errors.empty() || loaded.cases.size() != 1) {
+      std::fprintf(stderr, "error: the review case did not load\n");
+      return 1;
+    }
+    const Case& c = loaded.cases[0];
+    const hdrc::GoldenUpdateReport up = hdrc::update_goldens(loaded.cases, rv + "/old", false, 1);
+    if (!up.errors.empty() || up.written != 1) {
+      std::fprintf(stderr, "error: the review's old golden was not written\n");
+      return 1;
+    }
+    auto rc = hdrc::resolve_case(c);
+    if (!rc) return 1;
+    rc->params.wcs_to_ap0(0, 0) *= 1 + 1e-3;
+    hdrc::ref::ReferenceEngine engine;
+    auto changed = engine.run(*rc);
+    fs::create_directories(rv + "/new", ec);
+    fs::copy(rv + "/old", rv + "/new", fs::copy_options::recursive, ec);
+    const hdrc::GoldenPaths paths = hdrc::golden_paths(rv + "/new", c.id);
+    if (!changed || !hdrc::write_exr(paths.exr, *changed)) {
+      std::fprintf(stderr, "error: the review's new golden was not written\n");
+      return 1;
+    }
+    auto a = hdrc::read_image(hdrc::golden_paths(rv + "/old", c.id).exr);
+    auto b = hdrc::read_image(paths.exr);
+    if (!a || !b) return 1;
+    double largest = 0;
+    for (size_t i = 0; i < a->pixel_count(); ++i)
+      for (int ch = 0; ch < 3; ++ch)
+        largest = std::max(largest, std::abs(b->data[i * 4 + ch] - a->data[i * 4 + ch]) * 1023);
+    expect["review"] = {{"id", c.id}, {"pq10_max", largest}};
+  }
   std::ofstream(out + "/expect.json") << expect.dump(2) << "\n";
   std::printf("report fixture: %zu cases in %s\n", report.cases.size(), out.c_str());
   return 0;

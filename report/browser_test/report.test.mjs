@@ -10,7 +10,9 @@
 //       long ids shortened, reasons under the ids; the pipeline filter; the matrix's metric views
 //       judged metrics only; the LUT-64³ page (issue 27). Every page loads from file:// without
 //       a request elsewhere, without a script error, and is interactive within 2 s. Screenshots
-//       of the summary, the matrix and the failing case page go to the artifacts folder.
+//       of the summary, the matrix and the failing case page go to the artifacts folder. Also
+//       the golden review page (`goldens diff`, run.sh) of a planted constant change, and its
+//       case page (goldens-review*.png).
 //
 //   node report.test.mjs --measure DIR [--chromium PATH]
 //       Opens every page of any report (e.g. the default suite's) and prints the time to
@@ -720,6 +722,40 @@ async function fixtureTest(dir, artifacts) {
     check(!html.includes('<script>alert(1)') && html.includes('&lt;script&gt;alert(1)&lt;/script&gt;'), 'page source holds the id escaped');
     dialogs.push(...d);
   }
+  // ---- The golden review (`hdrconform goldens diff`, run.sh wrote goldens-review/out): a planted
+  // change of one reference constant. review.html lists the changed golden with its largest PQ
+  // move (expect.json: computed by the fixture from the two EXRs); its case page shows the old
+  // golden as the reference and the new as the candidate, with both ramp curves.
+  console.log('golden review');
+  {
+    const reviewDir = path.join(dir, 'goldens-review', 'out');
+    const page = await context.newPage();
+    const errors = [], foreign = [];
+    page.on('pageerror', (e) => errors.push(String(e)));
+    page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
+    page.on('request', (r) => { if (!/^(file|data|blob):/.test(r.url())) foreign.push(r.url()); });
+    await page.goto(pathToFileURL(path.join(reviewDir, 'review.html')).href, { waitUntil: 'load' });
+    const rows = await page.$$eval('#changes tbody tr', (trs) => trs.map((tr) => [...tr.cells].map((c) => c.textContent)));
+    check(rows.length === 1 && rows[0][0] === expect.review.id && rows[0][1] === 'changed',
+      'review page lists the one changed golden', rows);
+    const pqMax = rows.length ? Number(rows[0][3]) : NaN;
+    check(close(pqMax, expect.review.pq10_max, 0.006),
+      `review page: PQ max ${pqMax} codes = the fixture's |new − old| · 1023 (${expect.review.pq10_max.toPrecision(4)})`);
+    check(errors.length === 0 && foreign.length === 0, 'review page: 0 console errors, no request leaves file://', [errors, foreign]);
+    await page.screenshot({ path: path.join(artifacts, 'goldens-review.png'), fullPage: true });
+    const href = await page.$eval('#changes tbody a', (a) => a.href);
+    await page.close();
+    const cp = await openPage(context, href, 'golden review: case page');
+    const curves = await cp.page.$$eval('#ramp-plot polyline', (ps) => ps.map((p) => p.getAttribute('class')));
+    check(curves.includes('ref') && curves.includes('cand'), 'golden review: the ramp plot has the old (reference) and the new (candidate) curve', curves);
+    const bars = await cp.page.$$eval('#itp-histogram rect.bar', (r) => r.length);
+    check(bars > 0, 'golden review: the ΔE_ITP histogram is drawn', bars);
+    await cp.page.locator('#plots').screenshot({ path: path.join(artifacts, 'goldens-review-ramp-plot.png') });
+    await cp.page.screenshot({ path: path.join(artifacts, 'goldens-review-case.png'), fullPage: true });
+    dialogs.push(...cp.dialogs);
+    await cp.page.close();
+  }
+
   check(dialogs.length === 0, 'no dialog (alert) opened on any page', dialogs);
   drove('LUT', '#lut-slice');
   drove('LUT', '#lut-goto-worst');
