@@ -8,35 +8,70 @@
 #pragma once
 
 // UE 5.5's fields that 5.8's CombineLUTs reads with the same meaning (PostProcessCombineLUTs.usf,
-// PostProcessCombineLUTsInner.usf; docs/ue58-differences.md §1e): image and LUT geometry, the
-// working colour space, white balance, fake wide gamut, ColorCorrectAll, the film path (blue
-// correction, FilmToneMap, the user-LUT blend weights, r.Color.*, fade), the ACES 1.3 parameters
-// (r.HDR.Aces.Version 1) and the output gamut matrix. output_max_luminance is the display's peak
+// PostProcessCombineLUTsInner.usf; docs/ue58-differences.md §1e), exactly those the ue58 shaders
+// read: image and LUT geometry, the working colour space, white balance, fake wide gamut,
+// ColorCorrectAll, the film path (blue correction, FilmToneMap, r.Color.*, fade), the ACES 1.3
+// parameters (r.HDR.Aces.Version 1) and the output gamut matrix. No user-LUT blend fields: the
+// stage takes no user LUT (docs/ue58-decisions.md E5). output_max_luminance is the display's peak
 // (docs/ue58-differences.md L12); inverse_gamma.y is 1 for device 9 (L11).
-#define HDRC_UE58_SHARED_PARAMS(Y)                                                                 \
-  Y(width)                                                                                         \
-  Y(height) Y(output_device) Y(output_gamut) Y(lut_size) Y(lut_format) Y(lut_layout)               \
-      Y(wcs_is_srgb) Y(white_balance_enabled) Y(output_max_luminance) Y(expand_gamut) Y(           \
-          blue_correction) Y(tone_curve_amount) Y(film_slope) Y(film_toe) Y(film_shoulder)         \
-          Y(film_black_clip) Y(film_white_clip) Y(cc_shadows_max) Y(cc_highlights_min) Y(          \
-              cc_highlights_max) Y(aces_coefs_low_4) Y(aces_coefs_high_4)                          \
-              Y(aces_scene_color_multiplier) Y(aces_gamut_compression) Y(inverse_gamma) Y(         \
-                  mapping_polynomial) Y(color_scale) Y(overlay_color) Y(aces_min_max) Y(aces_mid)  \
-                  Y(aces_coefs_low_0) Y(aces_coefs_high_0) Y(cc_saturation) Y(cc_contrast)         \
-                      Y(cc_gamma) Y(cc_gain) Y(cc_offset) Y(cc_saturation_shadows)                 \
-                          Y(cc_contrast_shadows) Y(cc_gamma_shadows) Y(cc_gain_shadows)            \
-                              Y(cc_offset_shadows) Y(cc_saturation_midtones)                       \
-                                  Y(cc_contrast_midtones) Y(cc_gamma_midtones) Y(cc_gain_midtones) \
-                                      Y(cc_offset_midtones) Y(cc_saturation_highlights)            \
-                                          Y(cc_contrast_highlights) Y(cc_gamma_highlights)         \
-                                              Y(cc_gain_highlights) Y(cc_offset_highlights)        \
-                                                  Y(wcs_to_ap1) Y(wcs_from_ap1) Y(wcs_to_ap0)      \
-                                                      Y(wcs_to_xyz) Y(wcs_from_xyz)                \
-                                                          Y(white_balance) Y(ap1_to_output)        \
-                                                              Y(lut_blend_count) Y(lut_weight_4)   \
-                                                                  Y(lut_weights) Y(user_lut_size)  \
-                                                                      Y(user_lut_domain_min)       \
-                                                                          Y(user_lut_domain_max)
+#define HDRC_UE58_SHARED_PARAMS(Y) \
+  Y(width)                         \
+  Y(height)                        \
+  Y(output_device)                 \
+  Y(output_gamut)                  \
+  Y(lut_size)                      \
+  Y(lut_format)                    \
+  Y(wcs_is_srgb)                   \
+  Y(white_balance_enabled)         \
+  Y(output_max_luminance)          \
+  Y(expand_gamut)                  \
+  Y(blue_correction)               \
+  Y(tone_curve_amount)             \
+  Y(film_slope)                    \
+  Y(film_toe)                      \
+  Y(film_shoulder)                 \
+  Y(film_black_clip)               \
+  Y(film_white_clip)               \
+  Y(cc_shadows_max)                \
+  Y(cc_highlights_min)             \
+  Y(cc_highlights_max)             \
+  Y(aces_coefs_low_4)              \
+  Y(aces_coefs_high_4)             \
+  Y(aces_scene_color_multiplier)   \
+  Y(aces_gamut_compression)        \
+  Y(inverse_gamma)                 \
+  Y(mapping_polynomial)            \
+  Y(color_scale)                   \
+  Y(overlay_color)                 \
+  Y(aces_min_max)                  \
+  Y(aces_mid)                      \
+  Y(aces_coefs_low_0)              \
+  Y(aces_coefs_high_0)             \
+  Y(cc_saturation)                 \
+  Y(cc_contrast)                   \
+  Y(cc_gamma)                      \
+  Y(cc_gain)                       \
+  Y(cc_offset)                     \
+  Y(cc_saturation_shadows)         \
+  Y(cc_contrast_shadows)           \
+  Y(cc_gamma_shadows)              \
+  Y(cc_gain_shadows)               \
+  Y(cc_offset_shadows)             \
+  Y(cc_saturation_midtones)        \
+  Y(cc_contrast_midtones)          \
+  Y(cc_gamma_midtones)             \
+  Y(cc_gain_midtones)              \
+  Y(cc_offset_midtones)            \
+  Y(cc_saturation_highlights)      \
+  Y(cc_contrast_highlights)        \
+  Y(cc_gamma_highlights)           \
+  Y(cc_gain_highlights)            \
+  Y(cc_offset_highlights)          \
+  Y(wcs_to_ap1)                    \
+  Y(wcs_from_ap1)                  \
+  Y(wcs_to_ap0)                    \
+  Y(white_balance)                 \
+  Y(ap1_to_output)
 
 // The ACES 2.0 parameter block (reference/ue/aces2/aces2.h ParamsT: init_ODTParams' values, 76
 // scalars = 19 vec4 in ParamsT's std430 order) and the three host tables UE binds as R32F

@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <string_view>
+#include <type_traits>
 
 #include "core/cvars.h"
 #include "core/settings.h"
@@ -192,6 +194,19 @@ Result<Resolution> resolve58(const Case& c, int width, int height) {
     const aces2::Params sdr = aces2::make_params(100.0, working, output);
     pack_aces2_set(sdr, aces2::make_tables(sdr, working), true, &p);
   }
+  // The block holds only what a ue58 case carries (param_carried_by): UE 5.5's fields that 5.5's
+  // derivation set and no ue58 shader reads (Tonemap, UI, dither, the user-LUT blend) go back to
+  // their defaults, so params.json and the engines see the same block.
+  const ParamBlock defaults;
+  for_each_param(p, [&](FieldKind, const char* name, auto& field) {
+    if (!param_carried_by(name, "ue58")) {
+      using T = std::decay_t<decltype(field)>;
+      for_each_param(defaults, [&](FieldKind, const char* other, const auto& v) {
+        if constexpr (std::is_same_v<std::decay_t<decltype(v)>, T>)
+          if (std::string_view(other) == name) field = v;
+      });
+    }
+  });
   if (p.ue58_aces_version == 1 && p.ue58_inner_needed && !aces13.status.ok())
     r.degenerate =
         "ACES 1.3 with degenerate tone-scale parameters: " + aces13.status.error().message;
