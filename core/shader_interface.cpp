@@ -13,6 +13,7 @@ std::string_view param_owner(std::string_view name) {
       {"operators", {HDRC_OPERATORS_PARAMS(HDRC_NAME)}},
       {"unity_urp", {HDRC_UNITY_URP_PARAMS(HDRC_NAME)}},
       {"pq_grading", {HDRC_PQ_GRADING_PARAMS(HDRC_NAME)}},
+      {"ue58", {HDRC_UE58_PARAMS(HDRC_NAME)}},
   };
 #undef HDRC_NAME
   for (const auto& [owner, fields] : owners)
@@ -27,6 +28,7 @@ bool param_carried_by(std::string_view name, std::string_view pipeline) {
       {"operators", {HDRC_OPERATORS_SHARED_PARAMS(HDRC_SHARED_NAME)}},
       {"unity_urp", {HDRC_UNITY_URP_SHARED_PARAMS(HDRC_SHARED_NAME)}},
       {"pq_grading", {HDRC_PQ_GRADING_SHARED_PARAMS(HDRC_SHARED_NAME)}},
+      {"ue58", {HDRC_UE58_SHARED_PARAMS(HDRC_SHARED_NAME)}},
   };
 #undef HDRC_SHARED_NAME
   const std::string_view owner = param_owner(name);
@@ -41,8 +43,8 @@ bool param_carried_by(std::string_view name, std::string_view pipeline) {
 }
 
 namespace {
-// std430 rules for the field kinds: scalars align to 4 bytes; a vec4 and an array of vec4 align to
-// 16 (arrays with a 16-byte stride).
+// std430 rules for the field kinds: scalars align to 4 bytes; a vec4 and an array of vec4 (a
+// matrix's rows, a V4A table) align to 16, with a 16-byte stride.
 uint32_t align_up(uint32_t v, uint32_t a) {
   return (v + a - 1) / a * a;
 }
@@ -51,15 +53,31 @@ std::vector<FieldLayout> compute_layout() {
   std::vector<FieldLayout> out;
   uint32_t offset = 0;
   const ParamBlock block;
-  for_each_param(block, [&](FieldKind kind, const char* name, const auto&) {
-    const char type = kind == FieldKind::I    ? 'I'
-                      : kind == FieldKind::F  ? 'F'
-                      : kind == FieldKind::V4 ? 'V'
-                                              : 'M';
-    const uint32_t align = (type == 'M' || type == 'V') ? 16 : 4;
-    const uint32_t size = type == 'M' ? 48 : (type == 'V' ? 16 : 4);
+  for_each_param(block, [&](FieldKind kind, const char* name, const auto& v) {
+    char type = 'I';
+    uint32_t size = 4;
+    switch (kind) {
+      case FieldKind::I:
+        break;
+      case FieldKind::F:
+        type = 'F';
+        break;
+      case FieldKind::V4:
+        type = 'V';
+        size = 16;
+        break;
+      case FieldKind::M3:
+        type = 'M';
+        size = 48;
+        break;
+      case FieldKind::V4A:
+        type = 'A';
+        size = static_cast<uint32_t>(16 * field_elements(v));
+        break;
+    }
+    const uint32_t align = (type == 'I' || type == 'F') ? 4 : 16;
     offset = align_up(offset, align);
-    out.push_back({name, type, offset});
+    out.push_back({name, type, offset, size});
     offset += size;
   });
   return out;
@@ -67,7 +85,7 @@ std::vector<FieldLayout> compute_layout() {
 
 uint32_t block_size(const std::vector<FieldLayout>& layout) {
   const auto& last = layout.back();
-  return align_up(last.offset + (last.type == 'M' ? 48 : (last.type == 'V' ? 16 : 4)), 16);
+  return align_up(last.offset + last.size, 16);
 }
 }  // namespace
 
@@ -93,6 +111,10 @@ std::vector<uint8_t> pack_std430(const ParamBlock& p) {
       put_float(base, v);
     } else if constexpr (std::is_same_v<T, std::array<double, 4>>) {
       for (int c = 0; c < 4; ++c) put_float(base + c * 4, v[c]);
+    } else if constexpr (kIsVec4Array<T>) {
+      for (size_t e = 0; e < v.size(); ++e)
+        for (int c = 0; c < 4; ++c)
+          put_float(base + static_cast<uint32_t>(e * 16 + c * 4), v[e][c]);
     } else {
       static_assert(std::is_same_v<T, ref::Mat3>);
       for (int r = 0; r < 3; ++r)
@@ -102,7 +124,7 @@ std::vector<uint8_t> pack_std430(const ParamBlock& p) {
   return bytes;
 }
 
-std::string shader_field_decl(FieldKind kind, const char* name, bool hlsl) {
+std::string shader_field_decl(FieldKind kind, const char* name, bool hlsl, size_t elements) {
   const std::string n = name;
   switch (kind) {
     case FieldKind::I:
@@ -113,6 +135,8 @@ std::string shader_field_decl(FieldKind kind, const char* name, bool hlsl) {
       return (hlsl ? "float4 " : "vec4 ") + n + ";";
     case FieldKind::M3:
       return (hlsl ? "float4 " : "vec4 ") + n + "[3];";
+    case FieldKind::V4A:
+      return (hlsl ? "float4 " : "vec4 ") + n + "[" + std::to_string(elements) + "];";
   }
   return "";
 }
@@ -143,8 +167,8 @@ std::string glsl_param_block() {
   s << "#define HDRC_SPEC_TONEMAP_LUT_LAYOUT " << kSpecTonemapLutLayout << "\n";
   s << "layout(std430, set = 0, binding = HDRC_BINDING_PARAMS) readonly buffer HdrcParams {\n";
   const ParamBlock block;
-  for_each_param(block, [&](FieldKind kind, const char* name, const auto&) {
-    s << "  " << shader_field_decl(kind, name, false) << "\n";
+  for_each_param(block, [&](FieldKind kind, const char* name, const auto& v) {
+    s << "  " << shader_field_decl(kind, name, false, field_elements(v)) << "\n";
   });
   s << "} P;\n";
   s << "layout(std430, set = 0, binding = HDRC_BINDING_INPUT) readonly buffer HdrcInput "

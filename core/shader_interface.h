@@ -5,35 +5,57 @@
 //   * the std430 byte image the GPU engine uploads (`pack_std430`), float32/int32 per field,
 //   * the GLSL declaration of the block (`glsl_param_block`), injected into every shader.
 // Matrices (type M3) are row-major and travel as three vec4 rows: GLSL `vec4 name[3]`.
+// Fixed-size tables (type V4A(n)) travel as n vec4: GLSL `vec4 name[n]`, texel for texel (a
+// pipeline's host-built lookup tables, e.g. UE 5.8's ACES 2.0 tables, docs/gpu-interface.md).
 // A test compiles the declaration and reads every field back from the GPU.
 #pragma once
 
 #include <array>
 #include <cstdint>
 #include <string>
+#include <tuple>
+#include <type_traits>
 #include <vector>
 
 #include "color/vec.h"
 #include "interface/operators_params.h"
 #include "interface/pq_grading_params.h"
+#include "interface/ue58_params.h"
 #include "interface/ue_params.h"
 #include "interface/unity_urp_params.h"
 
 namespace hdrc {
 
-// X(type, name, meaning). Types: I = int32, F = float32, V4 = vec4, M3 = 3×3 matrix.
+// X(type, name, meaning). Types: I = int32, F = float32, V4 = vec4, M3 = 3×3 matrix,
+// V4A(n) = array of n vec4 (n is part of the type token: `X(V4A(91), name, "...")`).
 // Host-derived values (matrices, ACES coefficients, InverseGamma, ...) are computed once by
 // reference/ue/cpp/resolve.cpp, as UE's C++ does, and both engines read them from here.
 // UE 5.5's fields come first (the layout ports of UE's pipeline read), then every other
 // pipeline's, each from its own header. Adding a pipeline adds one line here.
 #define HDRC_PARAM_BLOCK(X) \
-  HDRC_UE55_PARAMS(X) HDRC_OPERATORS_PARAMS(X) HDRC_UNITY_URP_PARAMS(X) HDRC_PQ_GRADING_PARAMS(X)
+  HDRC_UE55_PARAMS(X)       \
+  HDRC_OPERATORS_PARAMS(X)  \
+  HDRC_UNITY_URP_PARAMS(X) HDRC_PQ_GRADING_PARAMS(X) HDRC_UE58_PARAMS(X)
+
+// The C++ type of a V4A(n) field: n vec4 in double, zero-initialised.
+template <size_t N>
+using Vec4Array = std::array<std::array<double, 4>, N>;
+
+template <class T>
+struct IsVec4Array : std::false_type {};
+template <size_t N>
+struct IsVec4Array<Vec4Array<N>> : std::true_type {};
+template <class T>
+inline constexpr bool kIsVec4Array = IsVec4Array<T>::value;
 
 struct ParamBlock {
 #define HDRC_X_I(name) int32_t name = 0;
 #define HDRC_X_F(name) double name = 0.0;
 #define HDRC_X_V4(name) std::array<double, 4> name{0, 0, 0, 0};
 #define HDRC_X_M3(name) ref::Mat3 name = ref::Mat3::identity();
+// V4A(n): `HDRC_X_V4A(n)` declares the type, and the rescan meets `HDRC_X_V4A_NAME(name)`.
+#define HDRC_X_V4A(n) Vec4Array<n> HDRC_X_V4A_NAME
+#define HDRC_X_V4A_NAME(name) name{};
 #define HDRC_X(type, name, doc) HDRC_X_##type(name)
   HDRC_PARAM_BLOCK(HDRC_X)
 #undef HDRC_X
@@ -41,10 +63,22 @@ struct ParamBlock {
 #undef HDRC_X_F
 #undef HDRC_X_V4
 #undef HDRC_X_M3
+#undef HDRC_X_V4A
+#undef HDRC_X_V4A_NAME
 };
 
-// The kinds of field, as the block declares them: int32_t, double, std::array<double, 4>, Mat3.
-enum class FieldKind { I, F, V4, M3 };
+// The kinds of field, as the block declares them: int32_t, double, std::array<double, 4>, Mat3,
+// Vec4Array<n> (the element count is the field's type: field_elements).
+enum class FieldKind { I, F, V4, M3, V4A };
+
+// The vec4 elements of a V4A field (its declared n); 0 for the other kinds.
+template <class T>
+constexpr size_t field_elements(const T&) {
+  if constexpr (kIsVec4Array<T>)
+    return std::tuple_size_v<T>;
+  else
+    return 0;
+}
 
 // Calls f(kind, name, field) for every field of `p` in declaration order (the std430 order), with
 // `field` a reference to p's member. The one walk over the block that everything else uses: the
@@ -52,9 +86,19 @@ enum class FieldKind { I, F, V4, M3 };
 // LUT cache's key. `Block` is ParamBlock or const ParamBlock.
 template <class Block, class F>
 void for_each_param(Block& p, F&& f) {
-#define HDRC_X(type, name, doc) f(FieldKind::type, #name, p.name);
+#define HDRC_KIND_I FieldKind::I
+#define HDRC_KIND_F FieldKind::F
+#define HDRC_KIND_V4 FieldKind::V4
+#define HDRC_KIND_M3 FieldKind::M3
+#define HDRC_KIND_V4A(n) FieldKind::V4A
+#define HDRC_X(type, name, doc) f(HDRC_KIND_##type, #name, p.name);
   HDRC_PARAM_BLOCK(HDRC_X)
 #undef HDRC_X
+#undef HDRC_KIND_I
+#undef HDRC_KIND_F
+#undef HDRC_KIND_V4
+#undef HDRC_KIND_M3
+#undef HDRC_KIND_V4A
 }
 
 // The pipeline whose header declares field `name`: "ue55" (whose fields include what every
@@ -66,9 +110,10 @@ std::string_view param_owner(std::string_view name);
 // header for the others), so that an export holds only what applies to its pipeline.
 bool param_carried_by(std::string_view name, std::string_view pipeline);
 
-// A field's declaration in the generated shader interface: "int", "float", "vec4"/"float4", and
-// a matrix as three rows ("vec4 name[3]"/"float4 name[3]"), ending in ";".
-std::string shader_field_decl(FieldKind kind, const char* name, bool hlsl);
+// A field's declaration in the generated shader interface: "int", "float", "vec4"/"float4", a
+// matrix as three rows ("vec4 name[3]"/"float4 name[3]") and a V4A field as its `elements` vec4
+// ("vec4 name[n]"), ending in ";".
+std::string shader_field_decl(FieldKind kind, const char* name, bool hlsl, size_t elements = 0);
 
 // Descriptor bindings of every stage shader (set 0). One layout serves every pass of every stage;
 // an engine binds all of them (a 1-texel dummy where a pass has nothing to bind). Documented in
@@ -131,8 +176,9 @@ std::string glsl_param_block();
 // Field names and their std430 byte offsets, in declaration order (for tests and docs).
 struct FieldLayout {
   std::string name;
-  char type;  // 'I', 'F', 'V' or 'M'
+  char type;  // 'I', 'F', 'V', 'M' or 'A' (V4A)
   uint32_t offset;
+  uint32_t size = 0;  // bytes: 4, 16, 48 or 16 n
 };
 std::vector<FieldLayout> param_block_layout();
 

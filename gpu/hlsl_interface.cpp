@@ -16,8 +16,8 @@ std::string generated_interface_hlsl() {
   // A StructuredBuffer of this struct has std430 layout, as the GLSL buffer block does.
   s << "struct HdrcParams {\n";
   const ParamBlock block;
-  for_each_param(block, [&](FieldKind kind, const char* name, const auto&) {
-    s << "  " << shader_field_decl(kind, name, true) << "\n";
+  for_each_param(block, [&](FieldKind kind, const char* name, const auto& v) {
+    s << "  " << shader_field_decl(kind, name, true, field_elements(v)) << "\n";
   });
   s << "};\n";
   auto binding = [&](uint32_t b, const std::string& decl) {

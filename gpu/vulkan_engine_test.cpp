@@ -88,14 +88,20 @@ TEST(VulkanEngine, SharedConstantsAndParamBlockReadBack) {
       f << "  out_px[" << k + 1 + r << "] = P.wcs_to_ap1[" << r << "];\n";
       f << "  out_px[" << k + 4 + r << "] = P.ap1_to_output[" << r << "];\n";
     }
+    // A table field (V4A): its last element and one read at a dynamic index.
+    f << "  out_px[" << k + 7 << "] = P.ue58_cusp_table[361];\n";
+    f << "  out_px[" << k + 8 << "] = P.ue58_gamma_table[P.width % 91];\n";
     f << "}\n";
   }
   hdrc::gpu::VulkanOptions o;
   o.shader_dir = dir.string();
   hdrc::gpu::VulkanEngine engine(o);
   ASSERT_TRUE(engine.init().ok());
-  hdrc::Image input(static_cast<int>(constants.size()) + 7, 1);
+  hdrc::Image input(static_cast<int>(constants.size()) + 9, 1);
   auto rc = make_case("shaper", 7, 2, input);
+  rc.params.ue58_cusp_table[361] = {1.0 / 3.0, -2.5, 361.25, 0.0};
+  const size_t dynamic = static_cast<size_t>(rc.params.width % 91);
+  rc.params.ue58_gamma_table[dynamic] = {0.1, 0.2, 0.3, 0.4};
   auto out = engine.run(rc);
   ASSERT_TRUE(out.ok()) << out.error().to_string();
   for (size_t i = 0; i < constants.size(); ++i) {
@@ -112,6 +118,11 @@ TEST(VulkanEngine, SharedConstantsAndParamBlockReadBack) {
       EXPECT_EQ(out->data[(k + 1 + r) * 4 + c], static_cast<float>(rc.params.wcs_to_ap1(r, c)));
       EXPECT_EQ(out->data[(k + 4 + r) * 4 + c], static_cast<float>(rc.params.ap1_to_output(r, c)));
     }
+  for (int c = 0; c < 4; ++c) {
+    EXPECT_EQ(out->data[(k + 7) * 4 + c], static_cast<float>(rc.params.ue58_cusp_table[361][c]));
+    EXPECT_EQ(out->data[(k + 8) * 4 + c],
+              static_cast<float>(rc.params.ue58_gamma_table[dynamic][c]));
+  }
   fs::remove_all(dir);
 }
 

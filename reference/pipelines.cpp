@@ -6,6 +6,7 @@
 #include "reference/operators/operators_pipeline.h"
 #include "reference/pq_grading/pq_grading_pipeline.h"
 #include "reference/ue/ue55/ue55_pipeline.h"
+#include "reference/ue/ue58/ue58_pipeline.h"
 #include "reference/unity_urp/unity_urp_pipeline.h"
 
 namespace hdrc {
@@ -16,6 +17,7 @@ const std::vector<const Pipeline*>& pipeline_table() {
       &ref::unity_urp::unity_urp_pipeline(),
       &ref::operators::operators_pipeline(),
       &ref::pq_grading::pq_grading_pipeline(),
+      &ref::ue58::ue58_pipeline(),
   };
   return table;
 }

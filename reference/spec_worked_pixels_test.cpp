@@ -268,7 +268,11 @@ Computed compute_constants(const Block& b) {
       c.add(name, static_cast<double>(v), false);
     else if constexpr (std::is_same_v<T, std::array<double, 4>>)
       c.add(name, std::vector<double>(v.begin(), v.end()), false);
-    else
+    else if constexpr (hdrc::kIsVec4Array<T>) {
+      std::vector<double> flat;
+      for (const auto& e : v) flat.insert(flat.end(), e.begin(), e.end());
+      c.add(name, flat, false);
+    } else
       c.add(name, std::vector<double>(v.m.begin(), v.m.end()), false);
   });
   return c;

@@ -488,11 +488,15 @@ TEST(CaseLoader, TheDefaultSuiteLoads) {
                                                   {"unity_urp/lut_modes", 18},
                                                   {"unity_urp/shadows_midtones_highlights", 10},
                                                   {"unity_urp/split_toning", 10},
+                                                  {"ue58/devices", 200},
+                                                  {"ue58/grading", 9},
+                                                  {"ue58/hdr_display", 24},
+                                                  {"ue58/shaper_eotf", 14},
                                                   {"visualize/pre_exposure", 8},
                                                   {"visualize/visualize_hdr", 30},
                                                   {"visualize/working_color_space", 21}};
   EXPECT_EQ(per_file, expected);
-  EXPECT_EQ(loaded.cases.size(), 1408u);
+  EXPECT_EQ(loaded.cases.size(), 1655u);
   for (const auto& c : loaded.cases) EXPECT_NE(c.tolerance.source, "default") << c.id;
 }
 

@@ -18,8 +18,9 @@ namespace fs = std::filesystem;
 using json = nlohmann::ordered_json;
 
 double effective_value(const Case& c, const std::string& name) {
-  // Only UE 5.5 has cvars (core/pipeline.h); a case's settings are its pipeline's.
-  if (c.stage && c.stage->pipeline == "ue55" && find_cvar(name)) return c.cvars.get(name);
+  // A pipeline with cvars (UE's) reads them; a case's settings are its pipeline's.
+  if (c.stage && !pipeline_of(*c.stage).cvars().empty() && find_cvar(name))
+    return c.cvars.get(name);
   return c.settings.get(name);
 }
 

@@ -49,7 +49,11 @@ json params_json(const ParamBlock& p, std::string_view pipeline) {
       j[name] = number(v);
     else if constexpr (std::is_same_v<T, std::array<double, 4>>)
       j[name] = vec4(v);
-    else
+    else if constexpr (kIsVec4Array<T>) {
+      json a = json::array();
+      for (const auto& e : v) a.push_back(vec4(e));
+      j[name] = std::move(a);
+    } else
       j[name] = json::array({row(v, 0), row(v, 1), row(v, 2)});
   });
   return j;
@@ -127,6 +131,20 @@ Result<ParamBlock> params_from_json(const json& j, const std::string& file,
       status = Error{file, at, std::string("missing parameter ") + name, ""};
     } else if constexpr (std::is_same_v<T, std::array<double, 4>>) {
       status = read_array(j[name], file, at, 4, field.data());
+    } else if constexpr (kIsVec4Array<T>) {
+      // A table: exactly its declared number of vec4 (the type's n), nothing longer is read.
+      const size_t n = field.size();
+      if (!j[name].is_array() || j[name].size() != n) {
+        status = Error{file, at,
+                       "expected an array of " + std::to_string(n) + " vec4 (" + name + " is V4A(" +
+                           std::to_string(n) + ")), got " +
+                           (j[name].is_array() ? std::to_string(j[name].size()) + " elements"
+                                               : std::string(j[name].type_name())),
+                       "an array of exactly " + std::to_string(n) + " arrays of 4 numbers"};
+        return;
+      }
+      for (size_t e = 0; e < n && status; ++e)
+        status = read_array(j[name][e], file, at + "/" + std::to_string(e), 4, field[e].data());
     } else {
       if (!j[name].is_array() || j[name].size() != 3) {
         status = Error{file, at, "expected 3 rows of 3 numbers", ""};

@@ -60,6 +60,97 @@ TEST(Export, MissingOrBadParameterIsLocated) {
   EXPECT_EQ(r.error().pointer, "/params/wcs_to_ap1/2");
 }
 
+// A table field (V4A(n), core/shader_interface.h) travels texel for texel: std430 offset aligned
+// to 16 with a 16-byte stride, each component float(value) at base + 16 e + 4 c, the GLSL/HLSL
+// declaration "vec4 name[n]" / "float4 name[n]", and the next field after its 16 n bytes.
+TEST(ParamBlockTable, LayoutPackingAndDeclaration) {
+  const auto layout = hdrc::param_block_layout();
+  auto find = [&](const std::string& name) {
+    for (size_t i = 0; i < layout.size(); ++i)
+      if (layout[i].name == name) return i;
+    ADD_FAILURE() << "no field " << name;
+    return size_t{0};
+  };
+  const size_t cusp = find("ue58_cusp_table");
+  EXPECT_EQ(layout[cusp].type, 'A');
+  EXPECT_EQ(layout[cusp].size, 362u * 16u);
+  EXPECT_EQ(layout[cusp].offset % 16, 0u);
+  EXPECT_EQ(layout[cusp + 1].name, "ue58_gamma_table");
+  EXPECT_EQ(layout[cusp + 1].offset, layout[cusp].offset + 362u * 16u);
+  // A table after a scalar starts at the next multiple of 16 (std430 array alignment).
+  const size_t params = find("ue58_aces2_params");
+  EXPECT_EQ(layout[params - 1].name, "ue58_wcs_from_ap0");
+  EXPECT_EQ(layout[params].offset, layout[params - 1].offset + 48u);
+  hdrc::ParamBlock p;
+  p.ue58_cusp_table[0] = {-1.5, 2.25, 1.0 / 3.0, 0.0};
+  p.ue58_cusp_table[361] = {7.0, 8.0, 361.0 + 1e-3, 0.0};
+  const auto bytes = hdrc::pack_std430(p);
+  auto at = [&](size_t offset) {
+    float f;
+    std::memcpy(&f, &bytes[offset], 4);
+    return f;
+  };
+  const size_t base = layout[cusp].offset;
+  EXPECT_EQ(at(base + 0), -1.5f);
+  EXPECT_EQ(at(base + 4), 2.25f);
+  EXPECT_EQ(at(base + 8), static_cast<float>(1.0 / 3.0));
+  EXPECT_EQ(at(base + 361 * 16 + 8), static_cast<float>(361.0 + 1e-3));
+  EXPECT_EQ(at(base + 361 * 16 + 4), 8.0f);
+  EXPECT_EQ(hdrc::shader_field_decl(hdrc::FieldKind::V4A, "t", false, 91), "vec4 t[91];");
+  EXPECT_EQ(hdrc::shader_field_decl(hdrc::FieldKind::V4A, "t", true, 91), "float4 t[91];");
+  const std::string glsl = hdrc::glsl_param_block();
+  EXPECT_NE(glsl.find("  vec4 ue58_cusp_table[362];\n"), std::string::npos);
+  EXPECT_NE(glsl.find("  vec4 ue58_reach_table_sdr[90];\n"), std::string::npos);
+  EXPECT_EQ(hdrc::field_elements(p.ue58_gamma_table), 91u);
+  EXPECT_EQ(hdrc::field_elements(p.width), 0u);
+}
+
+// params.json carries a table as n arrays of 4 numbers, round trip exact; anything but exactly n
+// elements of 4 numbers is refused with the field's pointer and its declared size.
+TEST(ParamBlockTable, JsonRoundTripAndBoundedErrors) {
+  hdrc::ParamBlock p;
+  for (size_t e = 0; e < p.ue58_reach_table.size(); ++e)
+    p.ue58_reach_table[e] = {e * 4 + 0.1, e * 4 + 1.0 / 7.0, -1e-30, 1e30};
+  p.ue58_gamma_table[90][3] = std::numeric_limits<double>::infinity();
+  const auto j = hdrc::params_json(p, "ue58");
+  ASSERT_TRUE(j.contains("ue58_reach_table"));
+  EXPECT_EQ(j["ue58_reach_table"].size(), 90u);
+  EXPECT_EQ(j["ue58_gamma_table"][90][3], "Infinity");
+  EXPECT_FALSE(hdrc::params_json(p, "ue55").contains("ue58_reach_table"));
+  auto back =
+      hdrc::params_from_json(nlohmann::ordered_json::parse(j.dump()), "p.json", "/params", "ue58");
+  ASSERT_TRUE(back.ok()) << back.error().to_string();
+  EXPECT_EQ(back->ue58_reach_table, p.ue58_reach_table);
+  EXPECT_EQ(back->ue58_gamma_table, p.ue58_gamma_table);
+  auto refused = [&](const nlohmann::ordered_json& bad) {
+    return hdrc::params_from_json(bad, "p.json", "/params", "ue58");
+  };
+  auto longer = j;
+  longer["ue58_reach_table"].push_back({1, 2, 3, 4});
+  auto r = refused(longer);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().pointer, "/params/ue58_reach_table");
+  EXPECT_NE(r.error().to_string().find("expected an array of 90 vec4"), std::string::npos)
+      << r.error().to_string();
+  EXPECT_NE(r.error().to_string().find("got 91 elements"), std::string::npos);
+  auto shorter = j;
+  shorter["ue58_cusp_table"].erase(shorter["ue58_cusp_table"].size() - 1);
+  r = refused(shorter);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().pointer, "/params/ue58_cusp_table");
+  auto element = j;
+  element["ue58_gamma_table"][17] = {1, 2, 3};
+  r = refused(element);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().pointer, "/params/ue58_gamma_table/17");
+  auto scalar = j;
+  scalar["ue58_aces2_params"] = 5;
+  r = refused(scalar);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().pointer, "/params/ue58_aces2_params");
+  EXPECT_NE(r.error().to_string().find("got number"), std::string::npos) << r.error().to_string();
+}
+
 // Found by fuzz/params_fuzzer (UBSan: 4.44444e+88 outside the range of int): an integer field
 // with a value no int32 holds, or a fraction, is refused with its pointer, not cast.
 TEST(Export, IntegerParameterOutOfRangeOrFractionalIsRefused) {

@@ -29,7 +29,8 @@ const std::string kCasesDir = std::string(HDRC_SOURCE_DIR) + "/cases";
 TEST(Pipelines, RegistryListsEveryPipelineUe55First) {
   std::vector<std::string> names;
   for (const hdrc::Pipeline* p : hdrc::pipeline_table()) names.emplace_back(p->name);
-  EXPECT_EQ(names, (std::vector<std::string>{"ue55", "unity_urp", "operators", "pq_grading"}));
+  EXPECT_EQ(names,
+            (std::vector<std::string>{"ue55", "unity_urp", "operators", "pq_grading", "ue58"}));
   EXPECT_EQ(hdrc::default_pipeline().name, "ue55");
   EXPECT_EQ(hdrc::find_pipeline("nope"), nullptr);
 }
@@ -517,6 +518,50 @@ TEST(Pipelines, PlantedUeLutNeutralWeightDroppedFailsWhereItIsNotZero) {
     EXPECT_EQ(id.find("intensity1_"), std::string::npos) << id;
     EXPECT_EQ(id.find("/tie/"), std::string::npos) << id;
   }
+}
+
+// UE 5.8's CombineLUTs (cases/ue58/devices.json at one device and gamut: Filmic and StandardACES,
+// ACES 1.3 and 2.0): a planted defect in the ACES 2.0 path fails the two ACES 2.0 cases
+// (StandardACES forward; Filmic's automatic HDR, inverse then forward) and neither ACES 1.3 case.
+std::vector<std::string> ue58_planted(const std::string& shader, const std::string& from,
+                                      const std::string& to, const std::string& cases) {
+  std::string out;
+  const auto failing = hdrc::test::planted_shader_failures(
+      shader, from, to, "--pipeline ue58 --filter 'ue58/devices/" + cases + "_*'", &out);
+  for (const char* method : {"0", "1"}) {
+    const std::string id = "ue58/devices/" + cases + "_tonemappingmethod" + method + "_version2";
+    EXPECT_TRUE(contains(failing, id)) << id << "\n" << out;
+  }
+  for (const auto& id : failing) EXPECT_NE(id.find("version2"), std::string::npos) << id;
+  return failing;
+}
+
+// The Hellwig 2022 matrix (XYZ_2_CAM16_MAT, ACESOutputTransform.ush) transposed.
+TEST(Pipelines, PlantedUe58HellwigMatrixTransposedFailsTheAces2Cases) {
+  ue58_planted(
+      "lib/aces2_common.glsl",
+      "return aces2_mul(ACES2_XYZ_2_CAM16_0, ACES2_XYZ_2_CAM16_1, ACES2_XYZ_2_CAM16_2, v);",
+      "return aces2_mul(vec3(ACES2_XYZ_2_CAM16_0.x, ACES2_XYZ_2_CAM16_1.x, "
+      "ACES2_XYZ_2_CAM16_2.x), vec3(ACES2_XYZ_2_CAM16_0.y, ACES2_XYZ_2_CAM16_1.y, "
+      "ACES2_XYZ_2_CAM16_2.y), vec3(ACES2_XYZ_2_CAM16_0.z, ACES2_XYZ_2_CAM16_1.z, "
+      "ACES2_XYZ_2_CAM16_2.z), v);",
+      "dev3_gamut2");
+}
+
+// chromaCompressionNorm's constant term 77.12896 off in its third digit. Measured: device 3 with
+// Rec.2020 output stays within its tolerance (0.8 % of values one code off); the scRGB device 5
+// with sRGB output, judged relatively, moves by up to 25 %.
+TEST(Pipelines, PlantedUe58ChromaCompressionConstantFailsTheAces2Cases) {
+  ue58_planted("lib/aces2_output.glsl", "9.19364 * sin_hr3 + 77.12896;",
+               "9.19364 * sin_hr3 + 77.22896;", "dev5_gamut0");
+}
+
+// The reach-M table read at 2 degrees instead of 1 (each odd hue reads its even neighbour's
+// texel: a table of half the hue resolution). Host side, the same table changes both engines
+// and the goldens catch it (reference/ue/ue58/ue58_test.cpp PlantedReachTableAtTwoDegrees...).
+TEST(Pipelines, PlantedUe58ReachTableHueResolutionFailsTheAces2Cases) {
+  ue58_planted("ue58/lib/combine_luts58.glsl", "  if (i < 0 || i >= 360) return 0.0;\n  return",
+               "  if (i < 0 || i >= 360) return 0.0;\n  i = i / 2 * 2;\n  return", "dev3_gamut2");
 }
 
 }  // namespace

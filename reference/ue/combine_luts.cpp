@@ -5,15 +5,15 @@
 #include <algorithm>
 #include <cmath>
 
-#include "reference/ue/aces/aces_output.h"
 #include "color/d3d_math.h"
+#include "color/gamma_correction.h"
+#include "color/st2084.h"
 #include "reference/color/device_allowance.h"
 #include "reference/color/fast_paths.h"
-#include "color/gamma_correction.h"
 #include "reference/color/linear_tap.h"
 #include "reference/color/noise_range.h"
-#include "color/st2084.h"
 #include "reference/color/ue_matrices.h"
+#include "reference/ue/aces/aces_output.h"
 #include "reference/ue/grading/color_correct.h"
 #include "reference/ue/grading/color_polynomial.h"
 #include "reference/ue/grading/expand_gamut.h"
@@ -40,6 +40,17 @@ grading::ColorCorrectZone zone(const std::array<double, 4>& sat, const std::arra
   return z;
 }
 
+Vec3 pq_encode(const Vec3& nits) {
+  Vec3 out;
+  for (int c = 0; c < 3; ++c) {
+    const double v = nits[c];
+    out[c] = (std::isnan(v) || v < 0.0) ? d3d::kNaN : st2084::pq_from_nits(v);
+  }
+  return out;
+}
+
+}  // namespace
+
 grading::ColorCorrectParams color_correct_params(const ParamBlock& p) {
   grading::ColorCorrectParams c;
   c.global = zone(p.cc_saturation, p.cc_contrast, p.cc_gamma, p.cc_gain, p.cc_offset);
@@ -63,17 +74,6 @@ WorkingColorSpace working_color_space(const ParamBlock& p) {
   w.is_srgb = p.wcs_is_srgb != 0;
   return w;
 }
-
-Vec3 pq_encode(const Vec3& nits) {
-  Vec3 out;
-  for (int c = 0; c < 3; ++c) {
-    const double v = nits[c];
-    out[c] = (std::isnan(v) || v < 0.0) ? d3d::kNaN : st2084::pq_from_nits(v);
-  }
-  return out;
-}
-
-}  // namespace
 
 aces::AcesShaderParams aces_params(const ParamBlock& p) {
   aces::AcesTonemapParams packed;

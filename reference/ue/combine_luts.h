@@ -6,12 +6,12 @@
 #include <cstdint>
 #include <vector>
 
+#include "color/vec.h"
 #include "core/device_precision.h"
 #include "core/shader_interface.h"
-#include "reference/ue/aces/aces_output.h"
 #include "reference/color/noise_range.h"
 #include "reference/color/ue_matrices.h"
-#include "color/vec.h"
+#include "reference/ue/aces/aces_output.h"
 #include "reference/ue/grading/color_correct.h"
 #include "reference/ue/grading/color_polynomial.h"
 #include "reference/ue/grading/film_tonemap.h"
@@ -33,6 +33,11 @@ struct CombineLutsTrace {
   Vec3 device{};           // OutDeviceColor
   Vec3 stored{};           // OutDeviceColor / 1.05 (before storage quantisation)
 };
+
+// ColorCorrectAll's parameters and the working colour space as the block carries them (shared with
+// UE 5.8's CombineLUTs, reference/ue/ue58/).
+grading::ColorCorrectParams color_correct_params(const ParamBlock& p);
+WorkingColorSpace working_color_space(const ParamBlock& p);
 
 // The ACES shader parameters as the shaders read them: ParamBlock's fields packed to float, as UE's
 // CPU uploads them, then unpacked (TonemapCommon.ush: ComputeACESTonemapParams).

@@ -1,0 +1,77 @@
+// UE 5.8's CombineLUTs in double precision (pipeline "ue58", stage ue58_combine_luts): the inner
+// LUT bake (PostProcessCombineLUTsInner.usf: MainCS / MethodLUTsCommon) and the outer LUT bake
+// (PostProcessCombineLUTs.usf: MainCS / CombineLUTsCommon / ApplyToneCurve / InnerLookupTable),
+// both tone-mapping methods (Filmic, StandardACES), ACES 1.3 and 2.0, devices 0-9, gamuts 0-4.
+// What 5.8 changed since 5.5: docs/ue58-differences.md §1a; decisions: docs/ue58-decisions.md E.
+//
+// Sources (facts only, no code copied): unicorn2022/UE5.8.0 @
+// 5d9a05c15b1f8c6d7b3354b360677ce30d688149, Engine/Shaders/Private/PostProcessCombineLUTs.usf,
+// PostProcessCombineLUTsInner.usf, Engine/Source/Runtime/Renderer/Private/PostProcess/
+// PostProcessCombineLUTs.cpp (GetTonemappingMethod, GetTonemappingMax, GetInnerLUTParameters,
+// AddCombineLUTPass). The grading steps 5.8 shares with 5.5 are reference/ue/grading/.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "color/vec.h"
+#include "core/shader_interface.h"
+#include "reference/ue/aces2/aces2.h"
+
+namespace hdrc::ref::ue58 {
+
+// EDisplayOutputFormat / ETonemappingMethod values the block carries.
+enum class Method { kFilmic = 0, kStandardAces = 1 };
+
+// The ACES 2.0 parameters and tables of one set of the block (ue58_aces2_params / _reach_table /
+// _cusp_table / _gamma_table, or their _sdr twins), unpacked to the reference's types.
+struct Aces2Set {
+  aces2::Params params;
+  aces2::Tables tables;
+};
+Aces2Set unpack_aces2_set(const ParamBlock& p, bool sdr);
+// Writes `params` and `tables` into the block's set (the inverse of unpack_aces2_set).
+void pack_aces2_set(const aces2::Params& params, const aces2::Tables& tables, bool sdr,
+                    ParamBlock* p);
+
+// One parameter block's CombineLUTs, unpacked once.
+class CombineLuts58 {
+ public:
+  explicit CombineLuts58(const ParamBlock& p);
+
+  // MethodLUTsCommon: the inner LUT's value at lattice coordinate `e` (each channel in [0, 1])
+  // before storage: PQ (OutputMaxLuminance > 100) or sRGB-encoded output-gamut colour.
+  Vec3 inner_texel(const Vec3& e) const;
+  // The inner LUT's stored texel (r, g, b): inner_texel at (r, g, b) / (M - 1), rounded to
+  // P.ue58_inner_format. Evaluated on first use and kept (a lookup reads 8 texels; the outer
+  // bake reads a fraction of the M^3): the values are those of a bake of every texel.
+  const Vec3& inner_stored(int r, int g, int b) const;
+  // The whole inner LUT (M^3 texels, r fastest, then g, then b); empty when
+  // P.ue58_inner_needed is 0.
+  std::vector<Vec3> inner_lut() const;
+  // InnerLookupTable(encoded, inv_eotf_pq): trilinear sample of the stored inner LUT at UVW =
+  // encoded * (1 - 1/M) + 0.5/M, clamp-to-edge, with exact weights; then the decode to linear
+  // (or PQ) the shader applies.
+  Vec3 inner_lookup(const Vec3& encoded, bool inv_eotf_pq) const;
+  // CombineLUTsCommon at outer lattice coordinate `e`: the stored value OutDeviceColor * LUTInvMax
+  // before the outer LUT's storage rounding.
+  Vec3 outer_texel(const Vec3& e) const;
+
+ private:
+  Vec3 graded_color(const Vec3& color_ap1) const;
+  Vec3 film_color_no_gamma(const Vec3& color_ap1) const;
+  Vec3 apply_tone_curve(const Vec3& color_ap1, double peak, bool inv_eotf_pq) const;
+  Vec3 output_aces(const Vec3& graded) const;
+  Vec3 inv_output_aces(const Vec3& film_nits) const;
+
+  ParamBlock p_;
+  Aces2Set fwd_, sdr_;
+  // Not thread-safe: one evaluator per thread.
+  mutable std::vector<Vec3> inner_;
+  mutable std::vector<uint8_t> inner_done_;
+};
+
+// The outer LUT as stored: N^3 texels (r fastest), each channel rounded to P.lut_format.
+std::vector<Vec3> bake_outer_lut(const ParamBlock& p);
+
+}  // namespace hdrc::ref::ue58

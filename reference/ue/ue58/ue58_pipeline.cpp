@@ -1,0 +1,346 @@
+// UE 5.8's HDR output pipeline as a module (core/pipeline.h), first stage: CombineLUTs with its
+// inner LUT (ue58_combine_luts.h). Settings are UE 5.5's (the grading controls 5.8 shares) plus
+// 5.8's own; the host derivation runs UE 5.5's (reference/ue/cpp/resolve.cpp) for what is shared,
+// then what 5.8's C++ adds (PostProcessCombineLUTs.cpp: GetTonemappingMethod, GetTonemappingMax,
+// GetInnerLUTParameters, AddCombineLUTPass; ACESUtils.cpp: the tables). docs/ue58-decisions.md E.
+#include "reference/ue/ue58/ue58_pipeline.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <string_view>
+#include <type_traits>
+
+#include "core/cvars.h"
+#include "core/settings.h"
+#include "reference/color/ue_matrices.h"
+#include "reference/ue/aces/aces_params.h"
+#include "reference/ue/aces2/aces2.h"
+#include "reference/ue/cpp/resolve.h"
+#include "reference/ue/ue58/ue58_combine_luts.h"
+
+namespace hdrc::ref::ue58 {
+
+namespace {
+
+constexpr std::array<double, 4> s(double v) {
+  return {v, 0, 0, 0};
+}
+
+// UE 5.8's settings: UE 5.5's (the same FPostProcessSettings and platform properties; LUTLayout
+// left out, 5.8 bakes only a volume LUT: docs/ue58-differences.md L14), then 5.8's. The 5.8-only
+// console variables are settings here (docs/ue58-decisions.md E4): the cvar table is UE's one
+// table (core/cvars.cpp), which 5.8 shares for everything else.
+const std::vector<SettingInfo>& settings() {
+  static const std::vector<SettingInfo> table = [] {
+    std::vector<SettingInfo> t;
+    for (const SettingInfo& i : setting_table())
+      if (i.name != "LUTLayout") t.push_back(i);
+    const std::vector<SettingInfo> own = {
+        {"TonemappingMethod", 1, s(0), 0, 1,
+         "FPostProcessSettings::TonemappingMethod (5.8, default Filmic: Scene.cpp): 0 Filmic, 1 "
+         "StandardACES; also chooses TonemappingSDRInvEOTF's default (PostProcessCombineLUTs.cpp: "
+         "GetCombineLUTParameters)"},
+        {"r.LUT.TonemappingMethod", 1, s(-1), -1, 1,
+         "cvar r.LUT.TonemappingMethod: -1 the post-process setting, 0 Filmic, 1 StandardACES "
+         "(PostProcessCombineLUTs.cpp: GetTonemappingMethod)"},
+        {"r.LUT.TonemappingSDRInvEOTF", 1, s(-1), -1, 1,
+         "cvar r.LUT.TonemappingSDRInvEOTF: -1 sRGB for a Filmic setting, BT.1886 for "
+         "StandardACES; 0 sRGB; 1 BT.1886 (PostProcessCombineLUTs.cpp)"},
+        {"r.HDR.Aces.Version", 1, s(2), 1, 2,
+         "cvar r.HDR.Aces.Version (RenderCore.cpp, default 2): 1 ACES 1.3, 2 ACES 2.0 "
+         "(FLUTInnerCS USE_ACES_2 = version > 1)"},
+        {"r.HDR.PaperWhite", 1, s(203), 1, 10000,
+         "cvar r.HDR.PaperWhite / the display's paper white, nits: TotalSceneColorMultiplier = "
+         "PaperWhite / 203 * ACESSceneColorMultiplier (GetInnerLUTParameters)"},
+        {"r.LUT.Shaper", 1, s(0), 0, 1,
+         "cvar r.LUT.Shaper (PostProcessTonemap.cpp, default 0): 0 log lattice, 1 PQ lattice, "
+         "every device"},
+        {"r.LUT.Inner.Size", 1, s(64), 2, 128, "cvar r.LUT.Inner.Size: the inner LUT's edge"},
+        {"LimitingGamut", 1, s(-1), -1, 4,
+         "the display's limiting colour space (RenderTarget->GetLimitingColorSpace), an "
+         "EDisplayColorGamut; -1: P3-D65 for devices 3-6 (HDR without a listed display), sRGB "
+         "otherwise (RenderCore.cpp: HDRGetDefaultMetaData / HDRGetMetaDataForWindow)"},
+    };
+    t.insert(t.end(), own.begin(), own.end());
+    return t;
+  }();
+  return table;
+}
+
+const std::vector<SettingChoice>* choices(std::string_view setting) {
+  static const std::vector<SettingChoice> method = {{"Filmic", 0}, {"StandardACES", 1}};
+  static const std::vector<SettingChoice> gamut = {{"Auto", -1},   {"sRGB", 0}, {"DCIP3", 1},
+                                                   {"Rec2020", 2}, {"ACES", 3}, {"ACEScg", 4}};
+  if (setting == "TonemappingMethod") return &method;
+  if (setting == "LimitingGamut") return &gamut;
+  return setting_choices(setting);
+}
+
+const aces2::Chromaticities& gamut_chromaticities(int gamut) {
+  switch (gamut) {
+    case 1:
+      return aces2::kP3D65;
+    case 2:
+      return aces2::kRec2020;
+    case 3:
+      return aces2::kAp0;
+    case 4:
+      return aces2::kAp1;
+    default:
+      return aces2::kRec709;
+  }
+}
+
+aces2::Chromaticities to_aces2(const Chromaticities& c) {
+  return {{c.rx, c.ry}, {c.gx, c.gy}, {c.bx, c.by}, {c.wx, c.wy}};
+}
+
+// PostProcessCombineLUTs.cpp: DoesGamutWhitePointMatch — the white within 3 * 2^-11 in x and y of
+// D65 (gamuts 0-2) or the ACES white (3-4).
+bool white_matches(int output_gamut, const aces2::Chromaticities& c) {
+  constexpr double kTolerance = 3.0 / 2048.0;
+  const bool d60 = output_gamut == 3 || output_gamut == 4;
+  const double x = d60 ? .32168 : .3127, y = d60 ? .33767 : .329;
+  return std::fabs(c.white[0] - x) <= kTolerance && std::fabs(c.white[1] - y) <= kTolerance;
+}
+
+Result<Resolution> resolve58(const Case& c, int width, int height) {
+  // Everything 5.8 shares with 5.5 (the grading controls, matrices, device, gamut, gamma).
+  auto base = resolve(c, width, height);
+  if (!base) return base.error();
+  Resolution r = *base;
+  r.degenerate.clear();
+  ParamBlock& p = r.params;
+  const SettingValues& st = c.settings;
+  const CvarValues& cv = c.cvars;
+  const int device = p.output_device;
+  const bool hdr_device = device >= 3 && device <= 6;
+
+  // OutputMaxLuminance (docs/ue58-differences.md L12): the render target's peak — 100 for an SDR
+  // target; for an HDR one r.HDR.Display.MaxLuminance, 0 meaning the 1000-nit default.
+  const double max_cvar = cv.get("r.HDR.Display.MaxLuminance");
+  p.output_max_luminance = hdr_device ? (max_cvar > 0.0 ? max_cvar : 1000.0) : 100.0;
+
+  // GetTonemappingMethod: the cvar when >= 0, else the post-process setting.
+  const int method_setting = static_cast<int>(st.get("TonemappingMethod"));
+  const int method_cvar = static_cast<int>(st.get("r.LUT.TonemappingMethod"));
+  p.ue58_tonemapping_method = method_cvar >= 0 ? method_cvar : method_setting;
+  const bool aces_method = p.ue58_tonemapping_method == static_cast<int>(Method::kStandardAces);
+  // GetCombineLUTParameters: TonemappingSDRInvEOTF, its default keyed on the *setting*.
+  const int eotf_cvar = static_cast<int>(st.get("r.LUT.TonemappingSDRInvEOTF"));
+  p.ue58_sdr_inv_eotf = eotf_cvar >= 0 ? eotf_cvar : (method_setting == 1 ? 1 : 0);
+  p.ue58_aces_version = static_cast<int>(st.get("r.HDR.Aces.Version"));
+  p.ue58_lut_shaper = static_cast<int>(st.get("r.LUT.Shaper"));
+  p.ue58_inner_lut_size = static_cast<int>(st.get("r.LUT.Inner.Size"));
+  // GetTonemappingMax: 1.05 for Filmic on devices 0, 1 and 9, else 1; LUTInvMax = 1 / that.
+  const bool lut_max_105 = !aces_method && (device == 0 || device == 1 || device == 9);
+  p.ue58_lut_inv_max = lut_max_105 ? static_cast<double>(1.f / 1.05f) : 1.0;
+  // GetTonemapperOutputDeviceParameters: InverseGamma.y = 1 for device 9 (L11).
+  if (device == 9) p.inverse_gamma[1] = 1.0;
+  // AddCombineLUTPass: bUseFloatOutput for the scRGB devices (L15); both LUTs share the format.
+  p.lut_layout = 0;
+  if (device == 5 || device == 6) p.lut_format = 1;
+  p.ue58_inner_format = p.lut_format;
+  p.ue58_inner_needed = (aces_method || p.output_max_luminance > 100.0) ? 1 : 0;
+
+  // GetInnerLUTParameters: paper white and TotalSceneColorMultiplier (float, as UE).
+  p.ue58_paper_white = st.get("r.HDR.PaperWhite");
+  p.ue58_total_scene_color_multiplier =
+      static_cast<double>(static_cast<float>(p.ue58_paper_white) / 203.f *
+                          static_cast<float>(p.aces_scene_color_multiplier));
+
+  // The ACES 1.3 parameters: GetACESTonemapParameters, HDRConfigureCVars' global set for
+  // r.HDR.Display.MaxLuminance, or FACESTonemapParams' 1000-nit defaults when that is 0.
+  const float min_lum =
+      std::pow(10.0f, static_cast<float>(cv.get("r.HDR.Display.MinLuminanceLog10")));
+  const auto aces13 = aces::configure_aces_tonemap_params(
+      min_lum, static_cast<float>(cv.get("r.HDR.Display.MidLuminance")),
+      static_cast<float>(max_cvar > 0.0 ? max_cvar : 1000.0),
+      static_cast<float>(cv.get("r.HDR.Aces.SceneColorMultiplier")),
+      static_cast<float>(cv.get("r.HDR.Aces.GamutCompression")));
+  const auto& a = aces13.packed;
+  p.aces_min_max = {a.min_max_data[0], a.min_max_data[1], a.min_max_data[2], a.min_max_data[3]};
+  p.aces_mid = {a.mid_data[0], a.mid_data[1], a.mid_data[2], a.mid_data[3]};
+  p.aces_coefs_low_0 = {a.coefs_low_0[0], a.coefs_low_0[1], a.coefs_low_0[2], a.coefs_low_0[3]};
+  p.aces_coefs_high_0 = {a.coefs_high_0[0], a.coefs_high_0[1], a.coefs_high_0[2],
+                         a.coefs_high_0[3]};
+  p.aces_coefs_low_4 = a.coefs_low_4;
+  p.aces_coefs_high_4 = a.coefs_high_4;
+
+  // The limiting colour space and the white-scale flags.
+  int limiting = static_cast<int>(st.get("LimitingGamut"));
+  if (limiting < 0) limiting = hdr_device ? 1 : 0;
+  p.ue58_limiting_gamut = limiting;
+  auto wcs = working_color_space_of(st);
+  if (!wcs) return wcs.error();
+  const aces2::Chromaticities working = to_aces2(wcs->chroma);
+  const aces2::Chromaticities& limit = gamut_chromaticities(limiting);
+  const aces2::Chromaticities& output = gamut_chromaticities(p.output_gamut);
+  p.ue58_scale_white = white_matches(p.output_gamut, limit) ? 0 : 1;
+  p.ue58_scale_white_sdr = white_matches(p.output_gamut, working) ? 0 : 1;
+  p.ue58_wcs_from_ap0 = inverse(p.wcs_to_ap0);
+
+  // ACES 2.0: forward at OutputMaxLuminance with the limiting primaries (GetTransformResources),
+  // the SDR set at 100 nits with the working colour space (GetTransformResourcesSDR).
+  if (p.ue58_aces_version > 1 && p.ue58_inner_needed) {
+    if (!(p.output_max_luminance >= 100.0)) {
+      r.degenerate = "ACES 2.0 at OutputMaxLuminance " + std::to_string(p.output_max_luminance) +
+                     " nits (the tonescale needs a peak of at least 100 nits)";
+      return r;
+    }
+    const aces2::Params fwd = aces2::make_params(p.output_max_luminance, limit, output);
+    pack_aces2_set(fwd, aces2::make_tables(fwd, limit), false, &p);
+    const aces2::Params sdr = aces2::make_params(100.0, working, output);
+    pack_aces2_set(sdr, aces2::make_tables(sdr, working), true, &p);
+  }
+  // The block holds only what a ue58 case carries (param_carried_by): UE 5.5's fields that 5.5's
+  // derivation set and no ue58 shader reads (Tonemap, UI, dither, the user-LUT blend) go back to
+  // their defaults, so params.json and the engines see the same block.
+  const ParamBlock defaults;
+  for_each_param(p, [&](FieldKind, const char* name, auto& field) {
+    if (!param_carried_by(name, "ue58")) {
+      using T = std::decay_t<decltype(field)>;
+      for_each_param(defaults, [&](FieldKind, const char* other, const auto& v) {
+        if constexpr (std::is_same_v<std::decay_t<decltype(v)>, T>)
+          if (std::string_view(other) == name) field = v;
+      });
+    }
+  });
+  if (p.ue58_aces_version == 1 && p.ue58_inner_needed && !aces13.status.ok())
+    r.degenerate =
+        "ACES 1.3 with degenerate tone-scale parameters: " + aces13.status.error().message;
+  return r;
+}
+
+const std::vector<StageInfo>& stages() {
+  static const std::vector<StageInfo> table = {
+      {StageId::kOther,
+       "ue58_combine_luts",
+       {{"ue58/stages/combine_luts_inner.comp", Dispatch::kPixels, true},
+        {"ue58/stages/combine_luts.comp", Dispatch::kLutTexels}},
+       "UE 5.8 CombineLUTs: the inner LUT (r.LUT.Inner.Size^3, ACES 1.3 or 2.0 output transform "
+       "indexed by PQ, or Filmic's automatic-HDR inverse then forward ACES 2.0; stored in the LUT "
+       "format) sampled trilinearly by the outer bake; both tone-mapping methods, devices 0-9, "
+       "gamuts 0-4; every outer texel as stored (OutDeviceColor * LUTInvMax), N^2 x N with texel "
+       "(r, g, b) at (r + N b, g)",
+       {0, 1, 2, 3, 4, 5, 6, 7, 8, 9},
+       false,
+       "ue58"},
+  };
+  return table;
+}
+
+std::array<double, 3> lattice(const ParamBlock& p, int r, int g, int b) {
+  const double step = 1.0 / (p.lut_size - 1);
+  return {r * step, g * step, b * step};
+}
+
+// How a stored texel becomes nits: divided by LUTInvMax (PostProcessTonemap.usf multiplies by
+// LUTMax), then the device's encoding; the gamut is the output gamut, except device 8's working
+// colour space and Filmic's UE-29935 shortcut (sRGB working space and output gamut: the same).
+OutputEncoding encoding(const StageInfo&, const ParamBlock& p) {
+  using T = OutputEncoding::Transfer;
+  OutputEncoding e;
+  e.stage = StageId::kOther;
+  e.device = p.output_device;
+  e.pre_scale = 1.0 / p.ue58_lut_inv_max;
+  namespace sd = standard;
+  const Chromaticities* gamuts[] = {&sd::kSrgb, &sd::kP3D65, &sd::kRec2020, &sd::kAp0, &sd::kAp1};
+  if (p.output_device == 8) {
+    e.to_rec2020 = sd::rgb_to_rgb(sd::kAp1, sd::kRec2020) * p.wcs_to_ap1;
+    e.gamut = "working colour space";
+  } else {
+    e.to_rec2020 = sd::rgb_to_rgb(*gamuts[std::clamp(p.output_gamut, 0, 4)], sd::kRec2020);
+    e.gamut = output_gamut_name(p.output_gamut);
+  }
+  switch (p.output_device) {
+    case 0:
+      if (p.ue58_sdr_inv_eotf == 0) {
+        e.transfer = T::kSrgb;
+        e.transfer_name = "sRGB EOTF x 100 nits";
+      } else {
+        e.transfer = T::kGamma;
+        e.gamma = 2.4;
+        e.transfer_name = "BT.1886 (gamma 2.4) x 100 nits";
+      }
+      e.nits_scale = 100.0;
+      break;
+    case 1:
+      e.transfer = T::kRec709;
+      e.nits_scale = 100.0;
+      e.transfer_name = "Rec.709 inverse OETF x 100 nits";
+      break;
+    case 2:
+      e.transfer = T::kGamma;
+      e.gamma = 1.0 / p.inverse_gamma[2];
+      e.nits_scale = 100.0;
+      e.transfer_name = "gamma x 100 nits";
+      break;
+    case 5:
+    case 6:
+      e.transfer = T::kLinear;
+      e.nits_scale = 80.0;
+      e.transfer_name = "scRGB x 80 nits";
+      break;
+    case 8:
+    case 9:
+      e.transfer = T::kLinear;
+      e.nits_scale = 100.0;
+      e.transfer_name = "scene-linear x 100 nits";
+      break;
+    default:  // 3, 4, 7
+      e.transfer = T::kPq;
+      e.nits_scale = 1.0;
+      e.transfer_name = "PQ EOTF";
+  }
+  if (e.pre_scale != 1.0) e.transfer_name = "texel x 1.05, " + e.transfer_name;
+  // A NaN marks a negative value under a power-law encoding (explicit gamma, PQ of device 7).
+  e.nan_marks_negative_value = p.output_device == 2 || p.output_device == 7;
+  return e;
+}
+
+Result<Image> reference(const ResolvedCase& c, bool) {
+  const ParamBlock& p = c.params;
+  const std::vector<Vec3> lut = bake_outer_lut(p);
+  const int n = p.lut_size;
+  Image out(n * n, n);
+  for (int b = 0; b < n; ++b)
+    for (int g = 0; g < n; ++g)
+      for (int r = 0; r < n; ++r) {
+        double* o = out.px(r + n * b, g);
+        const Vec3& t = lut[(static_cast<size_t>(b) * n + g) * n + r];
+        o[0] = t[0];
+        o[1] = t[1];
+        o[2] = t[2];
+        o[3] = 0.0;  // MainCS writes alpha 0
+      }
+  return out;
+}
+
+}  // namespace
+
+const std::vector<SettingInfo>& ue58_setting_table() {
+  return settings();
+}
+
+const Pipeline& ue58_pipeline() {
+  static const Pipeline pipeline{
+      "ue58",
+      "Unreal Engine 5.8 HDR output (CombineLUTs)",
+      "docs/ue58-decisions.md",
+      "UE 5.8's CombineLUTs with its inner LUT: Filmic and StandardACES, ACES 1.3 and 2.0 "
+      "(docs/ue58-differences.md, docs/ue58-decisions.md)",
+      &stages,
+      &cvar_table,
+      &settings,
+      &choices,
+      &resolve58,
+      &lattice,
+      &encoding,
+      &reference,
+  };
+  return pipeline;
+}
+
+}  // namespace hdrc::ref::ue58
