@@ -22,11 +22,12 @@
 #include <array>
 #include <functional>
 
+#include "color/vec.h"
 #include "core/device_precision.h"
 #include "core/image.h"
 #include "core/shader_interface.h"
 #include "reference/color/noise_range.h"
-#include "color/vec.h"
+#include "reference/named_values.h"
 
 namespace hdrc::ref::unity_urp {
 
@@ -209,6 +210,17 @@ Vec3 apply_lut_2d(const Image& strip, const Vec3& uvw, const std::array<double, 
 // Common.hlsl: ApplyColorGrading without the user LUT: post exposure; HDR: ApplyLut2D of
 // saturate(LinearToLogC(x)); LDR: ApplyLut2D of ApplyTonemap(x). Input scene-linear Rec.709.
 Vec3 apply_color_grading(const Image& strip, const ParamBlock& p, const Vec3& scene_linear);
+
+// The named intermediate values of docs/spec/unity_urp.md's worked pixels
+// (reference/named_values.h; reference/spec_worked_pixels_test.cpp compares them), from the
+// functions above, step by step. texel_named_values: the bake of the texel at lattice code `code`
+// (each channel in [0, 1]): the grade's steps (LutBuilderHdr.shader: ColorGrade and Tonemap, or
+// LutBuilderLdr.shader: FragLutBuilderLdr), its "out" (lut_texel) and the value the texel stores
+// ("stored"). named_values: ApplyColorGrading of one scene colour on the stored strip (post
+// exposure, the lookup coordinate, ApplyLut2D's slice, taps and lerp); its "out" is
+// apply_color_grading's.
+std::vector<NamedValue> texel_named_values(const ParamBlock& p, const Vec3& code);
+std::vector<NamedValue> named_values(const ParamBlock& p, const Image& strip, const Vec3& scene);
 
 // Bakes the strip once and grades every pixel of `input` (rgb; alpha passes through).
 Image grade_image(const Image& input, const ParamBlock& p);
