@@ -8,8 +8,12 @@
 //   ...
 //   ```
 //
-// PIPELINE is `operators`, `pq_grading` or `film_tonemap` (FilmToneMap alone: AP1 in, AP1 out,
-// its parameters from the operators' FilmPreset setting). Each row is an intermediate value's name
+// PIPELINE is `operators`, `pq_grading`, `film_tonemap` (FilmToneMap alone: AP1 in, AP1 out,
+// its parameters from the operators' FilmPreset setting), `ue55` (`r.*=` cvars and settings
+// resolved as a one-pixel case, `stage=` tonemap | ui_composite | visualize_false_colour, `ui=`
+// the UI pixel: reference/ue/ue55/ue55_named_values.h) or `unity_urp` (settings, `stage=`
+// color_grading | lut_texel: reference/unity_urp/unity_urp.h). Values are r,g,b,a lists where a
+// setting has components. Each row is an intermediate value's name
 // and its one or three numbers; the test evaluates the pixel with the reference's own stage
 // functions (their traces, by name: reference/named_values.h), and every row must equal the code's
 // value to the 9 significant digits printed, and every intermediate value the code names for that
@@ -513,8 +517,11 @@ std::set<std::string> anchors_of(const fs::path& page) {
 // relative link resolves, to a heading where it names one, and no link or cited path is absolute.
 TEST(SpecPages, LinksStayInsideTheRepository) {
   std::vector<fs::path> pages = spec_pages();
-  for (const char* p : {"operators.md", "pq_grading.md", "candidate-protocol.md", "unity_urp.md",
-                        "ue55-decisions.md", "unity_urp-spec.md"})
+  // and the pages that cite sections of docs/spec/ue55.md and unity_urp.md by link.
+  for (const char* p :
+       {"operators.md", "pq_grading.md", "candidate-protocol.md", "unity_urp.md",
+        "ue55-decisions.md", "unity_urp-spec.md", "ue55-lut-blend-spec.md", "diff-metrics.md",
+        "cases.md", "candidates/combine_luts.md", "candidates/dither.md", "candidates/tonemap.md"})
     pages.push_back(kRoot / "docs" / p);
   const std::regex link(R"(\]\(([^)#\s]*)(#[^)\s]*)?\))");
   for (const fs::path& page : pages) {

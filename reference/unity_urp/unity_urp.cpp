@@ -28,7 +28,8 @@ double lerp(double a, double b, double t) {
   return a + t * (b - a);
 }
 // HLSL smoothstep(a, b, x) = t² (3 − 2t), t = saturate((x − a)/(b − a)). With a = b the division
-// gives ±Inf (saturate: 1 or 0) or NaN (x = a: saturate(NaN) = 0 on D3D), spec §7.6.
+// gives ±Inf (saturate: 1 or 0) or NaN (x = a: saturate(NaN) = 0 on D3D), docs/spec/unity_urp.md
+// §7.6.
 double smoothstep(double a, double b, double x) {
   const double t = saturate((x - a) / (b - a));
   return t * t * (3.0 - 2.0 * t);
@@ -415,7 +416,8 @@ Vec3 saturation(const Vec3& c, const ParamBlock& p, bool aces) {
 
 Vec3 default_yrgb_curves(const Vec3& c, bool hdr) {
   // EvaluateCurve at t + kHalfPixel, twice (master, then R/G/B), on identity curves:
-  // clamp(t, 0, 127/128) (spec §4). HDR wraps them in FastTonemap / FastTonemapInvert.
+  // clamp(t, 0, 127/128) (docs/spec/unity_urp.md §4). HDR wraps them in FastTonemap /
+  // FastTonemapInvert.
   auto curve = [](double t) { return std::clamp(t, 0.0, kCurveCap); };
   if (!hdr) return {curve(c[0]), curve(c[1]), curve(c[2])};
   const double to = 1.0 / (max3(c) + 1.0);  // FastTonemap: c * rcp(Max3(c) + 1)
