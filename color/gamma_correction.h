@@ -1,5 +1,6 @@
-// UE 5.5's display transfer functions (GammaCorrectionCommon.ush, spec §3.3), in double precision,
-// for the HDR UI composite (CompositeUIPixelShader.usf: LinearizeColor) and the SDR output devices.
+// UE 5.5's display transfer functions (GammaCorrectionCommon.ush, docs/spec/ue55.md §3.3), in
+// double precision, for the HDR UI composite (CompositeUIPixelShader.usf: LinearizeColor) and the
+// SDR output devices.
 //
 // Source: chenyong2github/UnrealEngine, Engine/Shaders/Private/GammaCorrectionCommon.ush (5.0-era,
 // commit 109c6a2d): sRGBToLinear, Rec709ToLinear, LinearToSrgbBranchingChannel,

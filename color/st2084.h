@@ -15,7 +15,8 @@ inline constexpr double kC3 = 2392.0 / 4096.0 * 32.0;   // 18.6875
 inline constexpr double kPeakNits = 10000.0;            // nits at code value 1.0
 
 // UE's LinearToST2084(L): L in nits, returns the PQ signal. No clamp, as in UE: a negative input
-// makes pow() of a negative base, which is NaN (spec §3.1, §12.5); +Inf gives Inf·rcp(Inf) = NaN.
+// makes pow() of a negative base, which is NaN (docs/spec/ue55.md §3.1, §12.5); +Inf gives
+// Inf·rcp(Inf) = NaN.
 inline double pq_from_nits(double nits) {
   const double lm = std::pow(nits / kPeakNits, kM1);
   return std::pow((kC1 + kC2 * lm) * (1.0 / (1.0 + kC3 * lm)), kM2);

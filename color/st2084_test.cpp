@@ -83,7 +83,7 @@ TEST(St2084, RoundTrip) {
   }
 }
 
-// UE's LinearToST2084 has no clamp: negatives and +Inf are NaN (spec §3.1, §12.5).
+// UE's LinearToST2084 has no clamp: negatives and +Inf are NaN (docs/spec/ue55.md §3.1, §12.5).
 TEST(St2084, NonFiniteAndNegativeBehaveAsUe) {
   const double inf = std::numeric_limits<double>::infinity();
   EXPECT_TRUE(std::isnan(pq::pq_from_nits(-1.0)));

@@ -1,5 +1,6 @@
 // Small double-precision vector/matrix types for the reference. Matrices are row-major and applied
-// as out = M · in (column vectors), the convention of UE's HLSL `mul(M, v)` (spec §0.3).
+// as out = M · in (column vectors), the convention of UE's HLSL `mul(M, v)` (docs/spec/ue55.md
+// §0.3).
 #pragma once
 
 #include <array>

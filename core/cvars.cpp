@@ -10,7 +10,7 @@
 namespace hdrc {
 
 const std::vector<CvarInfo>& cvar_table() {
-  // Defaults and meanings: spec §10 (RenderCore.cpp, PostProcessCombineLUTs.cpp,
+  // Defaults and meanings: docs/spec/ue55.md §10 (RenderCore.cpp, PostProcessCombineLUTs.cpp,
   // PostProcessTonemap.cpp of UE 5.5). Ranges are what a case may ask for: UE clamps the enum
   // cvars to these ranges; a case outside them is a mistake in the case, not a UE behaviour to
   // test.

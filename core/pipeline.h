@@ -15,6 +15,7 @@
 #include "core/case.h"
 #include "core/cvars.h"
 #include "core/image.h"
+#include "core/named_value.h"
 #include "core/output_encoding.h"
 #include "core/result.h"
 #include "core/settings.h"
@@ -61,6 +62,12 @@ struct Pipeline {
   // and CPU nanoseconds. 0: not measured yet (the budget takes the dearest measured figures).
   double bytes_per_pixel = 0;
   double cpu_ns_per_pixel = 0;
+  // The named intermediate values (docs/spec/<name>.md's worked-pixel rows) of each colour through
+  // the resolved case's stage, one list per colour, from the reference's own stage functions; the
+  // "out" value is what `reference` gives for that colour. A LUT the stage bakes is baked once for
+  // all of them. `hdrconform probe --json` prints them. Null: the pipeline names none.
+  std::vector<std::vector<NamedValue>> (*named_values)(
+      const ResolvedCase& c, const std::vector<std::array<double, 3>>& colours) = nullptr;
 
   // A fresh settings set of this pipeline (its table and named values; unset values read as their
   // defaults).

@@ -17,7 +17,7 @@ Vec4d s(double v) {
 }  // namespace
 
 const std::vector<SettingInfo>& setting_table() {
-  // Scene.cpp: FPostProcessSettings constructor (UE 5.5), spec §4.1; view values from
+  // Scene.cpp: FPostProcessSettings constructor (UE 5.5), docs/spec/ue55.md §4.1; view values from
   // FViewInfo (ColorScale / OverlayColor camera fade) and GEngine->DisplayGamma.
   static const std::vector<SettingInfo> table = [] {
     std::vector<SettingInfo> t = {

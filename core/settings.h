@@ -1,6 +1,6 @@
 // Post-process and view settings a case may set (UE's FPostProcessSettings members and the view
 // values CombineLUTs and the tonemapper read), with UE 5.5's defaults
-// (Scene.cpp: FPostProcessSettings::FPostProcessSettings, spec §4.1, §6.1).
+// (Scene.cpp: FPostProcessSettings::FPostProcessSettings, docs/spec/ue55.md §4.1, §6.1).
 #pragma once
 
 #include <array>

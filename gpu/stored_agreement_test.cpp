@@ -20,12 +20,12 @@
 #include <utility>
 #include <vector>
 
-#include "gpu/shader_probe.h"
 #include "color/d3d_math.h"
+#include "gpu/shader_probe.h"
 #include "reference/color/ue_matrices.h"
 #include "reference/ue/combine_luts.h"
-#include "reference/ue/tonemap.h"
 #include "reference/ue/cpp/resolve.h"
+#include "reference/ue/tonemap.h"
 
 namespace {
 
@@ -130,8 +130,8 @@ double unorm(double v) {
   return std::isnan(v) ? 0.0 : std::clamp(v, 0.0, 1.0);
 }
 
-// The pre-5.3 ACES.ush literals (UE 5.0, chenyong2github 09c29cbe; spec §2.1), as data: the
-// reference's AP1 → output gamut matrix as it was before issue 11.
+// The pre-5.3 ACES.ush literals (UE 5.0, chenyong2github 09c29cbe; docs/spec/ue55.md §2.1), as
+// data: the reference's AP1 → output gamut matrix as it was before issue 11.
 Mat3 ap1_to_output_pre_ue53(int gamut) {
   const Mat3 d60_to_d65{{0.987224, -0.00611327, 0.0159533, -0.00759836, 1.00186, 0.00533002,
                          0.00307257, -0.00509595, 1.08168}};

@@ -5,7 +5,7 @@
 // the host; the reference reads them from ParamBlock and the shaders from the generated block `P`.
 //
 // derive_unity_urp (reference/unity_urp/unity_urp_settings.h) fills them in float32, as the C#
-// does (docs/unity_urp-spec.md §1). The LUT geometry reuses the common fields: lut_size = H (the
+// does (docs/spec/unity_urp.md §1). The LUT geometry reuses the common fields: lut_size = H (the
 // strip is H^2 x H, texel (r + H b, g)), lut_layout = 1 (that unwrapped strip), lut_format = 1
 // (RGBA16F, HDR grading) or 3 (RGBA8 UNORM, LDR grading).
 #pragma once

@@ -26,9 +26,9 @@ Vec3 shaper_round_trip(const ParamBlock& p, const Vec3& x) {
   return out;
 }
 
-// PostProcessCombineLUTs.usf device branches 7/8 (spec §4.12) followed by the tonemapper's post
-// conversion (PostProcessTonemap.usf, spec §6.1 step 9). Grading is identity in this stage: the
-// decoded lattice value is the GradedColor.
+// PostProcessCombineLUTs.usf device branches 7/8 (docs/spec/ue55.md §4.12) followed by the
+// tonemapper's post conversion (PostProcessTonemap.usf, docs/spec/ue55.md §6.1 step 9). Grading is
+// identity in this stage: the decoded lattice value is the GradedColor.
 Vec3 linear_device(const ParamBlock& p, const Vec3& graded) {
   if (p.output_device == 8) return graded;  // HDR_LinearNoToneCurve: working colour space as is
   // HDR_LinearEXR: LinearToST2084(AP1_2_Output · ToAP1 · GradedColor) stored; the tonemapper

@@ -1,4 +1,5 @@
-// The first stages of the reference against hand-derived values (spec §13) and UE's semantics.
+// The first stages of the reference against hand-derived values (docs/spec/ue55.md §13) and UE's
+// semantics.
 #include "reference/reference_engine.h"
 
 #include <gtest/gtest.h>
@@ -6,8 +7,8 @@
 #include <cmath>
 #include <limits>
 
-#include "reference/ue/lut_shaper.h"
 #include "reference/ue/cpp/resolve.h"
+#include "reference/ue/lut_shaper.h"
 
 namespace {
 

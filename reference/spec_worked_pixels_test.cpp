@@ -8,8 +8,12 @@
 //   ...
 //   ```
 //
-// PIPELINE is `operators`, `pq_grading` or `film_tonemap` (FilmToneMap alone: AP1 in, AP1 out,
-// its parameters from the operators' FilmPreset setting). Each row is an intermediate value's name
+// PIPELINE is `operators`, `pq_grading`, `film_tonemap` (FilmToneMap alone: AP1 in, AP1 out,
+// its parameters from the operators' FilmPreset setting), `ue55` (`r.*=` cvars and settings
+// resolved as a one-pixel case, `stage=` tonemap | ui_composite | visualize_false_colour, `ui=`
+// the UI pixel: reference/ue/ue55/ue55_named_values.h) or `unity_urp` (settings, `stage=`
+// color_grading | lut_texel: reference/unity_urp/unity_urp.h). Values are r,g,b,a lists where a
+// setting has components. Each row is an intermediate value's name
 // and its one or three numbers; the test evaluates the pixel with the reference's own stage
 // functions (their traces, by name: reference/named_values.h), and every row must equal the code's
 // value to the 9 significant digits printed, and every intermediate value the code names for that
@@ -40,7 +44,11 @@
 #include "reference/operators/operators.h"
 #include "reference/operators/operators_settings.h"
 #include "reference/pq_grading/pq_grading.h"
+#include "reference/ue/cpp/resolve.h"
 #include "reference/ue/grading/film_tonemap.h"
+#include "reference/ue/ue55/ue55_named_values.h"
+#include "reference/unity_urp/unity_urp.h"
+#include "reference/unity_urp/unity_urp_settings.h"
 
 namespace {
 
@@ -171,11 +179,19 @@ struct Computed {
 void apply_settings(const Block& b, hdrc::SettingValues* s) {
   for (const auto& [name, value] : b.options) {
     if (name == "cube") continue;
-    char* end = nullptr;
-    const double v = std::strtod(value.c_str(), &end);
-    const hdrc::Status st = (end == value.c_str() + value.size() && !value.empty())
-                                ? s->set(name, {v, 0, 0, 0}, 1)
-                                : s->set_choice(name, value);
+    // A number, r,g,b,a (up to four numbers), or a named value.
+    hdrc::Vec4d v{0, 0, 0, 0};
+    int n = 0;
+    std::stringstream list(value);
+    for (std::string part; n >= 0 && std::getline(list, part, ',');) {
+      char* end = nullptr;
+      const double d = std::strtod(part.c_str(), &end);
+      if (part.empty() || end != part.c_str() + part.size() || n == 4)
+        n = -1;
+      else
+        v[n++] = d;
+    }
+    const hdrc::Status st = n > 0 ? s->set(name, v, n) : s->set_choice(name, value);
     EXPECT_TRUE(bool(st)) << b.file << ":" << b.line << ": " << name << "=" << value << ": "
                           << (st ? "" : st.error().message);
   }
@@ -248,6 +264,102 @@ Computed compute_pq_grading(const Block& b) {
   return computed_from(pqg::named_values(p, lut, input_of(b)));
 }
 
+// UE 5.5: options `stage=` (tonemap, the default; ui_composite; visualize_false_colour),
+// `ui=r,g,b,a` (ui_composite's premultiplied UI pixel), `r.*=` cvars, other NAME=VALUE settings (a
+// number, r,g,b,a, or a named value), resolved as a case of one pixel (reference/ue/cpp/resolve.h).
+// UE 5.5's parameter block for a block's options (`stage=` and `ui=` are returned, not applied).
+struct Ue55Options {
+  std::string stage = "tonemap";
+  std::array<double, 4> ui{0, 0, 0, 0};
+};
+ParamBlock ue55_params(const Block& b, Ue55Options* o) {
+  hdrc::Case c;
+  c.id = "spec";
+  c.stage = hdrc::find_stage("tonemap");
+  const std::string where = b.file + ":" + std::to_string(b.line);
+  auto numbers = [&](const std::string& text) {
+    std::vector<double> v;
+    std::stringstream list(text);
+    for (std::string part; std::getline(list, part, ',');) {
+      char* end = nullptr;
+      const double d = std::strtod(part.c_str(), &end);
+      if (part.empty() || end != part.c_str() + part.size()) return std::vector<double>{};
+      v.push_back(d);
+    }
+    return v;
+  };
+  for (const auto& [name, value] : b.options) {
+    const std::vector<double> v = numbers(value);
+    if (name == "stage") {
+      o->stage = value;
+    } else if (name == "ui") {
+      EXPECT_EQ(v.size(), 4u) << where << ": ui=" << value << " is not r,g,b,a";
+      for (size_t i = 0; i < 4 && i < v.size(); ++i) o->ui[i] = v[i];
+    } else if (name.rfind("r.", 0) == 0) {
+      EXPECT_EQ(v.size(), 1u) << where << ": " << name << "=" << value << " is not a number";
+      const hdrc::Status st = c.cvars.set(name, v.empty() ? 0.0 : v[0]);
+      EXPECT_TRUE(bool(st)) << where << ": " << name << ": " << (st ? "" : st.error().message);
+    } else {
+      hdrc::Vec4d x{0, 0, 0, 0};
+      for (size_t i = 0; i < 4 && i < v.size(); ++i) x[i] = v[i];
+      const hdrc::Status st = v.empty() ? c.settings.set_choice(name, value)
+                                        : c.settings.set(name, x, static_cast<int>(v.size()));
+      EXPECT_TRUE(bool(st)) << where << ": " << name << "=" << value << ": "
+                            << (st ? "" : st.error().message);
+    }
+  }
+  auto resolution = hdrc::ref::resolve(c, 1, 1);
+  if (!resolution) {
+    ADD_FAILURE() << where << ": " << resolution.error().message;
+    return {};
+  }
+  return resolution->params;
+}
+
+// UE 5.5: options `stage=` (tonemap, the default; ui_composite; visualize_false_colour),
+// `ui=r,g,b,a` (ui_composite's premultiplied UI pixel), `r.*=` cvars, other NAME=VALUE settings (a
+// number, r,g,b,a, or a named value), resolved as a case of one pixel (reference/ue/cpp/resolve.h).
+Computed compute_ue55(const Block& b) {
+  Ue55Options o;
+  const ParamBlock p = ue55_params(b, &o);
+  const std::string& stage = o.stage;
+  const std::array<double, 4>& ui = o.ui;
+  namespace ue55 = hdrc::ref::ue55;
+  if (stage == "tonemap") return computed_from(ue55::tonemap_named_values(p, input_of(b)));
+  if (stage == "ui_composite")
+    return computed_from(ue55::ui_composite_named_values(p, input_of(b), ui));
+  if (stage == "visualize_false_colour")
+    return computed_from(ue55::visualize_false_colour_named_values(p, input_of(b)));
+  ADD_FAILURE() << b.file << ":" << b.line << ": stage=" << stage
+                << ": valid: tonemap, ui_composite, visualize_false_colour";
+  return {};
+}
+
+// Unity URP: option `stage=` (color_grading, the default: the input is a scene colour; lut_texel:
+// the input is a lattice code), other NAME=VALUE settings (unity_urp_settings.h).
+Computed compute_unity_urp(const Block& b) {
+  namespace urp = hdrc::ref::unity_urp;
+  hdrc::SettingValues s(&hdrc::unity_urp_setting_table(), &hdrc::unity_urp_setting_choices);
+  Block settings = b;
+  std::string stage = "color_grading";
+  settings.options.clear();
+  for (const auto& o : b.options) {
+    if (o.first == "stage")
+      stage = o.second;
+    else
+      settings.options.push_back(o);
+  }
+  apply_settings(settings, &s);
+  ParamBlock p;
+  hdrc::derive_unity_urp(s, &p);
+  if (stage == "lut_texel") return computed_from(urp::texel_named_values(p, input_of(b)));
+  if (stage == "color_grading")
+    return computed_from(urp::named_values(p, urp::bake_lut_strip(p), input_of(b)));
+  ADD_FAILURE() << b.file << ":" << b.line << ": stage=" << stage
+                << ": valid: color_grading, lut_texel";
+  return {};
+}
+
 Computed compute_constants(const Block& b) {
   Computed c;
   ParamBlock p;
@@ -257,9 +369,12 @@ Computed compute_constants(const Block& b) {
     hdrc::SettingValues s(&pqg::pq_grading_setting_table(), &pqg::pq_grading_setting_choices);
     apply_settings(b, &s);
     pqg::derive_pq_grading(s, &p);
+  } else if (b.pipeline == "ue55") {
+    Ue55Options o;
+    p = ue55_params(b, &o);
   } else {
     ADD_FAILURE() << b.file << ":" << b.line << ": unknown pipeline '" << b.pipeline
-                  << "'; valid: operators, pq_grading";
+                  << "'; valid: operators, pq_grading, ue55";
     return c;
   }
   hdrc::for_each_param(p, [&](hdrc::FieldKind, const char* name, const auto& v) {
@@ -350,17 +465,24 @@ TEST(SpecPages, EveryWorkedPixelMatchesTheCode) {
       check_block(b, compute_pq_grading(b));
     else if (b.pipeline == "film_tonemap")
       check_block(b, compute_film_tonemap(b));
+    else if (b.pipeline == "ue55")
+      check_block(b, compute_ue55(b));
+    else if (b.pipeline == "unity_urp")
+      check_block(b, compute_unity_urp(b));
     else
       ADD_FAILURE() << b.file << ":" << b.line << ": unknown pipeline '" << b.pipeline
-                    << "'; valid: operators, pq_grading, film_tonemap";
+                    << "'; valid: operators, pq_grading, film_tonemap, ue55, unity_urp";
   }
-  // operators: one per operator; pq_grading: HDR and SDR; film_tonemap: one.
-  EXPECT_GE(pixels, 9);
+  // operators: one per operator; pq_grading: HDR and SDR; film_tonemap: one; ue55: one per stage
+  // and device path (docs/spec/ue55.md §15); unity_urp: each grading and tone-mapping mode, bake
+  // and lookup (docs/spec/unity_urp.md §9).
+  EXPECT_GE(pixels, 9 + 9 + 10);
 }
 
 // Each pipeline page has at least one worked pixel, and links the shared semantics page.
 TEST(SpecPages, EveryPipelinePageHasAWorkedPixelAndLinksTheSemantics) {
-  for (const char* page : {"operators.md", "pq_grading.md", "film_tonemap.md"}) {
+  for (const char* page :
+       {"operators.md", "pq_grading.md", "film_tonemap.md", "ue55.md", "unity_urp.md"}) {
     SCOPED_TRACE(page);
     ASSERT_TRUE(fs::exists(kSpecDir / page));
     int pixels = 0;
@@ -399,7 +521,11 @@ std::set<std::string> anchors_of(const fs::path& page) {
 // relative link resolves, to a heading where it names one, and no link or cited path is absolute.
 TEST(SpecPages, LinksStayInsideTheRepository) {
   std::vector<fs::path> pages = spec_pages();
-  for (const char* p : {"operators.md", "pq_grading.md", "candidate-protocol.md"})
+  // and the pages that cite sections of docs/spec/ue55.md and unity_urp.md by link.
+  for (const char* p :
+       {"operators.md", "pq_grading.md", "candidate-protocol.md", "unity_urp.md",
+        "ue55-decisions.md", "unity_urp-spec.md", "ue55-lut-blend-spec.md", "diff-metrics.md",
+        "cases.md", "candidates/combine_luts.md", "candidates/dither.md", "candidates/tonemap.md"})
     pages.push_back(kRoot / "docs" / p);
   const std::regex link(R"(\]\(([^)#\s]*)(#[^)\s]*)?\))");
   for (const fs::path& page : pages) {

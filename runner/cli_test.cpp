@@ -44,7 +44,7 @@ TEST(Cli, HelpExplainsOptionsAndExitCodes) {
   EXPECT_NE(run("run --help").out.find("--shader-dir"), std::string::npos);
 }
 
-// The cvar table lists every cvar with its default and range (spec §10 defaults).
+// The cvar table lists every cvar with its default and range (docs/spec/ue55.md §10 defaults).
 TEST(Cli, CvarTableListsDefaultsAndRanges) {
   const Ran r = run("cvars");
   EXPECT_EQ(r.code, 0);

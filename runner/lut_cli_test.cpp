@@ -882,7 +882,7 @@ TEST_F(LutCli, ApplyAgreesWithOpenColorIO) {
 // ---------------------------------------------------------------------------------------------
 // The strip as engines sample it, and interpolation error against the generating formulas.
 
-// UE's UnwrappedTexture3DSample / Unity's ApplyLut2D on the strip (docs/unity_urp-spec.md §5.3):
+// UE's UnwrappedTexture3DSample / Unity's ApplyLut2D on the strip (docs/spec/unity_urp.md §5.3):
 // slice s = floor(b (N-1)), a bilinear tap in slice s and one in slice s+1 (clamped to the
 // strip), blended by the fraction. Hardware bilinear on texel centres: (r (N-1), g (N-1)) within
 // the slice, clamp-to-edge. Written from the pixel layout alone, on the image OpenImageIO reads.

@@ -197,7 +197,7 @@ TEST(Pipelines, CoverageIsCompletePerPipeline) {
 
 // `probe --pipeline NAME` sends colours through that pipeline's reference: Reinhard's x/(1+x)
 // and Narkowicz's fit at hand-computed values, Unity's default HDR grading with the ACES tone
-// map at 18 % grey (docs/unity_urp-spec.md §6.6: 0.1101979, 0.1101635, 0.1101414 for the bake's
+// map at 18 % grey (docs/spec/unity_urp.md §6.6: 0.1101979, 0.1101635, 0.1101414 for the bake's
 // own lattice point; the lookup interpolates LogC-spaced texels).
 TEST(Pipelines, ProbePerPipeline) {
   const fs::path dir = temp_dir("probe_pipeline");

@@ -13,9 +13,8 @@
 #include <sstream>
 
 #include "color/d3d_math.h"
+#include "core/named_value.h"
 #include "core/pipeline.h"
-#include "reference/operators/operators.h"
-#include "reference/pq_grading/pq_grading.h"
 #include "reference/reference_engine.h"
 #include "reference/ue/combine_luts.h"
 #include "reference/ue/cpp/resolve.h"
@@ -201,12 +200,15 @@ Status run_pipeline_probe(const Pipeline& pipeline, const ProbeOptions& o, std::
     return Error{
         "--set", o.set.front(), "pipeline " + std::string(pipeline.name) + " has no cvars",
         "--setting NAME=VALUE (hdrconform cvars --pipeline " + std::string(pipeline.name) + ")"};
-  const bool named = pipeline.name == "operators" || pipeline.name == "pq_grading";
-  if (o.json && !named)
+  if (o.json && !pipeline.named_values) {
+    std::string named = "ue55";
+    for (const Pipeline* p : pipeline_table())
+      if (p->named_values) named += ", " + std::string(p->name);
     return Error{"--json", "",
                  "JSON output is for the pipelines whose specification names each intermediate "
                  "value",
-                 "--pipeline ue55, operators or pq_grading; plain \"R G B\" lines"};
+                 "--pipeline " + named + "; plain \"R G B\" lines"};
+  }
   for (const std::string& kv : o.setting)
     if (Status st = parse_probe_setting(kv, &c.settings); !st) return st;
   // The user LUT (docs/cases.md): required where the stage takes one, refused elsewhere.
@@ -262,16 +264,14 @@ Status run_pipeline_probe(const Pipeline& pipeline, const ProbeOptions& o, std::
   }
   if (o.json) {
     // Every named intermediate value of docs/spec/<pipeline>.md (its worked pixels' rows), from
-    // the reference's own stage functions; "out" is the value the plain output prints.
-    ref::pq_grading::StripLut lut;
-    if (pipeline.name == "pq_grading") lut = ref::pq_grading::strip_lut(rc.user_luts[0], rc.params);
+    // the reference's own stage functions (Pipeline::named_values); "out" is the value the plain
+    // output prints.
+    const std::vector<std::vector<NamedValue>> all = pipeline.named_values(rc, colours);
     nlohmann::ordered_json rows = nlohmann::ordered_json::array();
-    for (size_t i = 0; i < colours.size(); ++i) {
-      const std::vector<ref::NamedValue> values =
-          pipeline.name == "pq_grading" ? ref::pq_grading::named_values(rc.params, lut, colours[i])
-                                        : ref::operators::named_values(rc.params, colours[i]);
+    for (size_t i = 0; i < colours.size() && i < all.size(); ++i) {
+      const std::vector<NamedValue>& values = all[i];
       nlohmann::ordered_json v = nlohmann::ordered_json::object();
-      for (const ref::NamedValue& n : values) {
+      for (const NamedValue& n : values) {
         nlohmann::ordered_json numbers_json = nlohmann::ordered_json::array();
         for (double x : n.v) numbers_json.push_back(json_number(x));
         v[n.name] = n.v.size() == 1 ? numbers_json[0] : numbers_json;

@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
-"""A port of docs/spec/film_tonemap.md, operators.md and pq_grading.md written from those pages
-alone (their formulas, constants and the matrices they print), in plain Python float64, checked
-against the pages' own worked pixels (issue 28: a port from the docs must be possible).
+"""A port of docs/spec/film_tonemap.md, operators.md, pq_grading.md and ue55.md's device-3 path
+(the ACES 1.3 PQ output at UE's default grading, its §15.1 worked pixels: the porter's exercise)
+written from those pages alone (their formulas, constants, the matrices and the parameter block
+they print), in plain Python float64, checked against the pages' own worked pixels (issue 28: a
+port from the docs must be possible).
 
 It shares nothing with the C++ reference: reference/spec_worked_pixels_test.cpp checks the pages
 against the code, this checks that the pages say enough to reproduce them. Every value of every
@@ -230,15 +232,93 @@ def pq_grading(opts, inp):
     tr.update(display=d, out=[enc(v) for v in d])
     return tr
 
+# --- UE 5.5, device 3/4 (ACES, ST 2084) at UE's default grading (ue55.md §15.1) ---
+def ue_mat(label):  # a `[a, b, c; d, e, f; g, h, i]` matrix of ue55.md after "* LABEL"
+    text = open(f'{ROOT}/docs/spec/ue55.md').read()
+    i = text.index('* ' + label)
+    nums = re.findall(r'-?\d+\.\d+', text[text.index('`[', i):text.index(']`', i)])
+    return [[float(nums[3 * r + c]) for c in range(3)] for r in range(3)]
+def f32(x): return struct.unpack('f', struct.pack('f', x))[0]  # the CPU's floats, printed with 9 digits
+UE_AP1_2_XYZ, UE_XYZ_2_AP1 = ue_mat('AP1→XYZ:'), ue_mat('XYZ→AP1:')
+UE_AP0_2_AP1 = ue_mat('AP0→AP1 (')
+UE_AP1_Y = UE_AP1_2_XYZ[1]
+UE_WIDE_2_XYZ = ue_mat('Wide→XYZ (')
+UE_EXPAND = mm(mm(UE_XYZ_2_AP1, UE_WIDE_2_XYZ), ue_mat('AP1→sRGB ='))
+UE_OUT = {2: ue_mat('AP1→Rec2020 ='), 0: ue_mat('AP1→sRGB ='), 1: ue_mat('AP1→P3-D65 =')}
+def cubic_basis_shaper(x, w):
+    M = [[-1 / 6, 3 / 6, -3 / 6, 1 / 6], [3 / 6, -6 / 6, 3 / 6, 0], [-3 / 6, 0, 3 / 6, 0],
+         [1 / 6, 4 / 6, 1 / 6, 0]]
+    if x <= -w / 2 or x >= w / 2: return 0.0
+    kc = (x + w / 2) * 4 / w; j = math.floor(kc); t = kc - j; m = (t ** 3, t * t, t, 1.0)
+    return 1.5 * sum(m[k] * M[k][3 - j] for k in range(4))
+def ue55(opts, inp, const):
+    if set(opts) - {'r.HDR.EnableHDROutput', 'r.HDR.Display.OutputDevice',
+                    'r.HDR.Display.ColorGamut'} or opts.get('r.HDR.Display.OutputDevice') not in ('3', '4'):
+        return None  # only the ACES PQ devices at UE's default settings are ported
+    C = {k: [f32(x) for x in v] for k, v in const.items()}
+    m3 = lambda k: [C[k][3 * r:3 * r + 3] for r in range(3)]
+    mn_x, mn_y, mx_x, mx_y = C['aces_min_max']; md_x, md_y, md_s = C['aces_mid'][:3]
+    lo = C['aces_coefs_low_0'] + C['aces_coefs_low_4'] * 2
+    hi = C['aces_coefs_high_0'] + C['aces_coefs_high_4'] * 2
+    def ssts(x):  # §5.2
+        lx = math.log10(max(x, 1e-10))
+        def seg(a, b, c):
+            kc = 3 * (lx - math.log10(a)) / (math.log10(b) - math.log10(a)); j = int(kc); t = kc - j
+            c0, c1, c2 = c[j:j + 3]
+            return t * t * (0.5 * c0 - c1 + 0.5 * c2) + t * (c1 - c0) + 0.5 * (c0 + c1)
+        if lx <= math.log10(mn_x): ly = math.log10(mn_y)
+        elif lx < math.log10(md_x): ly = seg(mn_x, md_x, lo)
+        elif lx < math.log10(mx_x): ly = seg(md_x, mx_x, hi)
+        else: ly = math.log10(mx_y)
+        return 10 ** ly
+    tr = dict(input=inp, exposed=inp)  # the centre pixel, exposure 1 (§15)
+    enc = [pq(x * 100) for x in inp]; dec = [pq_inv(e) / 100 for e in enc]  # §6.1 step 7, §4.3
+    tr.update(encoded=enc, decoded=dec, white_balanced=dec)  # 6500 K / 0: skipped (§4.4)
+    ap1 = mul(m3('wcs_to_ap1'), dec)
+    luma = sum(a * b for a, b in zip(ap1, UE_AP1_Y))  # §4.5
+    d2 = sum((c / luma - 1) ** 2 for c in ap1) if luma else 0.0
+    amt = (1 - 2 ** (-4 * d2)) * (1 - 2 ** (-4 * 1.0 * luma * luma)) if luma else 0.0
+    ex = [lerp(a, b, amt) for a, b in zip(ap1, mul(UE_EXPAND, ap1))]
+    tr.update(ap1=ap1, expanded=ex, color_corrected=ex)  # ColorCorrectAll at its defaults (§4.6)
+    graded = mul(m3('wcs_from_ap1'), ex)  # §4.7, no fade
+    scm = C['aces_scene_color_multiplier'][0]
+    aces = mul(m3('wcs_to_ap0'), [x * scm for x in graded])  # §5.1 (GamutCompression 0)
+    sat = rgb_2_saturation(aces); yc = rgb_2_yc(aces)  # rrt_sweeteners: glow
+    glow = 1 + glow_fwd(yc, 0.05 * sigmoid_shaper((sat - 0.4) / 0.2), 0.08)
+    a = [x * glow for x in aces]
+    w = cubic_basis_shaper(center_hue(rgb_2_hue(a), 0), 135)
+    a[0] += w * sat * (0.03 - a[0]) * (1 - 0.82)
+    a = [fmin(fmax(x, 0.0), 65535.0) for x in a]
+    pre = [fmin(fmax(x, 0.0), 65504.0) for x in mul(UE_AP0_2_AP1, a)]
+    y = sum(p * q for p, q in zip(pre, UE_AP1_Y)); pre = [lerp(y, x, 0.96) for x in pre]
+    post = [ssts(x) for x in pre]
+    lin = [(x - mn_y) / (mx_y - mn_y) for x in post]  # §5.1 steps 3-7
+    xyz = mul(UE_AP1_2_XYZ, lin)
+    xyz = mul(UE_AP1_2_XYZ, [fmin(fmax(x, 0.0), 1.0) for x in mul(UE_XYZ_2_AP1, xyz)])
+    lin = [fmin(fmax(x, 0.0), 65535.0) for x in mul(UE_XYZ_2_AP1, xyz)]
+    nits = [fmin(fmax(x * mx_y, 0.0), 65535.0) for x in lin]
+    dev = [pq(x) for x in mul(UE_OUT[int(opts.get('r.HDR.Display.ColorGamut', '0'))], nits)]  # §4.12
+    tr.update(graded=graded, aces=aces, rrt=pre, ssts=post, linear_cv=lin, aces_nits=nits,
+              device=dev, stored=[x / 1.05 for x in dev], lut=dev, out=dev)
+    return tr
+
 worst, n, bad, where = 0.0, 0, 0, None
-for page, fn in (('film_tonemap.md', None), ('operators.md', operators), ('pq_grading.md', pq_grading)):
+UE_CONST = [b for b in blocks('ue55.md') if b['kind'] == 'spec-constants'][0]
+ported = 0
+for page, fn in (('film_tonemap.md', None), ('operators.md', operators), ('pq_grading.md', pq_grading),
+                 ('ue55.md', ue55)):
     for b in blocks(page):
         if b['kind'] != 'worked-pixel': continue
         inp = b['rows']['input']
         if fn is None:
             tr = {'input': inp}; tr['out'] = film(inp, b['opts'].get('FilmPreset', 'Default'), tr)
+        elif fn is ue55:
+            if b['opts'] != UE_CONST['opts']: continue  # another case than the constants' (§15.1)
+            tr = ue55(b['opts'], inp, UE_CONST['rows'])
+            if tr is None: continue
         else:
             tr = fn(b['opts'], inp)
+        ported += 1
         for name, doc in b['rows'].items():
             got = tr.get(name)
             if got is None or len(got) != len(doc):
@@ -254,5 +334,6 @@ for page, fn in (('film_tonemap.md', None), ('operators.md', operators), ('pq_gr
                 if rel > worst: worst = rel; where = (page, b['opts'], name, d, c)
                 if rel > 6e-9:
                     print('MISMATCH', page, b['opts'], name, d, c, rel); bad += 1
-print(f'{n} values compared, {bad} mismatches; largest relative difference {worst:.3g} at {where}')
+print(f'{ported} worked pixels, {n} values compared, {bad} mismatches; largest relative difference '
+      f'{worst:.3g} at {where}')
 sys.exit(1 if bad or n == 0 else 0)

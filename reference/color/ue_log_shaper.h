@@ -1,6 +1,6 @@
 // UE's log shaper for the SDR LUT (devices 0–2) and the linear↔nits scale of the PQ shaper.
-// UE: Engine/Shaders/Private/TonemapCommon.ush — LogToLin, LinToLog, LinearToNitsScale (spec §3.2,
-// §3.4).
+// UE: Engine/Shaders/Private/TonemapCommon.ush — LogToLin, LinToLog, LinearToNitsScale
+// (docs/spec/ue55.md §3.2, §3.4).
 #pragma once
 
 #include <cmath>

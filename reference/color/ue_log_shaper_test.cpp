@@ -1,4 +1,5 @@
-// UE's log shaper against values derived by hand from TonemapCommon.ush's formulas (spec §13).
+// UE's log shaper against values derived by hand from TonemapCommon.ush's formulas
+// (docs/spec/ue55.md §13).
 #include "reference/color/ue_log_shaper.h"
 
 #include <gtest/gtest.h>

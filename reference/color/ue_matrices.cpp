@@ -182,7 +182,7 @@ const Chromaticities* working_color_space_chromaticities(int preset) {
 
 namespace {
 // SceneManagement.cpp: FDefaultWorkingColorSpaceUniformBuffer::Update and ColorSpace.cpp:
-// FColorSpace / FColorSpaceTransform (spec §2.3).
+// FColorSpace / FColorSpaceTransform (docs/spec/ue55.md §2.3).
 WorkingColorSpace build(const Chromaticities& c, bool is_srgb) {
   WorkingColorSpace w;
   w.chroma = c;

@@ -1,4 +1,4 @@
-// Colour matrices exactly as UE 5.5 uses them (spec §2).
+// Colour matrices exactly as UE 5.5 uses them (docs/spec/ue55.md §2).
 //
 // Two kinds, never confused (STYLE.md habit 2):
 //  * ue_literal::*  — the truncated literals of UE's shaders (Engine/Shaders/Private/ACES.ush and
@@ -14,8 +14,8 @@
 namespace hdrc::ref {
 
 namespace ue_literal {
-// ACES.ush literals as UE 5.3.2 and 5.5.1 write them (10 decimals; spec §2.1 erratum in
-// docs/ue55-decisions.md).
+// ACES.ush literals as UE 5.3.2 and 5.5.1 write them (10 decimals; docs/spec/ue55.md §2.1 erratum
+// in docs/ue55-decisions.md).
 extern const Mat3 kAp0ToXyz;      // AP0_2_XYZ_MAT
 extern const Mat3 kXyzToAp0;      // XYZ_2_AP0_MAT
 extern const Mat3 kAp1ToXyz;      // AP1_2_XYZ_MAT
@@ -33,7 +33,7 @@ extern const Mat3 kD60ToD65Cat;   // D60_2_D65_CAT
 extern const Vec3 kAp1RgbToY;     // AP1_RGB2Y (row 1 of AP1_2_XYZ_MAT)
 }  // namespace ue_literal
 
-// EDisplayColorGamut (spec §7.3).
+// EDisplayColorGamut (docs/spec/ue55.md §7.3).
 enum class OutputGamut : int {
   kSrgbD65 = 0,
   kDciP3D65 = 1,
@@ -45,7 +45,8 @@ inline constexpr int kOutputGamutCount = 5;
 const char* output_gamut_name(int gamut);
 
 // TonemapCommon.ush: OuputGamutMappingMatrix(OutputGamut) — AP1 to the output gamut as a product
-// of the literals, evaluated in double (spec §2.2). Values outside 0–4 fall back to AP1→sRGB.
+// of the literals, evaluated in double (docs/spec/ue55.md §2.2). Values outside 0–4 fall back to
+// AP1→sRGB.
 Mat3 ap1_to_output_gamut(int gamut);
 
 struct Chromaticities {
@@ -65,7 +66,8 @@ Mat3 rgb_to_xyz(const Chromaticities& c);
 // matrix).
 Mat3 bradford(const Vec3& src_white_xyz, const Vec3& dst_white_xyz);
 // Src RGB → Dst RGB with Bradford adaptation unless the two white XYZ (RGB→XYZ · (1, 1, 1)) agree
-// within 1e-7 per component (ColorSpace.cpp: CalcColorSpaceTransformMatrix, spec §2.3).
+// within 1e-7 per component (ColorSpace.cpp: CalcColorSpaceTransformMatrix, docs/spec/ue55.md
+// §2.3).
 Mat3 rgb_to_rgb(const Chromaticities& src, const Chromaticities& dst);
 }  // namespace standard
 
@@ -90,8 +92,8 @@ const char* working_color_space_name(int preset);
 const Chromaticities* working_color_space_chromaticities(int preset);
 
 // The WorkingColorSpace uniform buffer as UE 5.5's CPU fills it (SceneManagement.cpp:
-// FDefaultWorkingColorSpaceUniformBuffer::Update, spec §2.3): built in double from chromaticities,
-// cast to float; FromAP1 is the inverse of the float ToAP1, cast to float.
+// FDefaultWorkingColorSpaceUniformBuffer::Update, docs/spec/ue55.md §2.3): built in double from
+// chromaticities, cast to float; FromAP1 is the inverse of the float ToAP1, cast to float.
 struct WorkingColorSpace {
   Chromaticities chroma;
   Mat3 to_xyz, from_xyz, to_ap1, from_ap1, to_ap0;

@@ -1,4 +1,5 @@
-// UE's literal matrices vs matrices derived from primaries, and the products spec §2 prints.
+// UE's literal matrices vs matrices derived from primaries, and the products docs/spec/ue55.md §2
+// prints.
 #include "reference/color/ue_matrices.h"
 
 #include <gtest/gtest.h>
@@ -95,15 +96,15 @@ TEST(UeMatrices, OutputGamutProductsOfUe55Literals) {
 }
 
 // With the 10-digit CATs an AP1 grey stays grey in every output gamut (row sums 1 within 2e-10);
-// the 6-digit CATs of UE <= 5.0 drifted by up to 1.3e-4 (spec §2.1's numerical note, now an
-// erratum).
+// the 6-digit CATs of UE <= 5.0 drifted by up to 1.3e-4 (docs/spec/ue55.md §2.1's numerical note,
+// now an erratum).
 TEST(UeMatrices, NoGreyDriftWithUe55Literals) {
   for (int gamut = 0; gamut <= 2; ++gamut) {
     const Vec3 grey = hdrc::ref::ap1_to_output_gamut(gamut) * Vec3{1, 1, 1};
     for (int k = 0; k < 3; ++k) EXPECT_NEAR(grey[k], 1.0, 2e-10) << "gamut " << gamut;
   }
-  // AP1 -> sRGB of the literals is the working colour space's FromAP1 (spec §2.3), to the
-  // literals' 10 digits, and to the float cast of FromAP1.
+  // AP1 -> sRGB of the literals is the working colour space's FromAP1 (docs/spec/ue55.md §2.3), to
+  // the literals' 10 digits, and to the float cast of FromAP1.
   EXPECT_LT(max_abs_diff(hdrc::ref::ap1_to_output_gamut(0),
                          hdrc::ref::inverse(std_::rgb_to_rgb(std_::kSrgb, std_::kAp1))),
             1e-9);
@@ -111,7 +112,7 @@ TEST(UeMatrices, NoGreyDriftWithUe55Literals) {
   EXPECT_LT(max_abs_diff(hdrc::ref::ap1_to_output_gamut(0), wcs.from_ap1), 2e-7);
 }
 
-// Working colour space as UE's CPU builds it (spec §2.3).
+// Working colour space as UE's CPU builds it (docs/spec/ue55.md §2.3).
 TEST(UeMatrices, WorkingColorSpaceSrgb) {
   const auto wcs = hdrc::ref::make_working_color_space(std_::kSrgb);
   EXPECT_TRUE(wcs.is_srgb);

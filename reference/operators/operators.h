@@ -17,9 +17,9 @@
 // above ~1.8e19 (gpu/operators_shader_test.cpp).
 #pragma once
 
+#include "color/vec.h"
 #include "core/shader_interface.h"
 #include "reference/color/spirv_precision.h"
-#include "color/vec.h"
 #include "reference/ue/grading/film_tonemap.h"
 
 namespace hdrc::ref::operators {
@@ -83,7 +83,7 @@ inline constexpr NarkowiczFit kNarkowicz{};
 double aces_narkowicz(double x, double pre_scale = 1.0);
 
 // --- Unity's Neutral: Color.hlsl NeutralTonemap (Unity-Technologies/Graphics, commit
-// f115daf974a0e6696efa96b440cd015f41e0e090; docs/unity_urp-spec.md §2.6) ---
+// f115daf974a0e6696efa96b440cd015f41e0e090; docs/spec/unity_urp.md §2.6) ---
 
 inline constexpr RationalCurve kUnityNeutralCurve{0.2, 0.29, 0.24, 0.272, 0.02, 0.3};  // a..f
 inline constexpr double kUnityNeutralWhiteLevel = 5.3;                                 // whiteLevel

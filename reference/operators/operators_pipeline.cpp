@@ -90,6 +90,15 @@ Result<Image> reference(const ResolvedCase& c, bool /*analytic_lut: no LUT*/) {
   return out;
 }
 
+// Pipeline::named_values: docs/spec/operators.md's rows of each colour.
+std::vector<std::vector<NamedValue>> named_values_of(const ResolvedCase& c,
+                                                     const std::vector<Vec3>& colours) {
+  std::vector<std::vector<NamedValue>> out;
+  out.reserve(colours.size());
+  for (const Vec3& colour : colours) out.push_back(named_values(c.params, colour));
+  return out;
+}
+
 }  // namespace
 
 const Pipeline& operators_pipeline() {
@@ -110,6 +119,7 @@ const Pipeline& operators_pipeline() {
       // Measured per pixel, 2048x2048 minus 256x256, lavapipe (runner/budget.h).
       255,
       2500,
+      &named_values_of,
   };
   return pipeline;
 }

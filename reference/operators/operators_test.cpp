@@ -1,7 +1,7 @@
 // Tests for the classic tone-mapping operators (reference/operators). Expected values come from
 // outside the code under test: exact rational arithmetic on the published formulas (each value's
 // fraction is written beside it; computed with Python's fractions.Fraction), the papers' own
-// properties (Reinhard's white maps to 1, Hable's f(W) normalisation), docs/unity_urp-spec.md §6.4
+// properties (Reinhard's white maps to 1, Hable's f(W) normalisation), docs/spec/unity_urp.md §6.4
 // for Unity's Neutral, and UE's FilmToneMap presets restated from TonemapCommon.ush's comment.
 #include "reference/operators/operators.h"
 
@@ -13,8 +13,8 @@
 #include <vector>
 
 #include "reference/color/ue_matrices.h"
-#include "reference/ue/grading/film_tonemap.h"
 #include "reference/operators/operators_settings.h"
+#include "reference/ue/grading/film_tonemap.h"
 
 namespace {
 
@@ -102,7 +102,7 @@ TEST(AcesNarkowicz, PublishedValues) {
 // --- Unity Neutral ---
 
 TEST(UnityNeutral, SpecHandValues) {
-  // docs/unity_urp-spec.md §6.4 (9 decimals), ws = 1/N(5.3) = 1.313386135.
+  // docs/spec/unity_urp.md §6.4 (9 decimals), ws = 1/N(5.3) = 1.313386135.
   const struct {
     double x, out;
   } table[] = {{0, 0},

@@ -106,6 +106,18 @@ Result<Image> reference(const ResolvedCase& c, bool analytic_lut) {
   return out;
 }
 
+// Pipeline::named_values: docs/spec/pq_grading.md's rows of each colour, the strip unpacked once
+// (none without the case's user LUT: `reference` reports that error).
+std::vector<std::vector<NamedValue>> named_values_of(const ResolvedCase& c,
+                                                     const std::vector<Vec3>& colours) {
+  std::vector<std::vector<NamedValue>> out;
+  if (c.user_luts[0].data.empty()) return out;
+  const StripLut lut = strip_lut(c.user_luts[0], c.params);
+  out.reserve(colours.size());
+  for (const Vec3& colour : colours) out.push_back(named_values(c.params, lut, colour));
+  return out;
+}
+
 }  // namespace
 
 const Pipeline& pq_grading_pipeline() {
@@ -126,6 +138,7 @@ const Pipeline& pq_grading_pipeline() {
       // Measured per pixel, 2048x2048 minus 256x256, lavapipe (runner/budget.h).
       245,
       3400,
+      &named_values_of,
   };
   return pipeline;
 }

@@ -25,7 +25,8 @@ namespace hdrc::ref {
 
 namespace {
 
-// UE stores OutDeviceColor / 1.05 and the tonemapper multiplies by 1.05 again (spec §4.12).
+// UE stores OutDeviceColor / 1.05 and the tonemapper multiplies by 1.05 again (docs/spec/ue55.md
+// §4.12).
 constexpr double kLutScale = 1.05;
 
 grading::ColorCorrectZone zone(const std::array<double, 4>& sat, const std::array<double, 4>& con,
@@ -149,7 +150,7 @@ Vec3 combine_luts_texel(const ParamBlock& p, const Vec3& lattice, CombineLutsTra
     case 5:
     case 6: {
       t.aces_nits = aces::aces_output_transforms_1000(t.graded, p.wcs_to_ap0, aces_params(p));
-      // ScRGB devices (5/6) keep AP1: the tonemapper converts (spec §3.5).
+      // ScRGB devices (5/6) keep AP1: the tonemapper converts (docs/spec/ue55.md §3.5).
       t.device = pq_encode(device <= 4 ? to_output * t.aces_nits : t.aces_nits);
       break;
     }

@@ -1,6 +1,7 @@
-// CombineLUTs (PostProcessCombineLUTs.usf: CombineLUTsCommon, spec §4): the colour function of one
-// LUT texel, the bake of the whole LUT in its storage format and layout, and the tonemapper's
-// lookup into it (PostProcessTonemap.usf: ColorLookupTable, spec §6.1 step 7).
+// CombineLUTs (PostProcessCombineLUTs.usf: CombineLUTsCommon, docs/spec/ue55.md §4): the colour
+// function of one LUT texel, the bake of the whole LUT in its storage format and layout, and the
+// tonemapper's lookup into it (PostProcessTonemap.usf: ColorLookupTable, docs/spec/ue55.md §6.1
+// step 7).
 #pragma once
 
 #include <cstdint>
@@ -110,7 +111,7 @@ struct BakedLut {
 };
 
 // Bakes the LUT as the GPU does: volume texels at (i, j, k)/(N−1); 2-D texels with UE's
-// +1e-5/(N−1) bias on r and g from the 0.49999 half-texel trick (spec §4.2).
+// +1e-5/(N−1) bias on r and g from the 0.49999 half-texel trick (docs/spec/ue55.md §4.2).
 // `luts`: the user LUTs of the blend (combine_luts_texel).
 BakedLut bake_lut(const ParamBlock& p, const UeLutSet* luts = nullptr);
 
@@ -153,7 +154,7 @@ class LazyBakedLut {
   size_t baked_ = 0;
 };
 
-// The lattice coordinate of texel (r, g, b) for the layout (spec §4.2).
+// The lattice coordinate of texel (r, g, b) for the layout (docs/spec/ue55.md §4.2).
 Vec3 lattice_coordinate(int layout, int size, int r, int g, int b);
 
 // The tonemapper's lookup of an encoded colour (`ColorLookupTable` after the shaper encode):

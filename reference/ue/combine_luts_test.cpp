@@ -1,5 +1,5 @@
-// CombineLUTs against hand-derived values (spec §13), UE's quirks and properties over every
-// output device × gamut.
+// CombineLUTs against hand-derived values (docs/spec/ue55.md §13), UE's quirks and properties over
+// every output device × gamut.
 #include "reference/ue/combine_luts.h"
 
 #include <gtest/gtest.h>
@@ -7,8 +7,8 @@
 #include <cmath>
 
 #include "color/st2084.h"
-#include "reference/ue/lut_shaper.h"
 #include "reference/ue/cpp/resolve.h"
+#include "reference/ue/lut_shaper.h"
 
 namespace {
 

@@ -1,6 +1,6 @@
 // The shaper that maps scene-linear colour into CombineLUTs' [0, 1] lattice and back.
-// Encode: PostProcessTonemap.usf: ColorLookupTable (spec §6.1 step 7).
-// Decode: PostProcessCombineLUTs.usf: CombineLUTsCommon (spec §4.3).
+// Encode: PostProcessTonemap.usf: ColorLookupTable (docs/spec/ue55.md §6.1 step 7).
+// Decode: PostProcessCombineLUTs.usf: CombineLUTsCommon (docs/spec/ue55.md §4.3).
 #pragma once
 
 #include "color/d3d_math.h"
@@ -9,7 +9,8 @@
 
 namespace hdrc::ref {
 
-// Devices 3–9 (every HDR and linear device) use the PQ shaper; 0–2 the log shaper (spec §4.3).
+// Devices 3–9 (every HDR and linear device) use the PQ shaper; 0–2 the log shaper
+// (docs/spec/ue55.md §4.3).
 inline bool uses_pq_shaper(int output_device) {
   return output_device >= 3;
 }

@@ -1,11 +1,12 @@
-// The Tonemap pass (PostProcessTonemap.usf: TonemapCommonPS, spec §6.1) in double precision, and
-// its quantisation dither (step 10) as a separate stage: the dither's hash frac(sin(·)·493013)
-// amplifies sin's last-bit differences ~5e5 times, so it is judged on its own (docs/precision.md).
+// The Tonemap pass (PostProcessTonemap.usf: TonemapCommonPS, docs/spec/ue55.md §6.1) in double
+// precision, and its quantisation dither (step 10) as a separate stage: the dither's hash
+// frac(sin(·)·493013) amplifies sin's last-bit differences ~5e5 times, so it is judged on its own
+// (docs/precision.md).
 #pragma once
 
+#include "color/vec.h"
 #include "core/image.h"
 #include "core/shader_interface.h"
-#include "color/vec.h"
 #include "reference/ue/combine_luts.h"
 
 namespace hdrc::ref {
@@ -55,7 +56,7 @@ bool lazy_bake_pays(const ParamBlock& p, size_t pixels);
 double dither_grain(double u, double v);  // the uniform grain g in [0, 1)
 Image dither_image(const ParamBlock& p, const Image& in);
 
-// TonemapCommon.ush: ST2084ToScRGB for devices 5/6 (spec §3.5).
+// TonemapCommon.ush: ST2084ToScRGB for devices 5/6 (docs/spec/ue55.md §3.5).
 Vec3 st2084_to_scrgb(const Vec3& pq, double max_odt_nits);
 
 }  // namespace hdrc::ref

@@ -1,4 +1,4 @@
-// The Tonemap pass against hand-derived values (spec §6, §13).
+// The Tonemap pass against hand-derived values (docs/spec/ue55.md §6, §13).
 #include "reference/ue/tonemap.h"
 
 #include <gtest/gtest.h>
@@ -36,7 +36,7 @@ TEST(Tonemap, ScRgbGreyMatchesHandDerived) {
 
 // Device 7: the tonemapper decodes the LUT's PQ: a grey in AP1 output stays the graded grey, up to
 // the float working-colour-space round trip FromAP1·ToAP1 (≠ identity by ~3e-8: FromAP1 is the
-// float inverse of the float ToAP1, spec §2.3).
+// float inverse of the float ToAP1, docs/spec/ue55.md §2.3).
 TEST(Tonemap, LinearExrDecodesPq) {
   const Vec3 out = hdrc::ref::tonemap_centre_pixel(params(7, 4), {0.5, 0.5, 0.5}, nullptr);
   const auto p = params(7, 4);
@@ -87,8 +87,8 @@ TEST(Tonemap, DitherIsBoundedAndCentred) {
 namespace {
 
 // Bloom with a dirt mask: FinalLinear = S·exposure·vignette + Bloom·(1 + Dirt·Tint)·exposure·
-// vignette, Tint = BloomDirtMaskTint · BloomDirtMaskIntensity / BloomIntensity (spec §6.1 step 5).
-// Device 8 with the vignette off: 0.1 + 0.05·(1 + 0.5·0.5·1/0.675), by hand.
+// vignette, Tint = BloomDirtMaskTint · BloomDirtMaskIntensity / BloomIntensity (docs/spec/ue55.md
+// §6.1 step 5). Device 8 with the vignette off: 0.1 + 0.05·(1 + 0.5·0.5·1/0.675), by hand.
 TEST(Tonemap, BloomWithDirtMask) {
   hdrc::Case c;
   c.cvars.set("r.HDR.EnableHDROutput", 1);

@@ -15,9 +15,9 @@
 #include <functional>
 #include <string>
 
+#include "color/gamma_correction.h"
 #include "core/cube/cube.h"
 #include "core/cube/ocio_oracle.h"
-#include "color/gamma_correction.h"
 
 namespace {
 
@@ -27,8 +27,9 @@ using hdrc::ref::Vec3;
 
 const std::string kCubeDir = std::string(HDRC_SOURCE_DIR) + "/cases/lut/cube/";
 
-// A 16-point LUT from a per-channel formula, laid out as spec §2.9 describes the strip (texel
-// (r + 16 b, g) holds f((r, g, b)/15)), in double: the spec's "float-exact" texels.
+// A 16-point LUT from a per-channel formula, laid out as docs/ue55-lut-blend-spec.md §2.9 describes
+// the strip (texel (r + 16 b, g) holds f((r, g, b)/15)), in double: the spec's "float-exact"
+// texels.
 UeLutTexture strip_of(const std::function<Vec3(const Vec3&)>& f) {
   UeLutTexture t;
   t.texels.resize(256 * 16);

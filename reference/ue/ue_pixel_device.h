@@ -1,10 +1,10 @@
-// Device allowances for UE 5.5's per-pixel stages (the LUT shaper round trip, spec §4.3 / §6.1
-// step 7, and the linear devices 7/8, spec §4.12): the range of each output channel a conformant
-// Vulkan device may produce evaluating the GLSL port (gpu/shaders/lib/lut_shaper.glsl,
-// st2084.glsl, ue_log_shaper.glsl, matrix.glsl; gpu/shaders/stages/shaper.comp,
-// linear_device.comp) in float32, step by step with the bounds of the Vulkan precision table
-// (reference/color/spirv_precision.h; Vulkan spec, spirvenv-op-prec). docs/precision.md,
-// "Device allowances".
+// Device allowances for UE 5.5's per-pixel stages (the LUT shaper round trip, docs/spec/ue55.md
+// §4.3 / §6.1 step 7, and the linear devices 7/8, docs/spec/ue55.md §4.12): the range of each
+// output channel a conformant Vulkan device may produce evaluating the GLSL port
+// (gpu/shaders/lib/lut_shaper.glsl, st2084.glsl, ue_log_shaper.glsl, matrix.glsl;
+// gpu/shaders/stages/shaper.comp, linear_device.comp) in float32, step by step with the bounds of
+// the Vulkan precision table (reference/color/spirv_precision.h; Vulkan spec, spirvenv-op-prec).
+// docs/precision.md, "Device allowances".
 //
 // The steps follow the shader's own operation order (its PQ encode divides by the peak and
 // multiplies by a reciprocal, unlike UE's LinearToST2084 that pq_encode_on_device models), and
@@ -12,11 +12,11 @@
 // exact value (a conversion to float32 is correctly rounded: 0.5 ULP either way).
 #pragma once
 
+#include "color/vec.h"
 #include "core/image.h"
 #include "core/shader_interface.h"
 #include "core/stage.h"
 #include "reference/color/spirv_precision.h"
-#include "color/vec.h"
 
 namespace hdrc::ref::ue_device {
 

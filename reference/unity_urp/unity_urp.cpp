@@ -28,7 +28,8 @@ double lerp(double a, double b, double t) {
   return a + t * (b - a);
 }
 // HLSL smoothstep(a, b, x) = t² (3 − 2t), t = saturate((x − a)/(b − a)). With a = b the division
-// gives ±Inf (saturate: 1 or 0) or NaN (x = a: saturate(NaN) = 0 on D3D), spec §7.6.
+// gives ±Inf (saturate: 1 or 0) or NaN (x = a: saturate(NaN) = 0 on D3D), docs/spec/unity_urp.md
+// §7.6.
 double smoothstep(double a, double b, double x) {
   const double t = saturate((x - a) / (b - a));
   return t * t * (3.0 - 2.0 * t);
@@ -415,7 +416,8 @@ Vec3 saturation(const Vec3& c, const ParamBlock& p, bool aces) {
 
 Vec3 default_yrgb_curves(const Vec3& c, bool hdr) {
   // EvaluateCurve at t + kHalfPixel, twice (master, then R/G/B), on identity curves:
-  // clamp(t, 0, 127/128) (spec §4). HDR wraps them in FastTonemap / FastTonemapInvert.
+  // clamp(t, 0, 127/128) (docs/spec/unity_urp.md §4). HDR wraps them in FastTonemap /
+  // FastTonemapInvert.
   auto curve = [](double t) { return std::clamp(t, 0.0, kCurveCap); };
   if (!hdr) return {curve(c[0]), curve(c[1]), curve(c[2])};
   const double to = 1.0 / (max3(c) + 1.0);  // FastTonemap: c * rcp(Max3(c) + 1)
@@ -545,6 +547,81 @@ Vec3 apply_color_grading(const Image& strip, const ParamBlock& p, const Vec3& sc
   }
   // input = ApplyTonemap(input); ApplyLut2D (linear coordinates).
   return apply_lut_2d(strip, uber_tonemap(x, tonemap_mode(p)), p.urp_lut_params);
+}
+
+std::vector<NamedValue> texel_named_values(const ParamBlock& p, const Vec3& code) {
+  std::vector<NamedValue> out;
+  const bool hdr = grading_mode(p) == GradingMode::kHighDynamicRange;
+  const bool aces = grades_in_aces(p);
+  // The same steps, in the same order, as color_grade (HDR) and ldr_bake (LDR).
+  add_named(&out, "input", code);
+  Vec3 c = hdr ? linear_from_logc(code) : code;
+  add_named(&out, "decoded", c);
+  c = white_balance(c, p);
+  add_named(&out, "white_balanced", c);
+  c = contrast(c, p, aces);
+  add_named(&out, "contrast", c);
+  c = color_filter(c, p);
+  add_named(&out, "color_filtered", c);
+  c = split_toning(c, p, aces);
+  add_named(&out, "split_toned", c);
+  c = channel_mixer(c, p);
+  add_named(&out, "channel_mixed", c);
+  c = shadows_midtones_highlights(c, p, aces);
+  add_named(&out, "smh", c);
+  c = lift_gamma_gain(c, p);
+  add_named(&out, "lift_gamma_gain", c);
+  add_named(&out, "hsv", hsv_from_rgb(c));
+  c = hue_shift(c, p);
+  add_named(&out, "hue_shifted", c);
+  c = saturation(c, p, aces);
+  add_named(&out, "saturated", c);
+  c = default_yrgb_curves(c, hdr);
+  add_named(&out, "curves", c);
+  if (hdr) {
+    for (double& x : c) x = d3d::max_num(0.0, x);
+    add_named(&out, "graded", c);
+    if (tonemap_mode(p) == TonemapMode::kAces) add_named(&out, "aces", kAp1ToAp0 * c);
+    c = hdr_bake_tonemap(c, tonemap_mode(p));
+  } else {
+    c = saturate(c);
+  }
+  add_named(&out, "out", c);
+  Vec3 stored;
+  for (int i = 0; i < 3; ++i) stored[i] = quantize_texel(p.lut_format, c[i]);
+  add_named(&out, "stored", stored);
+  return out;
+}
+
+std::vector<NamedValue> named_values(const ParamBlock& p, const Image& strip, const Vec3& scene) {
+  std::vector<NamedValue> out;
+  add_named(&out, "input", scene);
+  Vec3 x = scene;
+  for (double& c : x) c *= p.urp_post_exposure;
+  add_named(&out, "exposed", x);
+  Vec3 uvw;
+  if (grading_mode(p) == GradingMode::kHighDynamicRange) {
+    const Vec3 logc = logc_from_linear(x);
+    add_named(&out, "logc", logc);
+    uvw = saturate(logc);
+  } else {
+    uvw = uber_tonemap(x, tonemap_mode(p));
+  }
+  add_named(&out, "uvw", uvw);
+  // ApplyLut2D's own steps (apply_lut_2d above).
+  const std::array<double, 4>& lp = p.urp_lut_params;
+  const double z = uvw[2] * lp[2];
+  const double shift = std::floor(z);
+  add_named(&out, "slice", shift);
+  add_named(&out, "slice_frac", z - shift);
+  const double u = uvw[0] * lp[2] * lp[0] + lp[0] * 0.5 + shift * lp[1];
+  const double v = uvw[1] * lp[2] * lp[1] + lp[1] * 0.5;
+  add_named(&out, "u", u);
+  add_named(&out, "v", v);
+  add_named(&out, "tap0", sample_bilinear(strip, u, v));
+  add_named(&out, "tap1", sample_bilinear(strip, u + lp[1], v));
+  add_named(&out, "out", apply_color_grading(strip, p, scene));
+  return out;
 }
 
 Image grade_image(const Image& input, const ParamBlock& p) {

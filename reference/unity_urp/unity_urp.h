@@ -1,32 +1,37 @@
 // Unity URP colour grading in double precision: the internal LUT bake (LutBuilderHdr /
 // LutBuilderLdr) and its application in the uber pass (Common.hlsl: ApplyColorGrading), SDR path.
-// Formulas: docs/unity_urp-spec.md §1-§6; every constant and formula cites the Unity file and
+// Formulas: docs/spec/unity_urp.md §1-§6; every constant and formula cites the Unity file and
 // function it comes from (Unity-Technologies/Graphics, Packages/com.unity.render-pipelines.*).
 //
 // Scope and decisions:
-//  * Desktop semantics: URP's `half`/`real` are fp32 on desktop D3D/Vulkan/GL (spec §7.2), so no
+//  * Desktop semantics: URP's `half`/`real` are fp32 on desktop D3D/Vulkan/GL
+//  (docs/spec/unity_urp.md §7.2), so no
 //    fp16 arithmetic is modelled; the shader constants are the float32 values derive_unity_urp
 //    computes (held exactly in the doubles of ParamBlock) and the HLSL literals are used as
 //    written.
-//  * Curves (ColorCurves) at their defaults only (spec §4): the secondary curves (hue/sat/lum vs
+//  * Curves (ColorCurves) at their defaults only (docs/spec/unity_urp.md §4): the secondary curves
+//  (hue/sat/lum vs
 //    sat, hue vs hue) are flat 0.5 textures, so satMult = (2 · 0.5)^3 = 1 and the hue offset is 0;
 //    the YRGB identity curves, baked to 128 texels holding i/128 and sampled bilinearly with clamp
 //    addressing at t + 1/256 (texel index 128 t), reduce to clamp(t, 0, 127/128). A non-default
 //    curve needs Unity's AnimationCurve (Hermite keys, weights) and fp16 texel storage, which are
 //    out of scope. The bilinear filter of the curve textures is taken as exact (real GPUs quantise
-//    the weight, commonly to 8 bits: up to 2^-16 in t for the identity curve; spec §7.4).
-//  * No user LUT (ColorLookup), no HDR output (spec §2.7): out of scope.
-//  * Mathf.GammaToLinearSpace is taken as sRGB below 1 and c^2.2 from 1 (spec §1, [U]).
+//    the weight, commonly to 8 bits: up to 2^-16 in t for the identity curve;
+//    docs/spec/unity_urp.md §7.4).
+//  * No user LUT (ColorLookup), no HDR output (docs/spec/unity_urp.md §2.7): out of scope.
+//  * Mathf.GammaToLinearSpace is taken as sRGB below 1 and c^2.2 from 1 (docs/spec/unity_urp.md §1,
+//  [U]).
 #pragma once
 
 #include <array>
 #include <functional>
 
+#include "color/vec.h"
 #include "core/device_precision.h"
 #include "core/image.h"
 #include "core/shader_interface.h"
 #include "reference/color/noise_range.h"
-#include "color/vec.h"
+#include "reference/named_values.h"
 
 namespace hdrc::ref::unity_urp {
 
@@ -128,7 +133,7 @@ double rotate_hue(double value, double low, double hi);
 double soft_light(double base, double blend);
 
 // ---------------------------------------------------------------------------------------------
-// Tone mapping (spec §2.6).
+// Tone mapping (docs/spec/unity_urp.md §2.6).
 
 // Color.hlsl: NeutralTonemap, per channel through the shared operator
 // (reference/operators/operators.h: operators::unity_neutral, which clamps negatives to 0).
@@ -144,9 +149,10 @@ Vec3 hdr_bake_tonemap(const Vec3& graded, TonemapMode mode);
 Vec3 uber_tonemap(const Vec3& x, TonemapMode mode);
 
 // ---------------------------------------------------------------------------------------------
-// The grade (spec §2.3 HDR `ColorGrade`, §3 LDR `FragLutBuilderLdr`), as the steps the shaders
-// run. `aces`: the HDR bake with _TONEMAP_ACES (ACES grading spaces, AP1 luminance). Each step is
-// public so tests can compose a variant of the grade with one step changed.
+// The grade (docs/spec/unity_urp.md §2.3 HDR `ColorGrade`, §3 LDR `FragLutBuilderLdr`), as the
+// steps the shaders run. `aces`: the HDR bake with _TONEMAP_ACES (ACES grading spaces, AP1
+// luminance). Each step is public so tests can compose a variant of the grade with one step
+// changed.
 
 GradingMode grading_mode(const ParamBlock& p);
 TonemapMode tonemap_mode(const ParamBlock& p);
@@ -188,7 +194,7 @@ Vec3 ldr_bake(const Vec3& code, const ParamBlock& p, const LogCParams& k = kUnit
 Vec3 lut_texel(const Vec3& code, const ParamBlock& p, const LogCParams& k = kUnityLogC);
 
 // ---------------------------------------------------------------------------------------------
-// The strip LUT (spec §2.1, §5.3).
+// The strip LUT (docs/spec/unity_urp.md §2.1, §5.3).
 
 // Color.hlsl: GetLutStripValue for texel (r, g, b) of an H-sized LUT: (r, g, b)/(H − 1), red the
 // column within slice b, green the row.
@@ -209,6 +215,17 @@ Vec3 apply_lut_2d(const Image& strip, const Vec3& uvw, const std::array<double, 
 // Common.hlsl: ApplyColorGrading without the user LUT: post exposure; HDR: ApplyLut2D of
 // saturate(LinearToLogC(x)); LDR: ApplyLut2D of ApplyTonemap(x). Input scene-linear Rec.709.
 Vec3 apply_color_grading(const Image& strip, const ParamBlock& p, const Vec3& scene_linear);
+
+// The named intermediate values of docs/spec/unity_urp.md's worked pixels
+// (reference/named_values.h; reference/spec_worked_pixels_test.cpp compares them), from the
+// functions above, step by step. texel_named_values: the bake of the texel at lattice code `code`
+// (each channel in [0, 1]): the grade's steps (LutBuilderHdr.shader: ColorGrade and Tonemap, or
+// LutBuilderLdr.shader: FragLutBuilderLdr), its "out" (lut_texel) and the value the texel stores
+// ("stored"). named_values: ApplyColorGrading of one scene colour on the stored strip (post
+// exposure, the lookup coordinate, ApplyLut2D's slice, taps and lerp); its "out" is
+// apply_color_grading's.
+std::vector<NamedValue> texel_named_values(const ParamBlock& p, const Vec3& code);
+std::vector<NamedValue> named_values(const ParamBlock& p, const Image& strip, const Vec3& scene);
 
 // Bakes the strip once and grades every pixel of `input` (rgb; alpha passes through).
 Image grade_image(const Image& input, const ParamBlock& p);

@@ -1,6 +1,6 @@
 // Unity URP's colour grading as a pipeline module ("unity_urp", core/pipeline.h): the internal LUT
 // bake (LutBuilderHdr / LutBuilderLdr) and the uber pass's ApplyColorGrading
-// (docs/unity_urp-spec.md, docs/unity_urp.md).
+// (docs/spec/unity_urp.md, docs/unity_urp.md).
 #include "reference/unity_urp/unity_urp_pipeline.h"
 
 #include <cmath>
@@ -97,13 +97,24 @@ Result<Image> reference(const ResolvedCase& c, bool /*analytic_lut*/) {
   return out;
 }
 
+// Pipeline::named_values: docs/spec/unity_urp.md's lookup rows (§9) of each colour through
+// ApplyColorGrading, on the strip baked once.
+std::vector<std::vector<NamedValue>> named_values_of(const ResolvedCase& c,
+                                                     const std::vector<Vec3>& colours) {
+  const Image strip = bake_lut_strip(c.params);
+  std::vector<std::vector<NamedValue>> out;
+  out.reserve(colours.size());
+  for (const Vec3& colour : colours) out.push_back(named_values(c.params, strip, colour));
+  return out;
+}
+
 }  // namespace
 
 const Pipeline& unity_urp_pipeline() {
   static const Pipeline pipeline{
       "unity_urp",
       "Unity URP colour grading",
-      "docs/unity_urp-spec.md",
+      "docs/spec/unity_urp.md",
       "URP's internal colour grading LUT (HDR and LDR grading, tone mapping None / Neutral / ACES, "
       "LUT sizes 16-65) and its application in the uber pass, from Unity-Technologies/Graphics",
       &unity_urp_stages,
@@ -117,6 +128,7 @@ const Pipeline& unity_urp_pipeline() {
       // Measured per pixel, 2048x2048 minus 256x256, lavapipe (runner/budget.h).
       235,
       2450,
+      &named_values_of,
   };
   return pipeline;
 }

@@ -67,7 +67,8 @@ const std::vector<SettingInfo>& unity_urp_setting_table() {
       {"ChannelMixer.blueOutGreenIn", 1, s(0), -200, 200, "urp_channel_mixer_blue.y"},
       {"ChannelMixer.blueOutBlueIn", 1, s(100), -200, 200, "urp_channel_mixer_blue.z"},
       // ShadowsMidtonesHighlights.cs: Vector4Parameter((1, 1, 1, 0)) trackballs (unbounded in C#;
-      // the editor's trackball gives rgb in [0, 1] and an offset slider w, spec §8 [U]: this suite
+      // the editor's trackball gives rgb in [0, 1] and an offset slider w, docs/spec/unity_urp.md
+      // §8 [U]: this suite
       // admits [-1, 2] per component) and MinFloatParameter limits (>= 0).
       {"ShadowsMidtonesHighlights.shadows", 4, kTrackball, -1, 2,
        "trackball (rgb, w offset): PrepareShadowsMidtonesHighlights: urp_shadows"},
@@ -117,7 +118,7 @@ namespace ref::unity_urp {
 
 float gamma_to_linear_space(float c) {
   // Mathf.GammaToLinearSpace (native; believed to be UnityCG.cginc GammaToLinearSpaceExact with
-  // c^2.2 from 1, spec §1 [U]).
+  // c^2.2 from 1, docs/spec/unity_urp.md §1 [U]).
   if (c <= 0.04045f) return c / 12.92f;
   if (c < 1.0f) return std::pow((c + 0.055f) / 1.055f, 2.4f);
   return std::pow(c, 2.2f);

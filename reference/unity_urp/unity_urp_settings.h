@@ -5,7 +5,7 @@
 // that shape the LUT (UniversalRenderPipelineAsset: colorGradingMode, colorGradingLutSize), and
 // the host derivation that turns them into the shader constants as the C# does
 // (ColorGradingLutPass.ExecutePass, UberPostProcessPass / PostProcessPass.SetupColorGrading,
-// ColorUtils.*), in float32 where the C# is float. Spec: docs/unity_urp-spec.md §1.
+// ColorUtils.*), in float32 where the C# is float. Spec: docs/spec/unity_urp.md §1.
 #pragma once
 
 #include <array>
@@ -33,8 +33,8 @@ void derive_unity_urp(const SettingValues& s, ParamBlock* p);
 namespace ref::unity_urp {
 
 // The host-side helpers of ColorUtils.cs and Mathf, in float32 as the C# evaluates them.
-// Mathf.GammaToLinearSpace (native; spec §1 [U]): c ≤ 0.04045: c/12.92; c < 1: ((c + 0.055)/
-// 1.055)^2.4; otherwise c^2.2.
+// Mathf.GammaToLinearSpace (native; docs/spec/unity_urp.md §1 [U]): c ≤ 0.04045: c/12.92; c < 1:
+// ((c + 0.055)/ 1.055)^2.4; otherwise c^2.2.
 float gamma_to_linear_space(float c);
 // ColorUtils.ColorBalanceToLMSCoeffs(temperature, tint).
 std::array<float, 3> color_balance_to_lms_coeffs(float temperature, float tint);

@@ -1,6 +1,6 @@
 // The double-precision reference of Unity URP's colour grading (reference/unity_urp/) against
 // numbers from outside it:
-//  * the hand values of docs/unity_urp-spec.md §6 (LogC, LogC^-1, ACEScc mid grey, the white
+//  * the hand values of docs/spec/unity_urp.md §6 (LogC, LogC^-1, ACEScc mid grey, the white
 //    balance table, Neutral, the ACES fit, the whole bake at default settings), each derived from
 //    the formulas as the comments say;
 //  * ARRI's published LogC3 EI 800 code for 18 % grey, and OpenColorIO 2.1's built-in ARRI LogC
@@ -209,7 +209,8 @@ TEST(UnityUrpHsv, TiesFollowHlslStep) {
 // q = (0.01, 0.002, 0, 0.005), d = 0.008, h = 0.003/(0.048 + 0.0001) = 0.0623701,
 // s = 0.008/0.0101 = 0.7920792, v = 0.01; back: r = v = 0.01,
 // g = v·(1 + s(6h − 1)) = 0.01·(1 − 0.79207921·0.62577963) = 0.0050433297,
-// b = v·(1 − s) = 0.002079208: the spec §6.6 LDR row (dark colours lose saturation).
+// b = v·(1 − s) = 0.002079208: the docs/spec/unity_urp.md §6.6 LDR row (dark colours lose
+// saturation).
 TEST(UnityUrpHsv, RoundTripIsNotIdentity) {
   const Vec3 c = urp::rgb_from_hsv(urp::hsv_from_rgb({0.01, 0.005, 0.002}));
   EXPECT_NEAR(c[0], 0.01, 1e-15);
@@ -402,13 +403,13 @@ TEST(UnityUrpTonemap, AcesFitTable) {
 // ODT's [0, 1] clip. Unity's output is clipped to [0, 1] the same way (the uber pass saturates in
 // LDR grading; an 8-bit target does in HDR grading).
 //
-// The residual is the fit itself (spec §6.5): Unity replaces the RRT's segmented spline c5 and the
-// ODT's c9 (48 nits) plus Y_2_linCV with one rational function of each AP1 channel, fitted by
-// Stephen Hill (BakingLab, via MJP); it clamps AP1 after the AP0 → AP1 matrix instead of AP0
-// before it, and rounds the matrices and AP1_RGB2Y to 6-10 digits. Measured (OCIO's float32 CPU
-// path): grey ramp 2^-8 .. 58.86: max 0.0128 linear at 2.35 (the fit is brighter in the upper
-// mid-tones: 0.110 vs 0.104 at 0.18, and reaches 1.0 near 25.7); colours (primaries, secondaries,
-// skin, pastels and saturated tints at 2^-6 .. 2^5): max 0.0198 (green x 8).
+// The residual is the fit itself (docs/spec/unity_urp.md §6.5): Unity replaces the RRT's segmented
+// spline c5 and the ODT's c9 (48 nits) plus Y_2_linCV with one rational function of each AP1
+// channel, fitted by Stephen Hill (BakingLab, via MJP); it clamps AP1 after the AP0 → AP1 matrix
+// instead of AP0 before it, and rounds the matrices and AP1_RGB2Y to 6-10 digits. Measured (OCIO's
+// float32 CPU path): grey ramp 2^-8 .. 58.86: max 0.0128 linear at 2.35 (the fit is brighter in the
+// upper mid-tones: 0.110 vs 0.104 at 0.18, and reaches 1.0 near 25.7); colours (primaries,
+// secondaries, skin, pastels and saturated tints at 2^-6 .. 2^5): max 0.0198 (green x 8).
 TEST(UnityUrpTonemap, AcesAgainstOpenColorIoSdrVideo) {
   auto bt = OCIO::BuiltinTransform::Create();
   bt->setStyle("ACES-OUTPUT - ACES2065-1_to_CIE-XYZ-D65 - SDR-VIDEO_1.0");
@@ -545,8 +546,8 @@ TEST(UnityUrpApply, LatticeExactAndTrilinear) {
 // near-identity default grade) at 0.1212181: 0.1810064, 0.56 % above 0.18 — linear interpolation
 // of an exponential with a step ratio of 10^(1/(31·0.244161)) = 1.356 (max error ln²(1.356)/8 =
 // 1.2 %), Unity's own behaviour at H = 32; the fp16 storage of the two nodes adds up to 5e-4.
-// LDR maps white to 253/255 (spec §6.6, the curve cap). Post exposure scales the input before
-// everything.
+// LDR maps white to 253/255 (docs/spec/unity_urp.md §6.6, the curve cap). Post exposure scales the
+// input before everything.
 TEST(UnityUrpApply, EndToEnd) {
   const ParamBlock hdr = defaults("HighDynamicRange", "None");
   Image in(3, 1);

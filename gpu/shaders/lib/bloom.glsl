@@ -1,5 +1,5 @@
 // Bloom with the bloom dirt mask: PostProcessTonemap.usf TonemapCommonPS, "Sample bloom" (desktop
-// path) (spec §6.1 step 5). Bloom = RawBloom · (1 + Dirt · BloomDirtMaskTint); the bloom is
+// path) (docs/spec/ue55.md §6.1 step 5). Bloom = RawBloom · (1 + Dirt · BloomDirtMaskTint); the bloom is
 // sampled at the pixel's buffer UV (ColorToBloom is the identity when bloom and scene share the
 // viewport), the dirt mask at LensUV · (1, −1) · 0.5 + 0.5. aux0 = bloom, aux1 = dirt mask; an
 // absent image has width 0 (UE binds black: RawBloom 0, Dirt 0 — the same sums for finite

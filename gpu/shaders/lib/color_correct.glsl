@@ -1,4 +1,4 @@
-// Nuke-style colour correction of the CombineLUTs pass (spec §4.6), in AP1:
+// Nuke-style colour correction of the CombineLUTs pass (docs/spec/ue55.md §4.6), in AP1:
 // PostProcessCombineLUTs.usf: ColorCorrect, ColorCorrectAll. Parameters are
 // FPostProcessSettings Color{Saturation,Contrast,Gamma,Gain,Offset}{,Shadows,Midtones,Highlights}
 // and ColorCorrection{ShadowsMax,HighlightsMin,HighlightsMax} (P.cc_*). Reference:

@@ -1,5 +1,5 @@
 // Colour fringe (chromatic aberration): PostProcessTonemap.usf TonemapCommonPS, USE_COLOR_FRINGE
-// (spec §6.1 step 1). P.fringe = (CAScale R, CAScale G, StartOffset, enabled) from the host
+// (docs/spec/ue55.md §6.1 step 1). P.fringe = (CAScale R, CAScale G, StartOffset, enabled) from the host
 // (ChromaticAberrationParams). Reference: reference/ue/tonemap.cpp, step 1.
 #ifndef HDRC_COLOR_FRINGE_GLSL
 #define HDRC_COLOR_FRINGE_GLSL

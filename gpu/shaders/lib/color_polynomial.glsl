@@ -1,4 +1,4 @@
-// The tail of CombineLUTs' grading (spec §4.10, §4.11): the r.Color.Min/Mid/Max mapping
+// The tail of CombineLUTs' grading (docs/spec/ue55.md §4.10, §4.11): the r.Color.Min/Mid/Max mapping
 // polynomial (PostProcessCommon.ush: ColorCorrection), the camera fade (View.ColorScale /
 // View.OverlayColor) and the film gamma (pow by InverseGamma.y), all in the linear working colour
 // space. The host computes the polynomial and InverseGamma as UE's C++ does

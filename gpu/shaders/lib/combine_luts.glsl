@@ -1,5 +1,5 @@
 // The colour function of one CombineLUTs texel (PostProcessCombineLUTs.usf: CombineLUTsCommon,
-// spec §4), composed from one file per concept, and the lattice coordinate of a texel (spec §4.2).
+// docs/spec/ue55.md §4), composed from one file per concept, and the lattice coordinate of a texel (docs/spec/ue55.md §4.2).
 // Reference: reference/ue/combine_luts.cpp (combine_luts_texel, lattice_coordinate).
 // Needs the generated interface ("hdrc/interface.glsl") included first.
 #ifndef HDRC_COMBINE_LUTS_GLSL
@@ -16,7 +16,7 @@
 #include "ue_lut_blend.glsl"
 #include "white_balance.glsl"
 
-// UE stores OutDeviceColor / 1.05 and the tonemapper multiplies by 1.05 again (spec §4.12).
+// UE stores OutDeviceColor / 1.05 and the tonemapper multiplies by 1.05 again (docs/spec/ue55.md §4.12).
 const float LUT_SCALE = 1.05;
 
 // OutDeviceColor for the lattice coordinate (each channel in [0, 1]) of P.output_device.
@@ -52,7 +52,7 @@ vec3 combine_luts_device_color(vec3 lattice) {
 // The value CombineLUTs stores for a lattice coordinate, before the storage format's rounding.
 vec3 combine_luts_texel(vec3 lattice) { return combine_luts_device_color(lattice) / LUT_SCALE; }
 
-// The neutral lattice coordinate of texel (r, g, b) of an N-edge LUT (spec §4.2):
+// The neutral lattice coordinate of texel (r, g, b) of an N-edge LUT (docs/spec/ue55.md §4.2):
 //  volume (layout 0): (r, g, b) / (N − 1)  (the compute shader's DispatchThreadId / (N − 1));
 //  2-D unwrapped (layout 1, N² × N): the pixel shader's UV = ((x, y) + 0.5) / (N², N), x = r + N·b,
 //  y = g, minus (0.49999/N², 0.49999/N) "to avoid getting into negative values"; r = frac(UV.x·N),

@@ -1,4 +1,4 @@
-// The Tonemap pass's quantisation dither (spec §6.1 step 10), in float32 as UE's shader computes
+// The Tonemap pass's quantisation dither (docs/spec/ue55.md §6.1 step 10), in float32 as UE's shader computes
 // it. Reference: reference/ue/tonemap.cpp (dither_grain, dither_image).
 // UE: PostProcessTonemap.usf (5.5) GrainFromUV, TonemapCommonVS (GrainUV.zw = TexCoord +
 // GrainRandomFull.xy), MainCS (UV = (DispatchThreadId + 0.5) * Color_ExtentInverse) and the end of

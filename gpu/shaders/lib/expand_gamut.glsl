@@ -1,4 +1,4 @@
-// "Fake wide gamut" (ExpandGamut) of the CombineLUTs pass (spec §4.5): bright saturated AP1
+// "Fake wide gamut" (ExpandGamut) of the CombineLUTs pass (docs/spec/ue55.md §4.5): bright saturated AP1
 // colours are pushed towards a gamut between P3 and AP1. PostProcessCombineLUTs.usf:
 // CombineLUTsCommon (docs/ue55-decisions.md D1). Reference: reference/ue/grading/expand_gamut.h.
 #ifndef HDRC_EXPAND_GAMUT_GLSL

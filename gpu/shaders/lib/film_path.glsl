@@ -1,4 +1,4 @@
-// The SDR film path of CombineLUTs (spec §4.8): blue correction, FilmToneMap, un-blue-correction,
+// The SDR film path of CombineLUTs (docs/spec/ue55.md §4.8): blue correction, FilmToneMap, un-blue-correction,
 // all in AP1, then FromAP1 and max(0, ·). PostProcessCombineLUTs.usf: CombineLUTsCommon and its
 // BlueCorrect / BlueCorrectInv literals (Toon_Engine, commit 2dc09e82;
 // docs/ue55-decisions.md D1). Reference: reference/ue/grading/film_tonemap.h (film_path_ap1,

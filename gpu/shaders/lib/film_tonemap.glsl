@@ -1,5 +1,5 @@
 // UE's SDR filmic curve, TonemapCommon.ush: FilmToneMap (izzy2lost/UnrealEngineUWP 5.5, commit
-// aff11acf0c218535669021f6e646b3bcf6ad94a5; spec §4.8), AP1 in, AP1 out (>= 0). The ACES RRT
+// aff11acf0c218535669021f6e646b3bcf6ad94a5; docs/spec/ue55.md §4.8), AP1 in, AP1 out (>= 0). The ACES RRT
 // helpers and constants it borrows from ACES.ush (rgb_2_saturation, rgb_2_yc, sigmoid_shaper,
 // glow_fwd, rgb_2_hue, center_hue, RRT_*, AP0_2_AP1_MAT, AP1_RGB2Y) come from aces_common.glsl.
 // Reference: reference/ue/grading/film_tonemap.h. Needs the generated interface included first

@@ -1,5 +1,5 @@
 // UE's display encodes of the SDR output devices, GammaCorrectionCommon.ush (chenyong2github/
-// UnrealEngine 5.0-era copy, commit 109c6a2d; spec §3.3): LinearToSrgbBranchingChannel (device 0,
+// UnrealEngine 5.0-era copy, commit 109c6a2d; docs/spec/ue55.md §3.3): LinearToSrgbBranchingChannel (device 0,
 // the desktop LinearToSrgb) and LinearTo709Branchless (device 1). Reference:
 // color/gamma_correction.h. Device 2's explicit gamma is pow_d3d by InverseGamma.z.
 #ifndef HDRC_GAMMA_CORRECTION_GLSL

@@ -1,4 +1,4 @@
-// The tonemapper's lookup into the baked LUT: PostProcessTonemap.usf ColorLookupTable (spec §6.1
+// The tonemapper's lookup into the baked LUT: PostProcessTonemap.usf ColorLookupTable (docs/spec/ue55.md §6.1
 // step 7): shaper encode, UVW = enc · LUTScale + LUTOffset, a hardware-filtered sample of the
 // volume LUT (Texture3DSample) or of the unwrapped 2-D LUT (PostProcessCommon.ush
 // UnwrappedTexture3DSample), times 1.05. The samplers are the interface's lut_3d / lut_2d (linear
@@ -32,7 +32,7 @@ vec3 sample_lut_unwrapped(vec3 uvw, float size) {
   return lerp_d3d(rg0, rg1, frac_w);
 }
 
-// OutDeviceColor = sample · 1.05 (CombineLUTs stored OutDeviceColor / 1.05, spec §4.12).
+// OutDeviceColor = sample · 1.05 (CombineLUTs stored OutDeviceColor / 1.05, docs/spec/ue55.md §4.12).
 vec3 color_lookup_table(vec3 final_linear) {
   vec3 encoded = lut_encode(P.output_device, final_linear);
   // A NaN coordinate (PQ of a negative or infinite channel: no max(0, ·) in 5.5, D6.1) selects no

@@ -1,5 +1,5 @@
 // The LUT shaper of the output device: encode as ColorLookupTable does (PostProcessTonemap.usf,
-// spec §6.1 step 7), decode as CombineLUTsCommon does (spec §4.3). Reference: reference/ue/lut_shaper.h.
+// docs/spec/ue55.md §6.1 step 7), decode as CombineLUTsCommon does (docs/spec/ue55.md §4.3). Reference: reference/ue/lut_shaper.h.
 #ifndef HDRC_LUT_SHAPER_GLSL
 #define HDRC_LUT_SHAPER_GLSL
 

@@ -1,4 +1,4 @@
-// CombineLUTs' device encodings (PostProcessCombineLUTs.usf: CombineLUTsCommon, spec §4.12;
+// CombineLUTs' device encodings (PostProcessCombineLUTs.usf: CombineLUTsCommon, docs/spec/ue55.md §4.12;
 // docs/ue55-decisions.md D1): OutDeviceColor for each EDisplayOutputFormat from the graded
 // colours. Reference: reference/ue/combine_luts.cpp (combine_luts_texel). Matrices come from the
 // parameter block: P.wcs_to_ap1 (WorkingColorSpace.ToAP1) and P.ap1_to_output
@@ -41,7 +41,7 @@ vec3 encode_explicit_gamma(vec3 film_gamma) {
 }
 
 // Devices 3-6: the ACES output transform's nits (AP1) PQ-encoded, in the output gamut for the
-// ST 2084 devices 3/4; the scRGB devices 5/6 keep AP1 (the tonemapper converts, spec §3.5).
+// ST 2084 devices 3/4; the scRGB devices 5/6 keep AP1 (the tonemapper converts, docs/spec/ue55.md §3.5).
 vec3 encode_aces_pq(int device, vec3 aces_nits_ap1) {
   return pq_from_nits(device <= 4 ? mul_rows(P.ap1_to_output, aces_nits_ap1) : aces_nits_ap1);
 }

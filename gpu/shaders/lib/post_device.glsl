@@ -1,5 +1,5 @@
 // The Tonemap pass's per-device post conversion of OutDeviceColor (PostProcessTonemap.usf
-// TonemapCommonPS, spec §6.1 step 9): devices 5/6 (ACES scRGB) ST2084ToScRGB, device 7
+// TonemapCommonPS, docs/spec/ue55.md §6.1 step 9): devices 5/6 (ACES scRGB) ST2084ToScRGB, device 7
 // (LinearEXR) ST2084ToLinear, every other device unchanged. Reference: reference/ue/tonemap.cpp
 // post_convert, st2084_to_scrgb.
 #ifndef HDRC_POST_DEVICE_GLSL

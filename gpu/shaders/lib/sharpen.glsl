@@ -1,5 +1,5 @@
 // Sharpen against the four neighbours: PostProcessTonemap.usf TonemapCommonPS, USE_SHARPEN, the
-// path without quad message passing (identical maths) (spec §6.1 step 2). Reference:
+// path without quad message passing (identical maths) (docs/spec/ue55.md §6.1 step 2). Reference:
 // reference/ue/tonemap.cpp, step 2.
 #ifndef HDRC_SHARPEN_GLSL
 #define HDRC_SHARPEN_GLSL

@@ -1,5 +1,5 @@
 // UE's sRGB decode, GammaCorrectionCommon.ush: sRGBToLinear (chenyong2github/UnrealEngine 5.0-era
-// copy, commit 109c6a2d; spec §3.3). Reference: color/gamma_correction.h srgb_to_linear.
+// copy, commit 109c6a2d; docs/spec/ue55.md §3.3). Reference: color/gamma_correction.h srgb_to_linear.
 #ifndef HDRC_SRGB_TO_LINEAR_GLSL
 #define HDRC_SRGB_TO_LINEAR_GLSL
 

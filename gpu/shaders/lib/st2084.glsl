@@ -1,5 +1,5 @@
 // SMPTE ST 2084 (PQ) as UE writes it: GammaCorrectionCommon.ush LinearToST2084 / ST2084ToLinear
-// (spec §3.1). Constants come from the generated interface (color/st2084.h).
+// (docs/spec/ue55.md §3.1). Constants come from the generated interface (color/st2084.h).
 #ifndef HDRC_ST2084_GLSL
 #define HDRC_ST2084_GLSL
 

@@ -1,5 +1,5 @@
 // The Tonemap pass up to FinalLinearColor: colour fringe, sharpen, vignette, tint and exposure,
-// bloom (PostProcessTonemap.usf TonemapCommonPS, spec §6.1 steps 1–5, in UE's order). Local
+// bloom (PostProcessTonemap.usf TonemapCommonPS, docs/spec/ue55.md §6.1 steps 1–5, in UE's order). Local
 // exposure is 1 (neither bilateral nor fusion local exposure is modelled, as the reference) and
 // there is no film-grain texture (step 6). Reference: reference/ue/tonemap.cpp tonemap_image.
 #ifndef HDRC_TONEMAP_EFFECTS_GLSL

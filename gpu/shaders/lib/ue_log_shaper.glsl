@@ -1,4 +1,4 @@
-// UE's log shaper (TonemapCommon.ush LogToLin / LinToLog, spec §3.2).
+// UE's log shaper (TonemapCommon.ush LogToLin / LinToLog, docs/spec/ue55.md §3.2).
 #ifndef HDRC_UE_LOG_SHAPER_GLSL
 #define HDRC_UE_LOG_SHAPER_GLSL
 

@@ -1,6 +1,6 @@
 // The HDR UI composite: CompositeUIPixelShader.usf (izzy2lost/UnrealEngineUWP 5.5, commit
 // 0ac46dcf): Main / CompositeUICS, ComputeHDRUIColor, ComputeHDRSceneColor, ComposeUIAndScene,
-// ApplyColorDeficiency, LinearizeColor with USE_LUT_FOR_UI = 0 and USE_709 undefined (spec §8,
+// ApplyColorDeficiency, LinearizeColor with USE_LUT_FOR_UI = 0 and USE_709 undefined (docs/spec/ue55.md §8,
 // docs/ue55-decisions.md D3, D8, D8a). Reference: reference/ue/ui/composite.cpp, whose header
 // documents r.HDR.UI.CompositeMode 0 (Slate's fixed-function blend, no composite shader).
 #ifndef HDRC_UI_COMPOSITE_GLSL

@@ -1,5 +1,5 @@
 // Vignette (cosine-fourth law): TonemapCommon.ush VignetteSpace and ComputeVignetteMask, called
-// from PostProcessTonemap.usf TonemapCommonVS / TonemapCommonPS (spec §6.1 step 3). Reference:
+// from PostProcessTonemap.usf TonemapCommonVS / TonemapCommonPS (docs/spec/ue55.md §6.1 step 3). Reference:
 // reference/ue/tonemap.cpp, step 3.
 #ifndef HDRC_VIGNETTE_GLSL
 #define HDRC_VIGNETTE_GLSL

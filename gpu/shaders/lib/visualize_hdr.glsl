@@ -1,5 +1,5 @@
 // VisualizeHDR's per-pixel output, PostProcessVisualizeHDR.usf: MainPS (izzy2lost/UnrealEngineUWP
-// 5.5, commit 39bb2572; spec §9; docs/ue55-decisions.md D9 and D-S2 item 5, which override the
+// 5.5, commit 39bb2572; docs/spec/ue55.md §9; docs/ue55-decisions.md D9 and D-S2 item 5, which override the
 // spec where they differ), in MainPS's order: the luminance meter and the illuminance meter return
 // early; then the background by r.EyeAdaptation.VisualizeDebugType; then the histogram panel.
 // Reference: reference/ue/visualize/visualize_hdr.cpp visualize_hdr (per pixel, the loop body).

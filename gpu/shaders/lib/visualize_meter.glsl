@@ -1,4 +1,4 @@
-// VisualizeHDR's meters (PostProcessVisualizeHDR.usf: MainPS, 5.5 commit 39bb2572; spec §9,
+// VisualizeHDR's meters (PostProcessVisualizeHDR.usf: MainPS, 5.5 commit 39bb2572; docs/spec/ue55.md §9,
 // docs/ue55-decisions.md D9, D-S2 item 5): the luminance meter averages 21×21 bilinear samples at
 // UVViewportCenter + offset · ExtentInverse, the illuminance meter 16×16 samples (offsets −8..7)
 // around (centre − (0, 100)) · ExtentInverse; the pass's sampler is bilinear with clamp

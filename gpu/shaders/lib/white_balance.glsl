@@ -1,4 +1,4 @@
-// White balance of the CombineLUTs pass (spec §4.4): TonemapCommon.ush: WhiteBalance, applied in
+// White balance of the CombineLUTs pass (docs/spec/ue55.md §4.4): TonemapCommon.ush: WhiteBalance, applied in
 // PostProcessCombineLUTs.usf: CombineLUTsCommon unless the SKIP_TEMPERATURE permutation is chosen
 // (PostProcessCombineLUTs.cpp: 6500 K and tint 0). The host builds the whole matrix, FromXYZ · CA ·
 // ToXYZ, as UE's C++ and shader do it (reference/ue/grading/white_balance.h); the shader only applies

@@ -1,6 +1,6 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// Stage "dither": the Tonemap pass's quantisation dither added to the input image (spec §6.1 step
+// Stage "dither": the Tonemap pass's quantisation dither added to the input image (docs/spec/ue55.md §6.1 step
 // 10); alpha passes through. Reference: reference/ue/tonemap.cpp (dither_image).
 #include "hdrc/interface.glsl"
 #include "../lib/dither.glsl"

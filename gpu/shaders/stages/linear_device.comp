@@ -1,7 +1,7 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // Stage "linear_device": shaper round trip, then CombineLUTs' device 8 / 7 branch and the
-// tonemapper's post conversion (spec §4.12, §6.1 step 9). Reference: reference_engine.cpp.
+// tonemapper's post conversion (docs/spec/ue55.md §4.12, §6.1 step 9). Reference: reference_engine.cpp.
 #include "hdrc/interface.glsl"
 #include "../lib/lut_shaper.glsl"
 #include "../lib/matrix.glsl"

@@ -1,7 +1,7 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // Stage "tonemap", second pass (after combine_luts.comp has written the LUT): the Tonemap pass,
-// PostProcessTonemap.usf TonemapCommonPS (MainCS), spec §6.1 steps 1–9; the dither (step 10) is
+// PostProcessTonemap.usf TonemapCommonPS (MainCS), docs/spec/ue55.md §6.1 steps 1–9; the dither (step 10) is
 // the separate stage "dither". One invocation per output pixel of P.width × P.height. Output:
 // RGB = the device colour after the post conversion, alpha = OutLuminance (the luminance UE writes
 // for post-process AA). Reference: reference/ue/tonemap.cpp tonemap_image.

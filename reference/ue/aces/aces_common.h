@@ -2,9 +2,9 @@
 // FilmToneMap (TonemapCommon.ush), in double precision.
 //
 // Source: Engine/Shaders/Private/ACES.ush (UE 5.0-era copy, chenyong2github/UnrealEngine, commit
-// 09c29cbee980f5c5fbff6c93cf6132e5f4bcf97a; the 5.5 file is not public, spec §5.1 [R]), which
-// follows ACESlib.RRT_Common.ctl / ACESlib.Utilities_Color.ctl of aces-dev v1.3. Spec §4.8 step 2
-// and §5.1 step 1.
+// 09c29cbee980f5c5fbff6c93cf6132e5f4bcf97a; the 5.5 file is not public, docs/spec/ue55.md §5.1
+// [R]), which follows ACESlib.RRT_Common.ctl / ACESlib.Utilities_Color.ctl of aces-dev v1.3. Spec
+// §4.8 step 2 and §5.1 step 1.
 //
 // Non-finite values follow D3D HLSL (color/d3d_math.h): HLSL min/max are IEEE-754-2008
 // minNum/maxNum (a NaN operand yields the other operand), which is what std::fmin/std::fmax and

@@ -1,11 +1,13 @@
 // The CPU side of UE 5.5's ACES HDR output transform: the tone-scale (SSTS) parameters that
 // Engine/Source/Runtime/RenderCore/Private/RenderCore.cpp: ConfigureACESTonemapParams computes and
-// HDRHelper.h: GetACESTonemapParameters copies into shader parameters (spec §5.3, decisions D5.3).
+// HDRHelper.h: GetACESTonemapParameters copies into shader parameters (docs/spec/ue55.md §5.3,
+// decisions D5.3).
 //
 // Precision: UE computes these in C++ float32, with a few sub-expressions in double (a float mixed
 // with a double literal is promoted). This file reproduces every one of those promotions, so the
 // packed values are UE's float values, not a double recomputation (which differs by ~1e-6
-// relative, spec §5.3). The shader side (aces_output.h) takes these float values in double.
+// relative, docs/spec/ue55.md §5.3). The shader side (aces_output.h) takes these float values in
+// double.
 //
 // Conventions of the emulation (each cited where it is used):
 //  * FMath::LogX(10, float v) = logf(v) / logf(10) in float; FMath::LogX(10, double v) =
@@ -100,7 +102,7 @@ AcesConfigured configure_aces_tonemap_params(float min_luminance, float mid_lumi
 
 // The degenerate-input check on its own: every luminance finite and > 0 (UE takes log10 of all
 // three) and Min < Mid < Max (otherwise the spline folds over). With HDR off UE configures
-// MaxLuminance = 0 (spec §5.4), which this reports as an error naming the value.
+// MaxLuminance = 0 (docs/spec/ue55.md §5.4), which this reports as an error naming the value.
 Status validate_aces_luminances(float min_luminance, float mid_luminance, float max_luminance);
 
 }  // namespace hdrc::ref::aces

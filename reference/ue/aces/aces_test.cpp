@@ -1,7 +1,8 @@
 // Tests for the UE 5.5 ACES HDR output transform. Every expected number comes from outside this
-// code: UE's own float literals (HDRHelper.h), the spec's §13 golden values (double-precision
-// recomputations, re-derived here), the spec's red-modifier table, and OpenColorIO 2.1's built-in
-// ACES 1.1 HDR output transforms (an independent implementation of the same ACES 1.x SSTS).
+// code: UE's own float literals (HDRHelper.h), docs/spec/ue55.md §13's golden values
+// (double-precision recomputations, re-derived here), the spec's red-modifier table, and
+// OpenColorIO 2.1's built-in ACES 1.1 HDR output transforms (an independent implementation of the
+// same ACES 1.x SSTS).
 #include <OpenColorIO/OpenColorIO.h>
 #include <gtest/gtest.h>
 
@@ -14,11 +15,11 @@
 #include <string>
 #include <vector>
 
+#include "color/d3d_math.h"
+#include "reference/color/ue_matrices.h"
 #include "reference/ue/aces/aces_common.h"
 #include "reference/ue/aces/aces_output.h"
 #include "reference/ue/aces/aces_params.h"
-#include "color/d3d_math.h"
-#include "reference/color/ue_matrices.h"
 
 namespace {
 
@@ -62,7 +63,8 @@ Vec3 grey(double v) {
 // (a) CPU parameters against UE's own float values and the spec's double recomputations.
 
 // HDRHelper.h: FACESTonemapParams() — "Default Values such as MinLuminanceLog10=-4,
-// MidLuminance=15, MaxLuminance=1000" — UE's float results of this very computation (spec §5.3).
+// MidLuminance=15, MaxLuminance=1000" — UE's float results of this very computation
+// (docs/spec/ue55.md §5.3).
 struct UeFloats {
   std::array<float, 4> min_max{2.50898620e-06f, 1e-4f, 692.651123f, 1000.0f};
   std::array<float, 4> mid{0.0822144598f, 4.80000019f, 1.55f, 1.0f};
@@ -146,8 +148,8 @@ TEST(AcesParams, AgreeWithSpecDoubleRecomputation) {
   }
 }
 
-// ssts with UE's float parameters vs spec §13 (double parameters). Measured relative residuals:
-// 0.18 → 3.7e-7 (15.0000055 nits), 0.27 → 3.3e-7, 1 → 2.7e-7, 10 → 2.8e-7; at 2000 nits
+// ssts with UE's float parameters vs docs/spec/ue55.md §13 (double parameters). Measured relative
+// residuals: 0.18 → 3.7e-7 (15.0000055 nits), 0.27 → 3.3e-7, 1 → 2.7e-7, 10 → 2.8e-7; at 2000 nits
 // 0.27 → 2.4e-7. All from the float rounding of the parameters; tolerance 5e-7. The spec's values
 // are confirmed (no disagreement).
 TEST(Ssts, SpecGoldenValues) {

@@ -5,9 +5,9 @@
 #include <cstdio>
 
 #include "reference/ue/aces/aces_params.h"
+#include "reference/ue/cpp/lut_blend_table.h"
 #include "reference/ue/grading/color_polynomial.h"
 #include "reference/ue/grading/white_balance.h"
-#include "reference/ue/cpp/lut_blend_table.h"
 
 namespace hdrc::ref {
 
@@ -70,11 +70,12 @@ Result<Resolution> resolve(const Case& c, int width, int height) {
   p.width = width;
   p.height = height;
 
-  // Output device and gamut: the cvars, clamped to the enums (HDRGetMetaData, spec §7.1).
+  // Output device and gamut: the cvars, clamped to the enums (HDRGetMetaData, docs/spec/ue55.md
+  // §7.1).
   int device = std::clamp(cv.get_int("r.HDR.Display.OutputDevice"), 0, 9);
   p.output_gamut = std::clamp(cv.get_int("r.HDR.Display.ColorGamut"), 0, 4);
-  // GetTonemapperOutputDeviceParameters (spec §6.2): device 2 with Gamma 0 uses 2.2; Gamma > 0
-  // turns devices 0 and 1 into the explicit-gamma device 2.
+  // GetTonemapperOutputDeviceParameters (docs/spec/ue55.md §6.2): device 2 with Gamma 0 uses 2.2;
+  // Gamma > 0 turns devices 0 and 1 into the explicit-gamma device 2.
   double gamma = cv.get("r.TonemapperGamma");
   if (device == 2 && gamma == 0.0) gamma = 2.2;
   if (gamma > 0.0 && (device == 0 || device == 1)) device = 2;
@@ -202,7 +203,7 @@ Result<Resolution> resolve(const Case& c, int width, int height) {
   p.lut_format = static_cast<int>(st.get("LUTFormat"));
   p.lut_layout = static_cast<int>(st.get("LUTLayout"));
 
-  // Tonemapper (PostProcessTonemap.cpp: AddTonemapPass, spec §6.1).
+  // Tonemapper (PostProcessTonemap.cpp: AddTonemapPass, docs/spec/ue55.md §6.1).
   p.scene_color_tint = v4(st.get4("SceneColorTint"));
   p.pre_exposure = st.get("PreExposure");
   p.exposure = st.get("Exposure") / p.pre_exposure;  // OneOverPreExposure · GlobalExposure

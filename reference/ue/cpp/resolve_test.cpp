@@ -1,4 +1,4 @@
-// Cvar resolution as UE 5.5's C++ does it (spec §5.4, §6.2, §7).
+// Cvar resolution as UE 5.5's C++ does it (docs/spec/ue55.md §5.4, §6.2, §7).
 #include "reference/ue/cpp/resolve.h"
 
 #include <gtest/gtest.h>
@@ -60,8 +60,8 @@ TEST(Resolve, TonemapperGammaForcesExplicitGammaDevice) {
   EXPECT_FLOAT_EQ(p.inverse_gamma[1], 1.0f);  // 2.2 / DisplayGamma 2.2
 }
 
-// Dither amount (spec §6.1 step 10, 5.5 AddTonemapPass): none for 8/9, override bits, else
-// 1/1023 unless the SDR back buffer is 8-bit: r.DefaultBackBufferPixelFormat defaults to 4
+// Dither amount (docs/spec/ue55.md §6.1 step 10, 5.5 AddTonemapPass): none for 8/9, override bits,
+// else 1/1023 unless the SDR back buffer is 8-bit: r.DefaultBackBufferPixelFormat defaults to 4
 // (A2B10G10R10, 5.5 SceneTextures.cpp), so the default SDR amount is 1/1023; format 0 is 1/255.
 TEST(Resolve, DitherAmountPerDevice) {
   EXPECT_DOUBLE_EQ(hdrc::ref::resolve(make({}), 1, 1)->params.dither_amount, 1.0 / 1023.0);

@@ -1,10 +1,10 @@
-// Nuke-style colour correction of the CombineLUTs pass (spec §4.6), in AP1.
+// Nuke-style colour correction of the CombineLUTs pass (docs/spec/ue55.md §4.6), in AP1.
 //
 // Source: Engine/Shaders/Private/PostProcessCombineLUTs.usf: ColorCorrect, ColorCorrectAll (read in
 // Mephisto1024/Toon_Engine ~5.1/5.2, commit 2dc09e8226da45ca87f8fcb812453ad02a75987b; identical in
 // the 5.8 copy). Parameters: FPostProcessSettings Color{Saturation,Contrast,Gamma,Gain,Offset}
 // {,Shadows,Midtones,Highlights} and ColorCorrection{ShadowsMax,HighlightsMin,HighlightsMax};
-// defaults from Scene.cpp FPostProcessSettings (spec §4.1).
+// defaults from Scene.cpp FPostProcessSettings (docs/spec/ue55.md §4.1).
 #pragma once
 
 #include <array>

@@ -1,6 +1,6 @@
-// The tail of the CombineLUTs film path (spec §4.10, §4.11): the r.Color.Min/Mid/Max polynomial,
-// the camera fade (ColorScale / OverlayColor) and the "gamma" adjustment, with the host-side
-// parameters computed as UE 5.5's C++ does.
+// The tail of the CombineLUTs film path (docs/spec/ue55.md §4.10, §4.11): the r.Color.Min/Mid/Max
+// polynomial, the camera fade (ColorScale / OverlayColor) and the "gamma" adjustment, with the
+// host-side parameters computed as UE 5.5's C++ does.
 //
 // Sources: PostProcessCombineLUTs.cpp: GetMappingPolynomial (5.5; same body in the 5.8 copy);
 // PostProcessCommon.ush: ColorCorrection; PostProcessCombineLUTs.usf: CombineLUTsCommon (fade and

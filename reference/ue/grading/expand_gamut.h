@@ -1,5 +1,5 @@
-// "Fake wide gamut" (ExpandGamut) of the CombineLUTs pass (spec §4.5): bright saturated AP1
-// colours are pushed towards a gamut between P3 and AP1.
+// "Fake wide gamut" (ExpandGamut) of the CombineLUTs pass (docs/spec/ue55.md §4.5): bright
+// saturated AP1 colours are pushed towards a gamut between P3 and AP1.
 //
 // Source: Engine/Shaders/Private/PostProcessCombineLUTs.usf: CombineLUTsCommon (no public 5.5 copy;
 // read in Mephisto1024/Toon_Engine ~5.1/5.2, commit 2dc09e8226da45ca87f8fcb812453ad02a75987b; the

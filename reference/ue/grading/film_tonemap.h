@@ -1,5 +1,5 @@
-// The SDR "film" path of the CombineLUTs pass (spec §4.8): blue correction, UE's FilmToneMap and
-// the un-blue-correction, all in AP1.
+// The SDR "film" path of the CombineLUTs pass (docs/spec/ue55.md §4.8): blue correction, UE's
+// FilmToneMap and the un-blue-correction, all in AP1.
 //
 // FilmToneMap: Engine/Shaders/Private/TonemapCommon.ush: FilmToneMap (izzy2lost/UnrealEngineUWP
 // 5.5, commit aff11acf0c218535669021f6e646b3bcf6ad94a5), with the ACES RRT helpers of
@@ -14,7 +14,8 @@
 namespace hdrc::ref::grading {
 
 // FilmSlope/Toe/Shoulder/BlackClip/WhiteClip; defaults from Scene.cpp FPostProcessSettings
-// (spec §4.1). TonemapCommon.ush lists other presets in a comment (Uncharted, HP, Legacy, ACES).
+// (docs/spec/ue55.md §4.1). TonemapCommon.ush lists other presets in a comment (Uncharted, HP,
+// Legacy, ACES).
 struct FilmParams {
   double slope = 0.88;
   double toe = 0.55;
@@ -37,8 +38,8 @@ FilmCurveMatch film_curve_match(const FilmParams& p);
 // between ToeMatch and ShoulderMatch (the blend runs backwards when ShoulderMatch < ToeMatch, which
 // the defaults do). Input: linear AP1 value w >= 0. w = 0 gives NaN, exactly as the shader:
 // log10(0) = −∞ makes the straight segment −∞ and lerp(toe, −∞, 0) = NaN (0·∞); FilmToneMap's final
-// max(0, ·) turns that into 0 on D3D (spec §4.8 says "−BlackClip", which is not what the lerp
-// computes).
+// max(0, ·) turns that into 0 on D3D (docs/spec/ue55.md §4.8 says "−BlackClip", which is not what
+// the lerp computes).
 double film_curve(double w, const FilmParams& p);
 
 // TonemapCommon.ush: FilmToneMap — AP1 in, AP1 out (>= 0):

@@ -1,7 +1,7 @@
 // Tests for the CombineLUTs grading stages. Expected values come from outside the code under test:
 // published CIE data, hand derivations, independent re-computations written differently in this
-// file, and spec §13 (each re-derived here; where it and UE differ, the comment says who is right).
-// Every tolerance carries the residual measured when it was set.
+// file, and docs/spec/ue55.md §13 (each re-derived here; where it and UE differ, the comment says
+// who is right). Every tolerance carries the residual measured when it was set.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -77,7 +77,8 @@ double mccamy_cct(double x, double y) {
   return -449.0 * n * n * n + 3525.0 * n * n - 6823.3 * n + 5520.33;
 }
 
-// sRGB WCS with double (not float-cast) matrices, as spec §13's white-balance numbers assume.
+// sRGB WCS with double (not float-cast) matrices, as docs/spec/ue55.md §13's white-balance numbers
+// assume.
 WorkingColorSpace double_srgb_wcs() {
   WorkingColorSpace w = hdrc::ref::make_working_color_space(hdrc::ref::standard::kSrgb);
   const Mat3 to_xyz = hdrc::ref::standard::rgb_to_xyz(hdrc::ref::standard::kSrgb);
@@ -232,7 +233,8 @@ TEST(WhiteBalance, MatricesAt5000And6500Kelvin) {
 }
 
 // C++ skip rule: |WhiteTemp − 6500| <= 1e-8 && |WhiteTint| <= 1e-8. At 6500 K the unskipped
-// matrix is not the identity (largest entry gap 8.2e-4, spec §13), so the rule is visible.
+// matrix is not the identity (largest entry gap 8.2e-4, docs/spec/ue55.md §13), so the rule is
+// visible.
 TEST(WhiteBalance, SkipRuleAtSixFiveHundredKelvin) {
   EXPECT_TRUE(g::white_balance_skipped({6500.0, 0.0}));
   EXPECT_TRUE(g::white_balance_skipped({6500.0 + 5e-9, -5e-9}));

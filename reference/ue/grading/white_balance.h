@@ -1,4 +1,4 @@
-// White balance of the CombineLUTs pass (spec §4.4), as UE 5.5 computes it.
+// White balance of the CombineLUTs pass (docs/spec/ue55.md §4.4), as UE 5.5 computes it.
 //
 // Shader: Engine/Shaders/Private/TonemapCommon.ush (izzy2lost/UnrealEngineUWP 5.5, commit
 // aff11acf0c218535669021f6e646b3bcf6ad94a5): PlanckianLocusChromaticity, D_IlluminantChromaticity,
@@ -10,8 +10,8 @@
 // the isotherm in units of 0.05 CIE 1960 uv).
 #pragma once
 
-#include "reference/color/ue_matrices.h"
 #include "color/vec.h"
+#include "reference/color/ue_matrices.h"
 
 namespace hdrc::ref::grading {
 

@@ -36,9 +36,9 @@ const Chromaticities& gamut_chromaticities(int output_gamut) {
   }
 }
 
-// Which gamut a stage's output is in (spec §4.12 device encoding, §3.5 ST2084ToScRGB, §6.1
-// step 9): the working colour space where UE skips the gamut matrix, AP1 for the scRGB devices'
-// LUT texels, scRGB's Rec.709 after the tonemapper's conversion, else the output gamut.
+// Which gamut a stage's output is in (docs/spec/ue55.md §4.12 device encoding, §3.5 ST2084ToScRGB,
+// §6.1 step 9): the working colour space where UE skips the gamut matrix, AP1 for the scRGB
+// devices' LUT texels, scRGB's Rec.709 after the tonemapper's conversion, else the output gamut.
 Gamut output_gamut_kind(StageId stage, const ParamBlock& p) {
   const int d = p.output_device;
   switch (stage) {
@@ -66,8 +66,8 @@ void set_transfer(OutputEncoding* e, Transfer t, double nits_scale, const std::s
   e->transfer_name = name;
 }
 
-// The transfer of an output device's signal (spec §4.12): sRGB, Rec.709, gamma, scene-linear or
-// PQ (devices 3-7).
+// The transfer of an output device's signal (docs/spec/ue55.md §4.12): sRGB, Rec.709, gamma,
+// scene-linear or PQ (devices 3-7).
 void set_device_transfer(OutputEncoding* e, const ParamBlock& p, const std::string& prefix) {
   switch (p.output_device) {
     case 0:

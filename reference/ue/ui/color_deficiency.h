@@ -1,6 +1,6 @@
 // Colour-vision-deficiency simulation and correction as UE 5.5 applies it in the HDR UI composite
 // (CompositeUIPixelShader.usf: ApplyColorDeficiency → ColorDeficiency.ush: ColorDeficiency),
-// docs/ue55-decisions.md D8 / D8a, spec §8.
+// docs/ue55-decisions.md D8 / D8a, docs/spec/ue55.md §8.
 //
 // Model: Machado, Oliveira & Fernandes, "A Physiologically-based Model for Simulation of Color
 // Vision Deficiency", IEEE TVCG 15(6), 2009, with the pre-computed matrices of Machado (2010), "A

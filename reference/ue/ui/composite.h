@@ -1,4 +1,5 @@
-// The HDR UI composite of UE 5.5 (spec §8; docs/ue55-decisions.md D3, D8, D8a), double precision.
+// The HDR UI composite of UE 5.5 (docs/spec/ue55.md §8; docs/ue55-decisions.md D3, D8, D8a), double
+// precision.
 //
 // Sources (izzy2lost/UnrealEngineUWP, 5.5):
 //  * Engine/Shaders/Private/CompositeUIPixelShader.usf (commit 0ac46dcf): Main / CompositeUICS,
@@ -35,10 +36,10 @@
 
 #include <array>
 
-#include "core/image.h"
-#include "core/result.h"
 #include "color/gamma_correction.h"
 #include "color/vec.h"
+#include "core/image.h"
+#include "core/result.h"
 #include "reference/ue/ui/color_deficiency.h"
 
 namespace hdrc::ref::ui {

@@ -1,7 +1,8 @@
 // Tests of the HDR UI composite reference against numbers from outside this code: published sRGB /
-// BT.709 values, the Machado (2010) matrices as colour-science publishes them, spec §13 goldens,
-// and composite values derived by hand (a Python re-derivation from the spec §2.1 literals, shown
-// in each test). Every measured residual is recorded as a test property (--gtest_output=xml).
+// BT.709 values, the Machado (2010) matrices as colour-science publishes them, docs/spec/ue55.md
+// §13 goldens, and composite values derived by hand (a Python re-derivation from the
+// docs/spec/ue55.md §2.1 literals, shown in each test). Every measured residual is recorded as a
+// test property (--gtest_output=xml).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -109,7 +110,7 @@ TEST(GammaCorrection, MinNormalClampSwitch) {
   EXPECT_EQ(linear_to_srgb(-1.0), -12.92);
   EXPECT_TRUE(std::isnan(linear_to_srgb(kNaN)));
   // maxNum/minNum: the branchless encoder without clamp turns NaN into min(NaN, 0.04045…) =
-  // 1.055 · 0.00313067^(1/2.4) − 0.055 = 0.0404482561 (spec §13 value for 0.00313067).
+  // 1.055 · 0.00313067^(1/2.4) − 0.055 = 0.0404482561 (docs/spec/ue55.md §13 value for 0.00313067).
   EXPECT_NEAR(linear_to_srgb_branchless(kNaN, kOff), 0.0404482561, 1e-10);
 }
 
@@ -326,7 +327,7 @@ TEST(Composite, EncodingAndCvdActivationRules) {
   EXPECT_FALSE(color_deficiency_active({CvdType::kNormalVision, 10, true, true}));
   EXPECT_FALSE(color_deficiency_active({CvdType::kProtanope, 0, true, true}));
   EXPECT_TRUE(color_deficiency_active({CvdType::kProtanope, 1, false, false}));
-  // Defaults are the 5.5 cvar defaults (spec §10, decisions D10) and D3's clamp ON.
+  // Defaults are the 5.5 cvar defaults (docs/spec/ue55.md §10, decisions D10) and D3's clamp ON.
   const UiCompositeParams p;
   EXPECT_EQ(p.ui_level, 1.0);
   EXPECT_EQ(p.ui_luminance, 300.0);
@@ -338,14 +339,14 @@ TEST(Composite, EncodingAndCvdActivationRules) {
 // Hand derivation (Python from UE 5.5's 10-digit ACES.ush literals, docs/ue55-decisions.md): the
 // literal product XYZ_2_Rec2020 · sRGB_2_XYZ maps sRGB white (1, 1, 1) to its row sums
 // (1.000000000038, 1.000000000109, 0.999999999816): Rec.2020 white to 2e-10. (The pre-5.3
-// 7-digit literals of spec §2.1 gave 1.0000566, 0.9999849, 0.9999189.)
+// 7-digit literals (docs/spec/ue55.md §2.1) gave 1.0000566, 0.9999849, 0.9999189.)
 constexpr Vec3 kWhiteRowSums{1.000000000038, 1.000000000109, 0.999999999816};
 
 TEST(Composite, OpaqueWhiteUiIsPqOf300NitsWhateverTheScene) {
   // UI (1, 1, 1, 1): sRGBToLinear(1) = (1/1.055 + 0.0521327)^2.4 = 0.999999996588 (hand);
   // × 300 × row sums ≈ 300 nits; alpha 1 skips the Reinhard and scene · (1 − 1) = 0; PQ of those
-  // (hand): below, within 1e-9 of the spec §13 PQ(300) = 0.6218628370 (the 7-digit literals of
-  // UE <= 5.0 left a gap of 8.6e-6 here).
+  // (hand): below, within 1e-9 of the docs/spec/ue55.md §13 PQ(300) = 0.6218628370 (the 7-digit
+  // literals of UE <= 5.0 left a gap of 8.6e-6 here).
   const Vec3 expected{0.621862836664, 0.621862836672, 0.621862836641};
   UiCompositeParams p;
   double worst = 0.0, worst_vs_spec = 0.0;
@@ -387,7 +388,7 @@ TEST(Composite, TransparentUiLeavesPqSceneUnchangedWithoutClamp) {
   EXPECT_LE(worst, 1e-13);
   record("transparent_pq_roundtrip_max_residual", worst);
   // Code 0 is the exception: ST2084ToLinear(0) = 0 but LinearToST2084(0) = c1^m2 = 7.3096e-7
-  // (hand; spec §13: PQ(0) = 7.310e-7), so black comes back as 7.31e-7.
+  // (hand; docs/spec/ue55.md §13: PQ(0) = 7.310e-7), so black comes back as 7.31e-7.
   const Vec4 black = composite_pixel({0, 0, 0, 1}, {0, 0, 0, 0}, p);
   EXPECT_NEAR(black[0], 7.309559025784e-7, 1e-18);
 }
@@ -506,7 +507,7 @@ TEST(Composite, NegativeChannelBeforePqEncodeIsNaN) {
   // No clamp before LinearToST2084 (as UE): a negative composed channel encodes to NaN.
   const Vec3 enc = encode_output({-1.0, 100.0, 0.0}, BackBufferEncoding::kPq);
   EXPECT_TRUE(std::isnan(enc[0]));
-  EXPECT_NEAR(enc[1], 0.5080784215, 1e-10);  // spec §13 PQ(100)
+  EXPECT_NEAR(enc[1], 0.5080784215, 1e-10);  // docs/spec/ue55.md §13 PQ(100)
   EXPECT_NEAR(enc[2], 7.309559025784e-7, 1e-18);
   // A UI texel above 1 (e.g. from a float UI target) is not clamped either: sRGB 2 decodes to
   // ((2 / 1.055 + 0.0521327)^2.4) × 300 nits.

@@ -1,5 +1,5 @@
 // Auto-exposure ("eye adaptation") parameters and the 64-bucket luminance histogram of UE 5.5, as
-// VisualizeHDR (spec §9) reads them, in double precision.
+// VisualizeHDR (docs/spec/ue55.md §9) reads them, in double precision.
 //
 // Sources (facts restated, no code copied):
 //  * Engine/Source/Runtime/Renderer/Private/PostProcess/PostProcessEyeAdaptation.cpp:
@@ -30,8 +30,8 @@
 #include <array>
 #include <vector>
 
-#include "core/image.h"
 #include "color/vec.h"
+#include "core/image.h"
 
 namespace hdrc::ref::visualize {
 

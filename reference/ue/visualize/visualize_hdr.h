@@ -1,7 +1,8 @@
 // VisualizeHDR ("Show → Visualize → HDR (Eye Adaptation)"): UE 5.5's
 // Engine/Shaders/Private/PostProcessVisualizeHDR.usf: MainPS (izzy2lost/UnrealEngineUWP, commit
 // 39bb2572…; the 5.6.1 copy in orgitcog/u9n has the same logic), per output pixel, in double
-// precision (spec §9; docs/ue55-decisions.md D9, which overrides the spec where they differ).
+// precision (docs/spec/ue55.md §9; docs/ue55-decisions.md D9, which overrides the spec where they
+// differ).
 //
 // What is reproduced, in MainPS's order (the first two regions return early):
 //  1. Luminance meter: |x − cx| < 180 and |y − cy| < 42 around the output viewport centre
@@ -39,15 +40,15 @@
 #include <string>
 #include <vector>
 
-#include "core/image.h"
 #include "color/vec.h"
+#include "core/image.h"
 #include "reference/ue/visualize/histogram.h"
 
 namespace hdrc::ref::visualize {
 
 using Vec4 = std::array<double, 4>;
 
-// EyeAdaptationBuffer[0] as the eye-adaptation pass leaves it (spec §9).
+// EyeAdaptationBuffer[0] as the eye-adaptation pass leaves it (docs/spec/ue55.md §9).
 struct EyeAdaptationState {
   double exposure = 1.0;                  // .x: EyeAdaptationResult (smoothed, with bias)
   double target_exposure = 1.0;           // .y: not read by MainPS
