@@ -391,12 +391,15 @@ std::set<std::string> anchors_of(const fs::path& page) {
   return out;
 }
 
-// The spec pages and the pages a port starts from link only files of this repository: every
-// relative link resolves, to a heading where it names one, and no link or cited path is absolute.
+// The spec pages and the pages a port starts from (the candidate protocol, every stage's candidate
+// page, the diagnosis hints) link only files of this repository: every relative link resolves, to
+// a heading where it names one, and no link or cited path is absolute.
 TEST(SpecPages, LinksStayInsideTheRepository) {
   std::vector<fs::path> pages = spec_pages();
-  for (const char* p : {"operators.md", "pq_grading.md", "candidate-protocol.md"})
+  for (const char* p : {"operators.md", "pq_grading.md", "candidate-protocol.md", "diagnosis.md"})
     pages.push_back(kRoot / "docs" / p);
+  for (const auto& e : fs::directory_iterator(kRoot / "docs" / "candidates"))
+    if (e.path().extension() == ".md") pages.push_back(e.path());
   const std::regex link(R"(\]\(([^)#\s]*)(#[^)\s]*)?\))");
   for (const fs::path& page : pages) {
     const std::string text = read_text(page);

@@ -345,6 +345,30 @@ TEST(Pipelines, PqGradingCasesCrossEveryLutDisplayAndEncoding) {
   EXPECT_EQ(amplify.size(), luts.size() * 5);
 }
 
+// Every stage of every pipeline has its candidate page, docs/candidates/<stage>.md, in the form of
+// the others (its title names the stage; it says what the output is and which params.json fields
+// apply), and the candidate protocol's page links it: from the pipeline table, so a new
+// pipeline's stages are checked without a change here.
+TEST(Pipelines, EveryStageHasACandidatePage) {
+  const fs::path docs = fs::path(HDRC_SOURCE_DIR) / "docs";
+  const std::string protocol = read(docs / "candidate-protocol.md");
+  for (const hdrc::Pipeline* p : hdrc::pipeline_table())
+    for (const hdrc::StageInfo& s : p->stages()) {
+      const std::string name(s.name);
+      const fs::path page = docs / "candidates" / (name + ".md");
+      ASSERT_TRUE(fs::exists(page)) << p->name << " stage " << name << ": no " << page;
+      const std::string text = read(page);
+      EXPECT_EQ(text.rfind("# Stage `" + name + "`", 0), 0u) << page;
+      EXPECT_NE(text.find("**Output**"), std::string::npos) << page;
+      // UE 5.5's pages predate the rule: their fields are the cvars they name.
+      if (p != &hdrc::default_pipeline()) {
+        EXPECT_NE(text.find("`params.json` fields that apply"), std::string::npos) << page;
+      }
+      EXPECT_NE(protocol.find("(candidates/" + name + ".md)"), std::string::npos)
+          << "docs/candidate-protocol.md does not link " << page;
+    }
+}
+
 // The diagnosis hints (runner/diagnosis.h) results.json gives case `id`.
 std::set<std::string> hints_of(const nlohmann::json& results, const std::string& id) {
   std::set<std::string> out;
