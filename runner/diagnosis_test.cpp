@@ -15,6 +15,7 @@
 #include "core/pipeline.h"
 #include "reference/reference_engine.h"
 #include "runner/case_loader.h"
+#include "runner/results.h"
 #include "runner/test_support.h"
 
 namespace {
@@ -290,10 +291,6 @@ const PlantedShader kPlantedShaders[] = {
      "return pqg_srgb_encode(saturate_d3d(d));", 3, "hue", "gamma22_encoded_as_srgb"},
     {"scrgb_100_nits", "const float PQG_SCRGB_WHITE_NITS = 80.0;",
      "const float PQG_SCRGB_WHITE_NITS = 100.0;", 1, "hue", "uniform_scale"},
-    {"output_bgr",
-     "return vec3(pqg_encode_output(d.r), pqg_encode_output(d.g), pqg_encode_output(d.b));",
-     "return vec3(pqg_encode_output(d.b), pqg_encode_output(d.g), pqg_encode_output(d.r));", 2,
-     "hue", "channel_swap_rb"},
     {"coordinate_bgr", "  return pqg_sample_strip(t);", "  return pqg_sample_strip(t.bgr);", 2,
      "hue", "input_swap_rb"},
     {"half_texel_twice", "vec3 uvw = t * ((n - 1.0) / n) + 0.5 / n;",
@@ -330,6 +327,47 @@ TEST_P(DiagnosisPlantedShader, FiresItsSignatureAlone) {
 
 INSTANTIATE_TEST_SUITE_P(PqGrading, DiagnosisPlantedShader, ::testing::ValuesIn(kPlantedShaders),
                          [](const auto& info) { return std::string(info.param.name); });
+
+// The output's R and B swapped in pq_grading's shader: the hint ends the console's and JUnit's
+// reason, is in results.json, and the report's case page lists it under the verdict; the verdict
+// is the judgement's (FAIL, exit 1).
+TEST(DiagnosisPlantedShader, OutputRedBlueSwapIsNamedEverywhereAndChangesNoVerdict) {
+  if (hdrc::test::vulkan_optional()) GTEST_SKIP() << "HDRC_ALLOW_NO_VULKAN: no Vulkan device";
+  const fs::path shaders = hdrc::test::temp_dir("diagnosis_shaders");
+  const fs::path out = hdrc::test::temp_dir("diagnosis_out");
+  fs::copy(kSource + "/gpu/shaders", shaders, fs::copy_options::recursive);
+  const fs::path glsl = shaders / "pq_grading/lib/pq_grading.glsl";
+  std::string text = read(glsl);
+  const std::string from =
+      "return vec3(pqg_encode_output(d.r), pqg_encode_output(d.g), pqg_encode_output(d.b));";
+  const size_t at = text.find(from);
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, from.size(),
+               "return vec3(pqg_encode_output(d.b), pqg_encode_output(d.g), "
+               "pqg_encode_output(d.r));");
+  hdrc::test::write(glsl, text);
+  const std::string id = pq_case(2);
+  const auto r = hdrc::test::run("run --filter '=" + id + "' --no-goldens --shader-dir " +
+                                 shaders.string() + " --out " + out.string());
+  EXPECT_EQ(r.code, 1) << r.out;
+  const std::string hint = "possible cause: R and B swapped in the output";
+  EXPECT_NE(r.out.find("FAIL  " + id), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(hint), std::string::npos) << r.out;
+  const auto j = nlohmann::json::parse(read(out / "results.json"));
+  ASSERT_EQ(j["cases"].size(), 1u);
+  EXPECT_EQ(j["cases"][0]["verdict"], "FAIL");
+  ASSERT_EQ(j["cases"][0]["hints"].size(), 1u);
+  EXPECT_EQ(j["cases"][0]["hints"][0]["id"], "channel_swap_rb");
+  EXPECT_EQ(j["cases"][0]["hints"][0]["docs"], "docs/diagnosis.md#channel_swap_rb");
+  EXPECT_NE(read(out / "junit.xml").find(hint), std::string::npos);
+  const std::string page = read(out / "report" / hdrc::case_page_path(id));
+  const size_t list = page.find("<ul id=\"hints\" class=\"hints\">\n<li>" + hint);
+  EXPECT_NE(list, std::string::npos) << page.substr(0, 3000);
+  // The reason line above it stops before the hint: said once.
+  EXPECT_EQ(page.find(hint), list + std::string("<ul id=\"hints\" class=\"hints\">\n<li>").size());
+  fs::remove_all(shaders);
+  fs::remove_all(out);
+}
 
 // ---- no signature fires on a passing case
 // --------------------------------------------------------
