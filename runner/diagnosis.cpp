@@ -403,7 +403,8 @@ const std::vector<DetectorInfo>& diagnosis_detectors() {
 
 bool make_case_variant(const std::string& variant, ResolvedCase* c) {
   if (variant == "saturate_input" || variant == "swap_input_rb") {
-    if (c->input.data.empty()) return false;
+    // A stage that takes no input (a LUT bake: its input is the lattice) has nothing to change.
+    if (c->input.data.empty() || (c->spec.stage && !c->spec.stage->takes_input)) return false;
     bool changed = false;
     for (size_t i = 0; i < c->input.pixel_count(); ++i) {
       double* p = &c->input.data[i * Image::kChannels];

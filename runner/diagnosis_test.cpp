@@ -251,13 +251,13 @@ TEST(DiagnosisPlanted, UniformScaleAndConstantOffset) {
             only("constant_offset"));
 }
 
-// Saturation raised by 10 % around the pixel's mean: the grey rows of the log ramp are exact.
+// Saturation raised by 25 % around the pixel's mean: the grey rows of the log ramp are exact.
 TEST(DiagnosisPlanted, ErrorWithSaturationOnly) {
   const Loaded l = load("operators/operators/operator2_log_ramp");
   EXPECT_EQ(fired(l, per_pixel(l.reference,
                                [](double* p) {
                                  const double m = (p[0] + p[1] + p[2]) / 3;
-                                 for (int ch = 0; ch < 3; ++ch) p[ch] = m + 1.1 * (p[ch] - m);
+                                 for (int ch = 0; ch < 3; ++ch) p[ch] = m + 1.25 * (p[ch] - m);
                                })),
             only("error_with_saturation_only"));
 }
@@ -385,13 +385,22 @@ size_t check_passing_cases(const std::string& selection) {
   for (auto& s : each) s.fallback = false;
   size_t checked = 0;
   for (const auto& c : j["cases"]) {
-    if (c["verdict"] != "PASS") continue;
+    // As the runner: PASS cases, and no dither case (its error is grain, judged by statistics).
+    if (c["verdict"] != "PASS" || !c["dither"].is_null()) continue;
     const std::string id = c["id"];
     auto cand = hdrc::read_image((dir / c["images"]["candidate"].get<std::string>()).string());
     EXPECT_TRUE(cand.ok()) << id;
     if (!cand.ok()) continue;
     const Loaded l = load(id);
-    for (const auto& s : each) EXPECT_EQ(fired(l, *cand, {s}), std::set<std::string>{}) << id;
+    hdrc::DiagnosisInput in;
+    in.input = &l.resolved.input;
+    in.reference = &l.reference;
+    in.candidate = &*cand;
+    in.encoding = &l.encoding;
+    in.resolved = &l.resolved;
+    in.reference_of = reference_of;
+    for (const auto& s : each)
+      for (const auto& h : hdrc::diagnose({s}, in)) ADD_FAILURE() << id << ": " << h.text();
     ++checked;
   }
   fs::remove_all(dir);
@@ -404,7 +413,9 @@ TEST(DiagnosisOnPassingCases, NoSignatureFiresOnASampleOfEveryPipeline) {
   if (hdrc::test::vulkan_optional()) GTEST_SKIP() << "HDRC_ALLOW_NO_VULKAN: no Vulkan device";
   const size_t n = check_passing_cases(
       "--filter 'pq_grading/*_hue_33_*,operators/operators/*log_ramp*,unity_urp/graded_look/"
-      "*hue_sweep*,lut/user_lut/intensity/dev0_*,tonemap/devices/dev0*'");
+      "*hue_sweep*,lut/user_lut/intensity/dev0_*,tonemap/devices/dev0*,pq_grading/*_look_33_hues,"
+      "tonemap/cvars/dev1_gamut0_hdr0_*_log_ramp,tonemap/working_color_space/"
+      "hdr1_dev4_gamut3_*colorchecker,visualize/pre_exposure/dev0_*'");
   EXPECT_GT(n, 20u);
 }
 
