@@ -303,6 +303,10 @@ const PlantedShader kPlantedShaders[] = {
      "return d * P.pq_white_nits / PQG_SCRGB_WHITE_NITS + 0.004;", 1, "hue", "constant_offset"},
 };
 
+void PrintTo(const PlantedShader& p, std::ostream* os) {
+  *os << p.name;
+}
+
 class DiagnosisPlantedShader : public ::testing::TestWithParam<PlantedShader> {};
 
 TEST_P(DiagnosisPlantedShader, FiresItsSignatureAlone) {
