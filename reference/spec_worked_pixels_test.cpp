@@ -517,16 +517,19 @@ std::set<std::string> anchors_of(const fs::path& page) {
   return out;
 }
 
-// The spec pages and the pages a port starts from link only files of this repository: every
-// relative link resolves, to a heading where it names one, and no link or cited path is absolute.
+// The spec pages and the pages a port starts from (the candidate protocol, every stage's candidate
+// page, the diagnosis hints) link only files of this repository: every relative link resolves, to
+// a heading where it names one, and no link or cited path is absolute.
 TEST(SpecPages, LinksStayInsideTheRepository) {
   std::vector<fs::path> pages = spec_pages();
   // and the pages that cite sections of docs/spec/ue55.md and unity_urp.md by link.
   for (const char* p :
-       {"operators.md", "pq_grading.md", "candidate-protocol.md", "unity_urp.md",
+       {"operators.md", "pq_grading.md", "candidate-protocol.md", "unity_urp.md", "diagnosis.md",
         "ue55-decisions.md", "unity_urp-spec.md", "ue55-lut-blend-spec.md", "diff-metrics.md",
-        "cases.md", "candidates/combine_luts.md", "candidates/dither.md", "candidates/tonemap.md"})
+        "cases.md"})
     pages.push_back(kRoot / "docs" / p);
+  for (const auto& e : fs::directory_iterator(kRoot / "docs" / "candidates"))
+    if (e.path().extension() == ".md") pages.push_back(e.path());
   const std::regex link(R"(\]\(([^)#\s]*)(#[^)\s]*)?\))");
   for (const fs::path& page : pages) {
     const std::string text = read_text(page);

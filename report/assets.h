@@ -18,4 +18,7 @@ const std::vector<Asset>& assets();
 // same way (report/CMakeLists.txt); `name` is the file name.
 const std::vector<Asset>& schemas();
 
+// The data files the runner reads (runner/diagnosis_signatures.json), embedded the same way.
+const std::vector<Asset>& runner_data();
+
 }  // namespace hdrc::report

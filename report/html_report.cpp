@@ -197,6 +197,17 @@ std::vector<std::string> warnings_of(const json& c) {
   return w;
 }
 
+// A FAIL's possible causes (results.json "hints", runner/diagnosis.h), as the reason words them.
+std::vector<std::string> hints_of(const json& c) {
+  std::vector<std::string> h;
+  if (const json* v = get(c, {"hints"}); v && v->is_array())
+    for (const auto& e : *v)
+      if (e.is_object())
+        h.push_back("possible cause: " + text(get(e, {"message"})) + " (" +
+                    text(get(e, {"evidence"})) + "; see " + text(get(e, {"docs"})) + ")");
+  return h;
+}
+
 bool truthy(const json* v) {
   if (!v || v->is_null()) return false;
   if (v->is_boolean()) return v->get<bool>();
@@ -216,6 +227,7 @@ struct CaseView {
   size_t index = 0;
   std::string id, slug, pipeline, stage, verdict, reason;
   std::vector<std::string> warnings;
+  std::vector<std::string> hints;  // "possible cause: ..." (results.json "hints")
   bool tighten = false, near_miss = false;
   std::optional<double> budget;
   TolView tol;
@@ -967,8 +979,18 @@ struct Builder {
     const std::string root = "../";
     std::string h = page_head(c.id + " — hdrconform", root, "case");
     h += "<h1 class=\"case-id\"><code id=\"case-id\">" + html_escape(c.id) + "</code></h1>\n";
+    // The hints end the reason ("; possible cause: ..."): shown as a list of their own.
+    std::string reason = c.reason;
+    if (!c.hints.empty())
+      if (const size_t at = reason.find("; " + c.hints.front()); at != std::string::npos)
+        reason.resize(at);
     h += "<p class=\"verdict-line\">" + badge(c.verdict) + markers(c) + " <span id=\"reason\">" +
-         html_escape(c.reason) + "</span></p>\n";
+         html_escape(reason) + "</span></p>\n";
+    if (!c.hints.empty()) {
+      h += "<ul id=\"hints\" class=\"hints\">\n";
+      for (const auto& hint : c.hints) h += "<li>" + html_escape(hint) + "</li>\n";
+      h += "</ul>\n";
+    }
     for (const auto& w : c.warnings)
       h += "<p class=\"warning\">warning: " + html_escape(w) + "</p>\n";
     if (c.budget)
@@ -1485,6 +1507,7 @@ Result<report::ReportInfo> write_report(const std::string& results_dir, int jobs
     c.verdict = text(get(j, {"verdict"}));
     c.reason = get(j, {"reason"}) ? text(get(j, {"reason"})) : "";
     c.warnings = warnings_of(j);
+    c.hints = hints_of(j);
     c.tighten = truthy(get(j, {"could_be_tightened"}));
     c.tol = tolerance_of(j);
     c.budget = budget_used(j);

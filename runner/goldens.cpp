@@ -696,9 +696,13 @@ GoldenRunSummary check_run_against_goldens(const std::vector<Case>& cases,
   report["seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (Status st = write_file_atomic(out_dir + "/goldens.json", dump_json(report, 2) + "\n"); !st)
     std::fprintf(stderr, "error: %s\n", st.error().to_string().c_str());
-  std::printf("goldens: %d checked against %s: %d match, %d missing, %d stale, %d regressions\n",
-              sum.checked, goldens_dir.c_str(), sum.checked - sum.failed(), sum.missing, sum.stale,
-              sum.regressions);
+  // The goldens hold the reference's outputs: the line says so, or "0 regressions" under a run
+  // whose candidate failed cases reads as if the candidate had matched them.
+  std::printf(
+      "goldens: %d checked against %s: %d match, %d missing, %d stale, %d regressions (the "
+      "reference's outputs; the candidate is judged by the cases above)\n",
+      sum.checked, goldens_dir.c_str(), sum.checked - sum.failed(), sum.missing, sum.stale,
+      sum.regressions);
   if (!largest.second.empty())
     std::printf("goldens: largest deviation %.3g of the bound (%s; docs/goldens.md)\n",
                 largest.first, largest.second.c_str());

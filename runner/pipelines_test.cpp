@@ -246,8 +246,8 @@ TEST(Pipelines, ProbePerPipeline) {
 // ids of the failing cases.
 std::vector<std::string> failing_with_planted(const std::string& shader, const std::string& from,
                                               const std::string& to, const std::string& pipeline,
-                                              std::string* out) {
-  return planted_shader_failures(shader, from, to, "--pipeline " + pipeline, out);
+                                              std::string* out, nlohmann::json* results = nullptr) {
+  return planted_shader_failures(shader, from, to, "--pipeline " + pipeline, out, 1, results);
 }
 
 bool contains(const std::vector<std::string>& ids, const std::string& id) {
@@ -346,6 +346,39 @@ TEST(Pipelines, PqGradingCasesCrossEveryLutDisplayAndEncoding) {
   EXPECT_EQ(amplify.size(), luts.size() * 5);
 }
 
+// Every stage of every pipeline has its candidate page, docs/candidates/<stage>.md, in the form of
+// the others (its title names the stage; it says what the output is and which params.json fields
+// apply), and the candidate protocol's page links it: from the pipeline table, so a new
+// pipeline's stages are checked without a change here.
+TEST(Pipelines, EveryStageHasACandidatePage) {
+  const fs::path docs = fs::path(HDRC_SOURCE_DIR) / "docs";
+  const std::string protocol = read(docs / "candidate-protocol.md");
+  for (const hdrc::Pipeline* p : hdrc::pipeline_table())
+    for (const hdrc::StageInfo& s : p->stages()) {
+      const std::string name(s.name);
+      const fs::path page = docs / "candidates" / (name + ".md");
+      ASSERT_TRUE(fs::exists(page)) << p->name << " stage " << name << ": no " << page;
+      const std::string text = read(page);
+      EXPECT_EQ(text.rfind("# Stage `" + name + "`", 0), 0u) << page;
+      EXPECT_NE(text.find("**Output**"), std::string::npos) << page;
+      // UE 5.5's pages predate the rule: their fields are the cvars they name.
+      if (p != &hdrc::default_pipeline()) {
+        EXPECT_NE(text.find("`params.json` fields that apply"), std::string::npos) << page;
+      }
+      EXPECT_NE(protocol.find("(candidates/" + name + ".md)"), std::string::npos)
+          << "docs/candidate-protocol.md does not link " << page;
+    }
+}
+
+// The diagnosis hints (runner/diagnosis.h) results.json gives case `id`.
+std::set<std::string> hints_of(const nlohmann::json& results, const std::string& id) {
+  std::set<std::string> out;
+  for (const auto& c : results["cases"])
+    if (c["id"] == id)
+      for (const auto& h : c["hints"]) out.insert(h["id"].get<std::string>());
+  return out;
+}
+
 // The ids of pq_grading's cases in the default suite whose id contains `part` ("" for all).
 std::vector<std::string> pq_case_ids(const std::string& part) {
   std::vector<std::string> ids;
@@ -360,10 +393,14 @@ std::vector<std::string> pq_case_ids(const std::string& part) {
 // ramps' single-channel rows, the random colours, the hue sweeps).
 TEST(Pipelines, PlantedRedBlueSwapInTheLutLookupFailsEveryCase) {
   std::string out;
+  nlohmann::json results;
   const auto failing =
       failing_with_planted("pq_grading/lib/pq_grading.glsl", "  return pqg_sample_strip(t);",
-                           "  return pqg_sample_strip(t.bgr);", "pq_grading", &out);
+                           "  return pqg_sample_strip(t.bgr);", "pq_grading", &out, &results);
   EXPECT_TRUE(contains(failing, "pq_grading/luts/display1_backbuffer0_lutpq_hue_33_random")) << out;
+  // The diagnosis names it (docs/diagnosis.md): the lookup's coordinate swapped.
+  EXPECT_EQ(hints_of(results, "pq_grading/luts/display1_backbuffer0_lutpq_hue_33_random"),
+            std::set<std::string>{"input_swap_rb"});
   EXPECT_TRUE(contains(failing, "pq_grading/luts/display0_backbuffer2_lutpq_identity_33_hues"))
       << out;
   EXPECT_EQ(failing.size(), pq_case_ids("").size()) << out;
@@ -373,11 +410,16 @@ TEST(Pipelines, PlantedRedBlueSwapInTheLutLookupFailsEveryCase) {
 // every LUT's cases fail, the identity's too.
 TEST(Pipelines, PlantedHalfTexelOffsetInTheStripSamplingFailsEveryLut) {
   std::string out;
+  nlohmann::json results;
   const auto failing = failing_with_planted(
       "pq_grading/lib/pq_grading.glsl", "vec3 uvw = t * ((n - 1.0) / n) + 0.5 / n;",
-      "vec3 uvw = t * ((n - 1.0) / n) + 1.0 / n;", "pq_grading", &out);
+      "vec3 uvw = t * ((n - 1.0) / n) + 1.0 / n;", "pq_grading", &out, &results);
   EXPECT_TRUE(contains(failing, "pq_grading/luts/display1_backbuffer0_lutpq_identity_33_random"))
       << out;
+  // The diagnosis names it (docs/diagnosis.md).
+  for (const char* id : {"pq_grading/luts/display1_backbuffer0_lutpq_identity_33_random",
+                         "pq_grading/luts/display1_backbuffer0_lutpq_hue_33_random"})
+    EXPECT_EQ(hints_of(results, id), std::set<std::string>{"lut_half_texel_up"}) << id;
   for (const char* lut :
        {"lutpq_identity_33", "lutpq_look_33", "lutpq_hue_33", "lutpq_clip_33", "lutpq_domain_33"})
     EXPECT_TRUE(std::any_of(failing.begin(), failing.end(), [&](const std::string& id) {
@@ -468,9 +510,10 @@ TEST(Pipelines, UeUserLutBlendCasesRenderFromTheirExportAlone) {
 }
 
 std::vector<std::string> failing_user_lut_cases(const std::string& from, const std::string& to,
-                                                std::string* out) {
+                                                std::string* out,
+                                                nlohmann::json* results = nullptr) {
   return hdrc::test::planted_shader_failures("lib/ue_lut_blend.glsl", from, to,
-                                             "--filter 'lut/user_lut/*'", out);
+                                             "--filter 'lut/user_lut/*'", out, 1, results);
 }
 
 // Red and blue swapped in the lookup (a BGRA texture read as RGBA): every case where a LUT
@@ -478,8 +521,13 @@ std::vector<std::string> failing_user_lut_cases(const std::string& from, const s
 // (BLENDCOUNT 1: the block is absent) do not.
 TEST(Pipelines, PlantedUeLutRedBlueSwapFailsTheBlendCases) {
   std::string out;
+  nlohmann::json results;
   const auto failing = failing_user_lut_cases("return mix(rg0, rg1, frac_w);",
-                                              "return mix(rg0, rg1, frac_w).bgr;", &out);
+                                              "return mix(rg0, rg1, frac_w).bgr;", &out, &results);
+  // The diagnosis names it where the LUT's value is the output (intensity 1; docs/diagnosis.md).
+  EXPECT_EQ(
+      hints_of(results, "lut/user_lut/intensity/dev0_colorgradingintensity1_lutue16_contrast"),
+      std::set<std::string>{"channel_swap_rb"});
   EXPECT_TRUE(
       contains(failing, "lut/user_lut/intensity/dev0_colorgradingintensity1_lutue16_contrast"))
       << out;
@@ -496,8 +544,13 @@ TEST(Pipelines, PlantedUeLutRedBlueSwapFailsTheBlendCases) {
 // A half-texel offset in the 16-point sampling: UVW without UE's + 0.5/16.
 TEST(Pipelines, PlantedUeLutHalfTexelOffsetFailsTheBlendCases) {
   std::string out;
+  nlohmann::json results;
   const auto failing = failing_user_lut_cases("gamma_color * (15.0 / 16.0) + 0.5 / 16.0",
-                                              "gamma_color * (15.0 / 16.0)", &out);
+                                              "gamma_color * (15.0 / 16.0)", &out, &results);
+  // The diagnosis names it (docs/diagnosis.md).
+  for (const char* id : {"lut/user_lut/blend4/dev0",
+                         "lut/user_lut/intensity/dev1_colorgradingintensity0.5_lutue16_contrast"})
+    EXPECT_EQ(hints_of(results, id), std::set<std::string>{"lut_half_texel_down"}) << id;
   EXPECT_TRUE(
       contains(failing, "lut/user_lut/intensity/dev1_colorgradingintensity0.5_lutue16_contrast"))
       << out;

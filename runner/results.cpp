@@ -222,6 +222,12 @@ json case_json(const CaseResult& c, const RunReport& r) {
                       ? json{{"x", c.first_allowance.x}, {"y", c.first_allowance.y}}
                       : json(nullptr)},
         {"without_it", c.tight_reason}};
+  // A FAIL's possible causes (runner/diagnosis.h; each also ends the reason).
+  json hints = json::array();
+  for (const Hint& h : c.hints)
+    hints.push_back(
+        {{"id", h.id}, {"message", h.message}, {"evidence", h.evidence}, {"docs", h.docs}});
+  out["hints"] = hints;
   return out;
 }
 

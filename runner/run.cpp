@@ -391,6 +391,23 @@ class Executor {
     if (r.verdict == CaseVerdict::kFail && opt_.device_allowances &&
         !float32_exact_device(report_.candidate_device))
       judge_with_device_allowances(r, *resolved, *cand_img, enc, w);
+    // A failing case's possible causes (docs/diagnosis.md): failing cases only, so a passing one
+    // costs nothing. A dither's error is grain, judged by its statistics: not diagnosed.
+    if (r.verdict == CaseVerdict::kFail && !r.tolerance.dither.judged) {
+      const auto t1 = std::chrono::steady_clock::now();
+      if (const auto& signatures = builtin_signatures(); signatures) {
+        DiagnosisInput in;
+        in.input = &resolved->input;
+        in.reference = &*ref_img;
+        in.candidate = &*cand_img;
+        in.encoding = &enc;
+        in.resolved = &*resolved;
+        in.reference_of = [&w](const ResolvedCase& v) { return w.reference->run(v); };
+        r.hints = diagnose(*signatures, in);
+      }
+      for (const Hint& h : r.hints) r.reason += "; " + h.text();
+      r.diff_seconds += seconds_since(t1);
+    }
     return r;
   }
 

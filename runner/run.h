@@ -14,6 +14,7 @@
 #include "core/case.h"
 #include "core/engine.h"
 #include "runner/case_loader.h"
+#include "runner/diagnosis.h"
 #include "runner/diff.h"
 #include "runner/dither.h"
 #include "runner/tolerance.h"
@@ -63,6 +64,9 @@ struct CaseResult {
   bool exact_pattern_judged = false;  // the dither's exact pattern was judged (runner/dither.h)
   std::string encoding;               // how outputs were decoded to nits (OutputEncoding::describe)
   std::vector<std::string> warnings;
+  // A FAIL's possible causes, where its error matches a known mistake's signature
+  // (runner/diagnosis.h); each is also in `reason`. Never changes the verdict.
+  std::vector<Hint> hints;
   bool could_be_tightened = false;
   double budget_used = 0;  // largest observed/max ratio (Verdict::budget_used)
   bool has_params = false;

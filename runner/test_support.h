@@ -100,12 +100,13 @@ inline void write(const std::filesystem::path& p, const std::string& text) {
 // suite's shaders, then `hdrconform run SELECTION` (e.g. "--pipeline unity_urp" or "--filter
 // 'lut/devices/*'") on that copy without goldens. Returns the ids of the FAIL cases (results.json)
 // and the console output in `out`; the run must exit `expected_code` (1: something failed) and
-// `from` must be in the shader.
+// `from` must be in the shader. `results_json`, when given, receives the run's results.json.
 inline std::vector<std::string> planted_shader_failures(const std::string& shader,
                                                         const std::string& from,
                                                         const std::string& to,
                                                         const std::string& selection,
-                                                        std::string* out, int expected_code = 1) {
+                                                        std::string* out, int expected_code = 1,
+                                                        nlohmann::json* results_json = nullptr) {
   namespace fs = std::filesystem;
   const fs::path shaders = temp_dir("planted_shader");
   const fs::path results = temp_dir("planted_shader_out");
@@ -124,6 +125,7 @@ inline std::vector<std::string> planted_shader_failures(const std::string& shade
   const auto j = nlohmann::json::parse(read(results / "results.json"));
   for (const auto& c : j["cases"])
     if (c["verdict"] == "FAIL") failing.push_back(c["id"].get<std::string>());
+  if (results_json) *results_json = j;
   fs::remove_all(shaders);
   fs::remove_all(results);
   return failing;
