@@ -2,16 +2,22 @@
 """Shard balance of `hdrconform run --shard K/N`, and the stage costs the static plan uses.
 
     bench/shard_balance.py fit RESULTS_JSON
+    bench/shard_balance.py plan [--build DIR] [--n 2,3,4] RESULTS_JSON...
     bench/shard_balance.py measure [--build DIR] [--shards 2,4] [--jobs 2] [--timings FILE]
                                    [--rounds 1] [--plans static,timings] [RUN ARGS...]
 
 fit: the per-stage cost figures of core/pipeline.h (StageCost: us, us_per_pixel,
-us_per_lut_texel), least squares of each non-degenerate case's recorded seconds (results.json
+us_per_lut_texel), least squares of each evaluated case's recorded seconds (results.json
 seconds.total: reference + candidate + diff) on its image's pixels (params.width x params.height,
 a bake's N^2 x N lattice) and its LUT's N^3 texels (params.lut_size), per stage; a column that does
 not vary over the stage's cases, or only with the pixels, is left out (its cost is in the others),
 and so is one whose coefficient would be negative. Prints the figures to paste beside each
-pipeline's stages (Pipeline::stage_costs), in microseconds of the measuring machine.
+pipeline's stages (Pipeline::stage_costs), in microseconds of the measuring machine. The sizes
+come from each case's resolved parameters, which a run keeps with its images: fit a run made with
+`--images all` (the default outside CI).
+
+plan: the balance of the static and the timings plans over each RESULTS_JSON's recorded seconds
+(a whole run's): the slowest shard's summed seconds over the mean, for each N.
 
 measure: runs every shard of each N, one after another, with the static model (no timings) and with
 --timings FILE (default: a whole unsharded run made first, `run --out TMP`), each shard a separate
@@ -69,6 +75,9 @@ def fit(results):
         texels = p.get("lut_size", 0) ** 3 / 1e6
         by[c["stage"]].append((c["seconds"]["total"], pixels, texels))
         pipeline_of[c["stage"]] = c["pipeline"]
+    if not any(c.get("params") for c in doc["cases"]):
+        sys.exit(f"{results}: no case has its resolved parameters (params), which give the sizes: "
+                 "fit a run made with --images all")
     out = collections.defaultdict(list)
     for stage, v in sorted(by.items()):
         y = [s for s, _, _ in v]
@@ -97,6 +106,28 @@ def fit(results):
             print(f'  {{"{stage}", {fig["us"]:.0f}, {fig["us_per_pixel"]:.3g}, '
                   f'{fig["us_per_lut_texel"]:.3g}}},  // {n} cases, mean {mean * 1e3:.2f} ms, '
                   f"rms residual {rmse * 1e3:.2f} ms")
+
+
+def plan(a):
+    """Each plan's balance over the recorded seconds of whole runs: the shards `list --shard K/N`
+    names, each summed in seconds of the same run (one load for every case, so the machine's
+    load changes the figure far less than shard walls run one after another)."""
+    binary = os.path.join(a.build, "runner", "hdrconform")
+    print("| seconds of | plan | " + " | ".join(f"N = {n}" for n in a.n) + " |")
+    print("|---|---|" + "---|" * len(a.n))
+    for results in a.results:
+        with open(results) as f:
+            sec = {c["id"]: c["seconds"]["total"] for c in json.load(f)["cases"]}
+        for name, extra in (("static", []), ("timings", ["--timings", results])):
+            cells = []
+            for n in a.n:
+                loads = []
+                for k in range(1, n + 1):
+                    ids = subprocess.run([binary, "list", "--shard", f"{k}/{n}"] + extra,
+                                         capture_output=True, text=True, check=True).stdout.split()
+                    loads.append(sum(sec.get(i, 0) for i in ids))
+                cells.append(f"{balance(loads):.3f}")
+            print(f"| {results} | {name} | " + " | ".join(cells) + " |")
 
 
 def run_shards(binary, n, timings, jobs, args, tmp):
@@ -164,9 +195,15 @@ def main():
     m.add_argument("--timings", default="")
     m.add_argument("--rounds", type=int, default=1)
     m.add_argument("--plans", default="static,timings", help="which plans to run")
+    pl = sub.add_parser("plan")
+    pl.add_argument("results", nargs="+")
+    pl.add_argument("--build", default=os.path.join(ROOT, "build"))
+    pl.add_argument("--n", type=lambda t: [int(x) for x in t.split(",")], default=[2, 3, 4])
     a, rest = ap.parse_known_args()
     if a.cmd == "fit":
         fit(a.results)
+    elif a.cmd == "plan":
+        plan(a)
     else:
         measure(a, rest)
 

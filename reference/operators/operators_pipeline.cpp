@@ -110,8 +110,9 @@ const Pipeline& operators_pipeline() {
       // Measured per pixel, 2048x2048 minus 256x256, lavapipe (runner/budget.h).
       255,
       2500,
-      // Each stage's seconds per case, fitted to a default-suite run (bench/shard_balance.py fit;
-      // docs/performance-notes.md, "Shard balance"): µs per case, per pixel, per baked LUT texel.
+      // Each stage's seconds per case, fitted to a default-suite run (2026-11-27, --images all,
+      // -j 2, lavapipe; bench/shard_balance.py fit; docs/performance-notes.md, "Shard balance"):
+      // µs per case, per pixel, per baked LUT texel.
       {{"tone_curve", 928, 0.903, 0}},
   };
   return pipeline;
