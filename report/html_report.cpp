@@ -1144,9 +1144,15 @@ struct Builder {
       json flat = json::object();
       std::vector<std::pair<std::string, const json*>> cells;
       flatten(*nf, "", &cells);
+      bool none = true;  // every count 0: one line, not a table of zeros (most cases)
       for (const auto& [k, v] : cells)
-        if (k.rfind("first_mismatch", 0) != 0) flat[k] = *v;
-      h += kv_table(&flat, "census-table", "—");
+        if (k.rfind("first_mismatch", 0) != 0) {
+          flat[k] = *v;
+          none = none && (v->is_null() || (v->is_number() && v->get<double>() == 0));
+        }
+      h += none ? "<p id=\"census-table\">None: no NaN, +Inf, −Inf or negative value on either "
+                  "side (every count 0).</p>\n"
+                : kv_table(&flat, "census-table", "—");
     } else {
       h += "<p class=\"muted\">—</p>";
     }
