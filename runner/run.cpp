@@ -177,9 +177,9 @@ namespace {
 // another on 2 cores: the slowest shard 21 % over the fastest uncapped, 15 % capped, 10 % with
 // the static model alone; docs/performance-notes.md).
 constexpr double kOneTimeClip = 3.0;
-// A case's cost for the balance: its recorded seconds, capped, or the model's estimate scaled to
-// the timings' seconds (`scale`: the median of seconds / static_case_cost over the timed cases of
-// the selection, the static model in this machine's seconds).
+// A case no timings list costs the model's estimate scaled to the timings' seconds (`scale`: the
+// median of seconds / static_case_cost over the timed cases of the selection, the static model in
+// this machine's seconds).
 double shard_cost(const Case& c, double model, const ShardTimings& t, double scale) {
   const auto it = t.seconds.find(c.id);
   return it == t.seconds.end() ? model * scale : std::min(it->second, kOneTimeClip * scale * model);
