@@ -34,6 +34,17 @@ struct Resolution {
   std::array<std::shared_ptr<const UserLut>, kUserLutSlots> user_luts{};
 };
 
+// What one case of a stage costs in a `run`, measured (bench/shard_balance.py fits it from a
+// results.json's per-case seconds: reference, candidate and diff): the estimate `--shard` balances
+// with when it has no recorded timings (runner/run.cpp, static_case_cost). Only the ratios between
+// cases matter, so the figures are the measuring machine's microseconds.
+struct StageCost {
+  std::string_view stage;       // a stage of the pipeline (StageInfo::name)
+  double us = 0;                // per case: engine dispatch, buffers, a user LUT's upload
+  double us_per_pixel = 0;      // per pixel of the case's image (a LUT bake's: its N² x N lattice)
+  double us_per_lut_texel = 0;  // per texel of the N³ LUT a stage bakes before its pixel passes
+};
+
 struct Pipeline {
   std::string_view name;         // "ue55": what cases, --pipeline and results.json use
   std::string_view title;        // "Unreal Engine 5.5 HDR output"
@@ -68,6 +79,9 @@ struct Pipeline {
   // all of them. `hdrconform probe --json` prints them. Null: the pipeline names none.
   std::vector<std::vector<NamedValue>> (*named_values)(
       const ResolvedCase& c, const std::vector<std::array<double, 3>>& colours) = nullptr;
+  // Each stage's measured cost per case (StageCost); a stage not listed takes the dearest measured
+  // figures of every pipeline (stage_cost).
+  std::vector<StageCost> stage_costs = {};
 
   // A fresh settings set of this pipeline (its table and named values; unset values read as their
   // defaults).
@@ -85,6 +99,10 @@ std::string pipeline_names();                         // "ue55, unity_urp, opera
 const StageInfo* find_stage(const Pipeline& pipeline, std::string_view name);
 // "shaper, linear_device, ..." of one pipeline.
 std::string stage_names(const Pipeline& pipeline);
+
+// The measured cost of `stage` (its pipeline's stage_costs); for a stage not measured yet, the
+// dearest of every measured figure (an estimate that errs on the costly side).
+StageCost stage_cost(const StageInfo& stage);
 
 // The output encoding of `stage` for the resolved parameters (its pipeline's).
 OutputEncoding output_encoding(const StageInfo& stage, const ParamBlock& p);

@@ -69,6 +69,19 @@ std::string stage_names() {
   return out;
 }
 
+StageCost stage_cost(const StageInfo& stage) {
+  for (const StageCost& c : pipeline_of(stage).stage_costs)
+    if (c.stage == stage.name) return c;
+  StageCost dearest{stage.name};
+  for (const Pipeline* p : pipeline_table())
+    for (const StageCost& c : p->stage_costs) {
+      dearest.us = std::max(dearest.us, c.us);
+      dearest.us_per_pixel = std::max(dearest.us_per_pixel, c.us_per_pixel);
+      dearest.us_per_lut_texel = std::max(dearest.us_per_lut_texel, c.us_per_lut_texel);
+    }
+  return dearest;
+}
+
 OutputEncoding output_encoding(const StageInfo& stage, const ParamBlock& p) {
   return pipeline_of(stage).output_encoding(stage, p);
 }

@@ -10,12 +10,14 @@
 #include <ctime>
 #include <filesystem>
 #include <fstream>
+#include <list>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <set>
 #include <sstream>
 #include <thread>
+#include <tuple>
 
 #include "color/st2084.h"
 #include "core/cvars.h"
@@ -130,6 +132,23 @@ std::string fmt(std::optional<double> v, const char* f = "%.4g") {
   return buf;
 }
 
+// An array or object as JSON text with its floating-point numbers to the 9 significant digits
+// text() shows of a single number (a float32 value exactly), not a round trip's 17.
+std::string dump_9g(const json& v) {
+  if (v.is_number_float() && std::isfinite(v.get<double>())) return fmt(v.get<double>(), "%.9g");
+  std::string s;
+  if (v.is_array()) {
+    for (const auto& e : v) s += (s.empty() ? "" : ",") + dump_9g(e);
+    return "[" + s + "]";
+  }
+  if (v.is_object()) {
+    for (const auto& [k, e] : v.items())
+      s += (s.empty() ? "" : ",") + json(k).dump() + ":" + dump_9g(e);
+    return "{" + s + "}";
+  }
+  return v.dump();
+}
+
 // Any JSON value as display text (not escaped).
 std::string text(const json* v) {
   if (!v || v->is_null()) return "—";
@@ -137,7 +156,7 @@ std::string text(const json* v) {
   if (v->is_boolean()) return v->get<bool>() ? "yes" : "no";
   if (v->is_number_integer() || v->is_number_unsigned()) return v->dump();
   if (v->is_number()) return fmt(v->get<double>(), "%.9g");
-  return v->dump();
+  return dump_9g(*v);
 }
 
 std::string esc_text(const json* v) {
@@ -416,12 +435,25 @@ void flatten(const json& j, const std::string& prefix,
   }
 }
 
+// A metric's statistics with what results.json leaves out where every value is equal on both
+// sides (count and max 0 only, runner/results.cpp) filled in: each statistic 0.
+json full_metric_stats(const json& m) {
+  const json* max = get(m, {"max"});
+  if (!m.is_object() || m.contains("mean") || !max || !max->is_number() || max->get<double>() != 0)
+    return m;
+  json out = m;
+  for (const char* k : {"mean", "rms", "p99", "p99_9", "over", "fraction_over"}) out[k] = 0;
+  return out;
+}
+
 std::string stats_table(const json* obj, const std::string& id, const std::string& row_head) {
   if (!obj || (!obj->is_object() && !obj->is_array()) || obj->empty()) return "";
   std::vector<std::pair<std::string, std::vector<std::pair<std::string, const json*>>>> rows;
   std::vector<std::string> cols;
   std::set<std::string> seen;
-  auto add_row = [&](const std::string& name, const json& v) {
+  std::list<json> filled;  // full_metric_stats's copies, alive while the table is written
+  auto add_row = [&](const std::string& name, const json& row) {
+    const json& v = filled.emplace_back(full_metric_stats(row));
     std::vector<std::pair<std::string, const json*>> cells;
     if (v.is_object())
       flatten(v, "", &cells);
@@ -464,6 +496,58 @@ std::string stats_table(const json* obj, const std::string& id, const std::strin
   return h + "</tbody></table></div>\n";
 }
 
+// The per-band statistics of results.json (runner/results.cpp: a band lists its judged metrics,
+// none where it holds every pixel) as one table, a row per band and metric, and a line of each
+// band's pixels. Columns: the union of the rows' statistics, in the order first seen.
+std::string band_table(const json& bands, std::optional<double> case_pixels) {
+  std::vector<std::string> cols;
+  std::set<std::string> seen;
+  std::list<json> filled;
+  std::vector<
+      std::tuple<std::string, std::string, std::vector<std::pair<std::string, const json*>>>>
+      rows;
+  std::string counts, notes;
+  for (const auto& b : bands) {
+    const std::string name = text(get(b, {"band"}));
+    const auto pixels = num(get(b, {"pixels"}));
+    counts += (counts.empty() ? "" : ", ") + html_escape(name) + ": " + fmt(pixels, "%.0f");
+    const json* m = get(b, {"metrics"});
+    if (pixels && *pixels > 0 && m && m->is_object() && m->empty())
+      notes = case_pixels && *pixels == *case_pixels
+                  ? " (one band holds every pixel: its statistics are the overall ones)"
+                  : " (no metric is judged)";
+    if (!m || !m->is_object()) continue;
+    for (const auto& [metric, stats] : m->items()) {
+      const json& v = filled.emplace_back(full_metric_stats(stats));
+      std::vector<std::pair<std::string, const json*>> cells;
+      flatten(v, "", &cells);
+      for (const auto& [k, _] : cells)
+        if (seen.insert(k).second) cols.push_back(k);
+      rows.push_back({name, metric, std::move(cells)});
+    }
+  }
+  std::string h;
+  if (!rows.empty()) {
+    h = "<div class=\"scroll\"><table class=\"stats\" id=\"stats-bands\"><thead><tr><th>band"
+        "</th><th>metric</th>";
+    for (const auto& c : cols) h += "<th>" + html_escape(c) + "</th>";
+    h += "</tr></thead><tbody>\n";
+    for (const auto& [band, metric, cells] : rows) {
+      h += "<tr><th>" + html_escape(band) + "</th><th>" + html_escape(metric) + "</th>";
+      for (const auto& c : cols) {
+        const json* v = nullptr;
+        for (const auto& [k, p] : cells)
+          if (k == c) v = p;
+        const auto n = num(v);
+        h += "<td>" + (n ? fmt(n) : esc_text(v)) + "</td>";
+      }
+      h += "</tr>\n";
+    }
+    h += "</tbody></table></div>\n";
+  }
+  return h + "<p>Pixels per band: " + counts + notes + ".</p>\n";
+}
+
 std::string pixel_rows(const json& c) {
   // Every worst/first pixel object the case has: worst, worst_rel, worst_pq, per-metric worst,
   // nonfinite.first_mismatch.
@@ -473,9 +557,18 @@ std::string pixel_rows(const json& c) {
       const json* m = get(*p, {"metric"});
       px.push_back({m ? "worst (" + text(m) + ")" : std::string(k), p});
     }
+  // A metric's worst value that is the case's worst pixel (the same value) is its row already.
+  const json* case_worst = get(c, {"worst_pixel"});
+  auto same = [&](const json* w, const char* metric) {
+    if (!case_worst || !case_worst->is_object() || text(get(*case_worst, {"metric"})) != metric)
+      return false;
+    for (const char* f : {"x", "y", "channel"})
+      if (text(get(*case_worst, {f})) != text(get(*w, {f}))) return false;
+    return true;
+  };
   for (const char* k : kMetricKeys)
     if (const json* m = metric_stats(c, k))
-      if (const json* w = get(*m, {"worst"}); w && w->is_object())
+      if (const json* w = get(*m, {"worst"}); w && w->is_object() && !same(w, k))
         px.push_back({std::string(k) + " max", w});
   if (const json* p = get(c, {"nonfinite", "first_mismatch"}); p && p->is_object())
     px.push_back({"first non-finite mismatch", p});
@@ -527,6 +620,21 @@ std::string reproduce_command(const json& doc, const std::string& id) {
   std::string q = "'";
   for (char ch : "=" + id) q += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
   return base + " --filter " + q + "' --out repro";
+}
+
+// A tolerance reason's lead: its first sentence (to the first ". " or ": "), at most 160 bytes
+// (cut at a space, never inside a UTF-8 sequence).
+std::string reason_lead(const std::string& r) {
+  size_t end = std::min(r.find(". "), r.find(": "));
+  if (end == std::string::npos || end > 160) {
+    end = std::min<size_t>(r.size(), 160);
+    if (end < r.size()) {
+      const size_t space = r.rfind(' ', end);
+      end = space != std::string::npos && space > 0 ? space : end;
+      while (end > 0 && (static_cast<unsigned char>(r[end]) & 0xC0) == 0x80) --end;
+    }
+  }
+  return end < r.size() ? r.substr(0, end) + " …" : r;
 }
 
 std::string metadata_table(const json& doc) {
@@ -729,6 +837,12 @@ struct Builder {
   fs::path results_dir, out;  // out: the new report folder
   json doc;
   std::vector<CaseView> cases;
+  // Tolerance reasons that several cases share (most cases of a stage share their defaults'):
+  // each is written once, in tolerances.html, and a case page links to it (share_reasons).
+  struct SharedReason {
+    int id = 0, cases = 0;
+  };
+  std::map<std::string, SharedReason> reasons;
   std::atomic<size_t> files{0};
 
   Status put(const fs::path& rel, const std::string& s) {
@@ -1131,7 +1245,14 @@ struct Builder {
     h += tol_rows.empty()
              ? "<p class=\"muted\">—</p>"
              : "<table class=\"kv\" id=\"tolerance-table\"><tbody>" + tol_rows + "</tbody></table>";
-    h += "<p><b>Reason:</b> " + esc_text(tj ? get(*tj, {"reason"}) : nullptr) + "</p>";
+    const std::string reason = text(tj ? get(*tj, {"reason"}) : nullptr);
+    if (const auto it = reasons.find(reason); it != reasons.end())
+      h += "<p><b>Reason:</b> " + html_escape(reason_lead(reason)) + " <a href=\"" + root +
+           "tolerances.html#r" + std::to_string(it->second.id) +
+           "\" id=\"tolerance-reason\">(the whole reason; " + std::to_string(it->second.cases) +
+           " cases share it)</a></p>";
+    else
+      h += "<p><b>Reason:</b> " + html_escape(reason) + "</p>";
     h += "<p><b>Source:</b> <span id=\"tolerance-source\">" +
          esc_text(tj ? get(*tj, {"source"}) : nullptr) + "</span></p></section>\n";
 
@@ -1147,17 +1268,11 @@ struct Builder {
     const json* bands = get(j, {"stats", "bands"});
     if (!bands) bands = get(j, {"bands"});
     if (bands && bands->is_array()) {
-      // [{band, min_nits, max_nits, pixels, metrics: {metric: stats}}]: one table per band.
-      h += "<h3>Per luminance band (the reference pixel's luminance, nits)</h3>\n";
-      int n = 0;
-      for (const auto& b : *bands) {
-        const std::string name = text(get(b, {"band"}));
-        const auto pixels = num(get(b, {"pixels"}));
-        h += "<h4>" + html_escape(name) + " nits: " + fmt(pixels, "%.0f") + " pixels</h4>";
-        if (pixels && *pixels == 0) continue;
-        const json* m = get(b, {"metrics"});
-        h += stats_table(m ? m : &b, "band-" + std::to_string(n++), "metric");
-      }
+      // [{band, pixels, metrics: {metric: stats}}]: one table, a row per band and metric (one
+      // header for every band), then each band's pixels.
+      h += "<h3>Per luminance band (the reference pixel's luminance, nits; the judged "
+           "metrics)</h3>\n" +
+           band_table(*bands, num(get(j, {"stats", "pixels"})));
     } else if (bands) {
       h += "<h3>Per luminance band</h3>" + stats_table(bands, "stats-bands", "band");
     }
@@ -1170,9 +1285,15 @@ struct Builder {
       json flat = json::object();
       std::vector<std::pair<std::string, const json*>> cells;
       flatten(*nf, "", &cells);
+      bool none = true;  // every count 0: one line, not a table of zeros (most cases)
       for (const auto& [k, v] : cells)
-        if (k.rfind("first_mismatch", 0) != 0) flat[k] = *v;
-      h += kv_table(&flat, "census-table", "—");
+        if (k.rfind("first_mismatch", 0) != 0) {
+          flat[k] = *v;
+          none = none && (v->is_null() || (v->is_number() && v->get<double>() == 0));
+        }
+      h += none ? "<p id=\"census-table\">None: no NaN, +Inf, −Inf or negative value on either "
+                  "side (every count 0).</p>\n"
+                : kv_table(&flat, "census-table", "—");
     } else {
       h += "<p class=\"muted\">—</p>";
     }
@@ -1196,8 +1317,16 @@ struct Builder {
          kv_table(resolved, "resolved", "—") + "</details>";
     if (const json* rv = get(j, {"reference_values"}); rv && !rv->empty())
       h += "<h3>Named values (reference)</h3>" + kv_table(rv, "named-values", "—");
+    // The device every case of a run shares (the run's candidate) is in the summary's run table,
+    // once; a case page names it and links there.
+    const json* dev = get(j, {"device"});
+    const json* run_dev = get(doc, {"candidate"});
     h += "<h3>Timings and device</h3>" + kv_table(get(j, {"seconds"}), "timings", "—") +
-         kv_table(get(j, {"device"}), "device", "—");
+         (dev && run_dev && *dev == *run_dev
+              ? "<p id=\"device\">" + esc_text(get(*dev, {"device"})) +
+                    ", the run's candidate device (<a href=\"" + root +
+                    "index.html#run-meta\">run</a>)</p>\n"
+              : kv_table(dev, "device", "—"));
     h += "</section>\n";
 
     h += "<script type=\"application/json\" id=\"case-meta\">" + script_safe_json(c.meta.dump()) +
@@ -1347,7 +1476,8 @@ struct Builder {
     list("Could be tightened", "could-be-tightened", [](const CaseView& c) { return c.tighten; });
     h += "<h2>Run</h2>\n" + metadata_table(doc);
     h += "<p class=\"links\"><a href=\"matrix.html\">cvar matrix</a> · <a "
-         "href=\"cases.html\">all cases</a> · results.json and junit.xml are beside report/ in the "
+         "href=\"cases.html\">all cases</a> · <a href=\"tolerances.html\">tolerance reasons</a> · "
+         "results.json and junit.xml are beside report/ in the "
          "run's output folder</p>\n";
     return h + page_tail("", {});
   }
@@ -1389,6 +1519,32 @@ struct Builder {
     return h + page_tail("", {"data.js"});
   }
 
+  // Which tolerance reasons are shared: a reason longer than its lead (reason_lead) that more
+  // than one case gives, numbered in the order of the cases.
+  void share_reasons() {
+    std::map<std::string, int> count;
+    for (const CaseView& c : cases) ++count[text(get(*c.j, {"tolerance", "reason"}))];
+    for (const CaseView& c : cases) {
+      const std::string r = text(get(*c.j, {"tolerance", "reason"}));
+      if (count[r] > 1 && reason_lead(r).size() < r.size() && !reasons.count(r))
+        reasons[r] = {static_cast<int>(reasons.size()) + 1, count[r]};
+    }
+  }
+
+  std::string tolerances_page() const {
+    std::vector<std::pair<int, const std::string*>> order;
+    for (const auto& [r, s] : reasons) order.push_back({s.id, &r});
+    std::sort(order.begin(), order.end());
+    std::string h = page_head("Tolerance reasons — hdrconform", "", "tolerances");
+    h += "<h1>Tolerance reasons</h1>\n<p>The reasons several cases' tolerances give, once each "
+         "(each case page links to its own).</p>\n";
+    for (const auto& [id, r] : order)
+      h += "<section id=\"r" + std::to_string(id) + "\"><h2>Reason " + std::to_string(id) + " (" +
+           std::to_string(reasons.at(*r).cases) + " cases)</h2><p>" + html_escape(*r) +
+           "</p></section>\n";
+    return h + page_tail("", {});
+  }
+
   std::string matrix_page() {
     std::string h = page_head("Cvar matrix — hdrconform", "", "matrix");
     h += "<h1>Cvar matrix</h1>\n<form class=\"toolbar\" id=\"matrix-form\" autocomplete=\"off\">"
@@ -1413,7 +1569,10 @@ struct Builder {
       // Overall statistics as "pq_code10.max", "linear_rel.p99", ... (older results: metrics.*).
       const json* base = get(*c.j, {"stats", "overall"});
       if (!base) base = get(*c.j, {"metrics"});
-      if (base && base->is_object()) flatten(*base, "", &cells);
+      json full = json::object();  // compact statistics (all 0) as the statistics they imply
+      if (base && base->is_object())
+        for (const auto& [k, v] : base->items()) full[k] = full_metric_stats(v);
+      flatten(full, "", &cells);
       for (const auto& [k, v] : cells)
         if (auto n = num(v); n && k.find("worst") == std::string::npos)
           metrics[k] = std::isfinite(*n) ? json(*n) : json(fmt(n));
@@ -1520,6 +1679,7 @@ Result<report::ReportInfo> write_report(const std::string& results_dir, int jobs
     c.slug = slug;
     b.cases.push_back(std::move(c));
   }
+  b.share_reasons();
   // The cases' images and pages, on `jobs` threads (each case writes only its own files and
   // fields); the list pages after, from every case in order.
   const size_t n = b.cases.size();
@@ -1579,6 +1739,7 @@ Result<report::ReportInfo> write_report(const std::string& results_dir, int jobs
        {std::pair<const char*, std::string>{"index.html", b.summary_page()},
         {"cases.html", b.cases_page()},
         {"matrix.html", b.matrix_page()},
+        {"tolerances.html", b.tolerances_page()},
         {"data.js", b.data_js()}})
     if (Status s = b.put(name, page); !s) return s.error();
 

@@ -33,14 +33,23 @@ json number(double v) {
   return v;
 }
 
+// A pixel's values to 9 significant digits: a float32 value exactly (the candidate's, the
+// stimuli's), and the digits the report shows (report/html_report.cpp, "%.9g").
+json pixel_value(double v) {
+  if (!std::isfinite(v) || v == 0) return number(v);
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.9g", v);
+  return std::strtod(buf, nullptr);
+}
+
 json pixel(const PixelRef& p) {
   if (!p.valid()) return nullptr;
   json j = {{"x", p.x},
             {"y", p.y},
             {"channel", std::string(1, "RGBA"[p.channel])},
-            {"input", number(p.input)},
-            {"reference", number(p.reference)},
-            {"candidate", number(p.candidate)}};
+            {"input", pixel_value(p.input)},
+            {"reference", pixel_value(p.reference)},
+            {"candidate", pixel_value(p.candidate)}};
   j["band"] = p.band >= 0 ? json(band_name(p.band)) : json(nullptr);
   return j;
 }
@@ -62,32 +71,51 @@ json device(const DeviceInfo& d) {
   return j;
 }
 
-// A descriptive statistic (mean, rms, percentiles, a fraction) to 7 significant digits: more
-// than float32 inputs carry, and half the bytes of a round-trip double (results.json holds 30
-// of them per case). Maxima, compared with tolerances, keep every digit.
+// A descriptive statistic (mean, rms, percentiles, a fraction) to 5 significant digits: the
+// report's 4 ("%.4g") and a guard digit; no reader judges by them (verdicts are the run's own, from
+// the exact values). Maxima, compared with tolerances, keep every digit (a band's, compared with
+// nothing, the pixel values' 9).
 json statistic(double v) {
   if (!std::isfinite(v) || v == 0) return number(v);
   char buf[32];
-  std::snprintf(buf, sizeof buf, "%.7g", v);
+  std::snprintf(buf, sizeof buf, "%.5g", v);
   return std::strtod(buf, nullptr);
 }
 
-json metric_stats(const MetricStats& m) {
-  return {{"count", m.count},
-          {"max", number(m.max)},
-          {"mean", statistic(m.mean)},
-          {"rms", statistic(m.rms)},
-          {"p99", statistic(m.p99)},
-          {"p99_9", statistic(m.p999)},
-          {"over", m.over},
-          {"fraction_over", statistic(m.fraction_over)},
-          {"worst", pixel(m.worst)}};
+// A metric's statistics; where its values are all equal on both sides (count > 0, max 0) only
+// count and max: every other statistic is 0 and no pixel is worse than another
+// (docs/results-schema.md).
+// A band's have no worst pixel: the case's worst pixels are the overall ones (the report's
+// worst-pixel table).
+json metric_stats(const MetricStats& m, bool band) {
+  if (m.count > 0 && m.max == 0 && m.over == 0) return {{"count", m.count}, {"max", 0}};
+  json j = {{"count", m.count},
+            {"max", band ? pixel_value(m.max) : number(m.max)},
+            {"mean", statistic(m.mean)},
+            {"rms", statistic(m.rms)},
+            {"p99", statistic(m.p99)},
+            {"p99_9", statistic(m.p999)},
+            {"over", m.over},
+            {"fraction_over", statistic(m.fraction_over)}};
+  if (!band) j["worst"] = pixel(m.worst);
+  return j;
 }
 
 json metrics_of(const std::array<MetricStats, kMetricCount>& ms) {
   json j = json::object();
   for (int m = 0; m < kMetricCount; ++m)
-    j[metric_key(static_cast<Metric>(m))] = metric_stats(ms[m]);
+    j[metric_key(static_cast<Metric>(m))] = metric_stats(ms[m], false);
+  return j;
+}
+
+// A band's statistics: of the metrics the case's tolerance judges only, and none where the band
+// holds every pixel (they are the overall ones).
+json band_metrics(const DiffStats& s, int b, const Tolerance& t) {
+  json j = json::object();
+  if (s.band_pixels[b] == s.pixels) return j;
+  for (int m = 0; m < kMetricCount; ++m)
+    if (t.judged(static_cast<Metric>(m)))
+      j[metric_key(static_cast<Metric>(m))] = metric_stats(s.band[b][m], true);
   return j;
 }
 
@@ -150,10 +178,10 @@ json case_json(const CaseResult& c, const RunReport& r) {
     const DiffStats& s = c.stats;
     json bands = json::array();
     for (int b = 0; b < kBandCount; ++b) {
-      json band = range_of_band(b);
-      band["pixels"] = s.band_pixels[b];
+      // The band's range is the run's "bands" entry of the same name.
+      json band = {{"band", band_name(b)}, {"pixels", s.band_pixels[b]}};
       // An empty band has no statistics to give (every one 0): its metrics are left out.
-      if (s.band_pixels[b] > 0) band["metrics"] = metrics_of(s.band[b]);
+      if (s.band_pixels[b] > 0) band["metrics"] = band_metrics(s, b, c.tolerance);
       bands.push_back(band);
     }
     stats = {{"pixels", s.pixels},

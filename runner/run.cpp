@@ -95,30 +95,24 @@ ShardTimings& shard_timings() {
 }  // namespace
 
 double static_case_cost(const Case& c) {
-  // Seconds per case ≈ fixed + per-megapixel cost of its stage (reference + lavapipe + diff),
-  // fitted to a run of 92 default-suite cases (tonemap/tonemap, lut/storage, visualize, ui; -j 2):
-  // tonemap bakes its LUT (≈ 0.35 s whatever the image), VisualizeHDR builds its histogram
-  // (≈ 0.7 s), CombineLUTs costs ≈ 20 s per million lattice points; shaper, linear_device and
-  // dither are small images through short shaders. Only the ratios matter for the balance.
-  struct Cost {
-    const char* stage;
-    double fixed, per_mpixel;
-  };
-  static constexpr Cost kCosts[] = {
-      {"shaper", 0.02, 2.0},       {"linear_device", 0.02, 2.0}, {"combine_luts", 0.05, 20.0},
-      {"tonemap", 0.35, 5.0},      {"dither", 0.05, 5.0},        {"ui_composite", 0.015, 2.0},
-      {"visualize_hdr", 0.7, 2.0},
-  };
-  const std::string stage = c.stage ? std::string(c.stage->name) : "";
-  Cost cost = kCosts[3];  // an unknown stage counts as tonemap
-  for (const Cost& k : kCosts)
-    if (stage == k.stage) cost = k;
-  double pixels = static_cast<double>(std::max(1, c.input.width)) * std::max(1, c.input.height);
-  if (stage == "combine_luts") {  // the lattice: r.LUT.Size³ points
-    const double n = std::clamp(c.cvars.get("r.LUT.Size"), 1.0, 256.0);
-    pixels = n * n * n;
-  }
-  return cost.fixed + cost.per_mpixel * pixels * 1e-6;
+  // The stage's measured cost (core/pipeline.h StageCost, declared beside each pipeline's stages
+  // and fitted by bench/shard_balance.py): a fixed part, the image's pixels (a bake's N² x N
+  // lattice) and the texels of a LUT baked before the pixel passes. The sizes are the host
+  // derivation's (Pipeline::resolve, as the run does), so a LUT size set by a cvar or a setting of
+  // any pipeline counts; a degenerate case is never evaluated and costs nothing.
+  if (!c.stage) return 0;
+  const StageCost k = stage_cost(*c.stage);
+  const CaseCost size = case_cost(c);  // a file input's size from its header (runner/budget.h)
+  const auto resolution = pipeline_of(*c.stage).resolve(c, size.width, size.height);
+  if (!resolution) return k.us * 1e-6;  // reported at once as an error
+  if (!resolution->degenerate.empty()) return 0;
+  const double n = std::clamp(resolution->params.lut_size, 0, 256);
+  const bool bakes =
+      std::any_of(c.stage->passes.begin(), c.stage->passes.end(),
+                  [](const StagePass& p) { return p.domain == Dispatch::kLutTexels; });
+  const double pixels = c.stage->takes_input ? size.pixels : n * n * n;
+  const double texels = bakes && c.stage->takes_input ? n * n * n : 0;
+  return (k.us + k.us_per_pixel * pixels + k.us_per_lut_texel * texels) * 1e-6;
 }
 
 Status use_shard_timings(const std::string& path, const std::string& out_dir) {
@@ -183,42 +177,56 @@ namespace {
 // another on 2 cores: the slowest shard 21 % over the fastest uncapped, 15 % capped, 10 % with
 // the static model alone; docs/performance-notes.md).
 constexpr double kOneTimeClip = 3.0;
-// `scale`: the median of seconds / static_case_cost over the timed cases of the selection, the
-// static model in this machine's seconds.
-double shard_cost(const Case& c, const ShardTimings& t, double scale) {
-  const double model = static_case_cost(c);
+// A case no timings list costs the model's estimate scaled to the timings' seconds (`scale`: the
+// median of seconds / static_case_cost over the timed cases of the selection, the static model in
+// this machine's seconds).
+double shard_cost(const Case& c, double model, const ShardTimings& t, double scale) {
   const auto it = t.seconds.find(c.id);
   return it == t.seconds.end() ? model * scale : std::min(it->second, kOneTimeClip * scale * model);
 }
 }  // namespace
 
+std::vector<int> plan_shards(const std::vector<double>& costs, const std::vector<std::string>& ids,
+                             int n) {
+  std::vector<size_t> order(costs.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+    if (costs[a] != costs[b]) return costs[a] > costs[b];
+    return ids[a] < ids[b];
+  });
+  std::vector<double> load(static_cast<size_t>(std::max(n, 1)), 0.0);
+  std::vector<int> shard(costs.size(), 0);
+  for (const size_t i : order) {
+    const size_t k = static_cast<size_t>(std::min_element(load.begin(), load.end()) - load.begin());
+    load[k] += costs[i];
+    shard[i] = static_cast<int>(k);
+  }
+  return shard;
+}
+
 std::vector<Case> select_shard(const std::vector<Case>& cases, const Shard& shard) {
   const ShardTimings& t = shard_timings();
+  std::vector<double> model(cases.size());
+  for (size_t i = 0; i < cases.size(); ++i) model[i] = static_case_cost(cases[i]);
   double scale = 1.0;
   std::vector<double> ratios;
-  for (const Case& c : cases)
-    if (auto it = t.seconds.find(c.id); it != t.seconds.end())
-      ratios.push_back(it->second / static_case_cost(c));
+  for (size_t i = 0; i < cases.size(); ++i)
+    if (auto it = t.seconds.find(cases[i].id); it != t.seconds.end() && model[i] > 0)
+      ratios.push_back(it->second / model[i]);
   if (!ratios.empty()) {
     std::nth_element(ratios.begin(), ratios.begin() + ratios.size() / 2, ratios.end());
     scale = ratios[ratios.size() / 2];
   }
-  std::vector<std::pair<double, size_t>> order;  // (cost, index)
-  for (size_t i = 0; i < cases.size(); ++i) order.push_back({shard_cost(cases[i], t, scale), i});
-  std::stable_sort(order.begin(), order.end(), [&](const auto& a, const auto& b) {
-    if (a.first != b.first) return a.first > b.first;
-    return cases[a.second].id < cases[b.second].id;
-  });
-  std::vector<double> load(static_cast<size_t>(shard.n), 0.0);
-  std::vector<char> mine(cases.size(), 0);
-  for (const auto& [cost, i] : order) {
-    const size_t k = static_cast<size_t>(std::min_element(load.begin(), load.end()) - load.begin());
-    load[k] += cost;
-    mine[i] = static_cast<int>(k) == shard.k - 1;
+  std::vector<double> costs(cases.size());
+  std::vector<std::string> ids(cases.size());
+  for (size_t i = 0; i < cases.size(); ++i) {
+    costs[i] = shard_cost(cases[i], model[i], t, scale);
+    ids[i] = cases[i].id;
   }
+  const std::vector<int> plan = plan_shards(costs, ids, shard.n);
   std::vector<Case> out;
   for (size_t i = 0; i < cases.size(); ++i)
-    if (mine[i]) out.push_back(cases[i]);
+    if (plan[i] == shard.k - 1) out.push_back(cases[i]);
   return out;
 }
 

@@ -173,9 +173,14 @@ Result<Shard> parse_shard(const std::string& text);
 // the input's order. Deterministic for the same cases and timings, and the shards of one N are
 // disjoint and together the whole list.
 std::vector<Case> select_shard(const std::vector<Case>& cases, const Shard& shard);
+// The assignment select_shard makes (longest processing time first): case i's shard, 0-based, for
+// `costs[i]` and `ids[i]` (the tie-break) over `n` shards.
+std::vector<int> plan_shards(const std::vector<double>& costs, const std::vector<std::string>& ids,
+                             int n);
 
-// A deterministic cost estimate in seconds (lavapipe on 1 core, measured on the default suite:
-// runner/run.cpp), from the stage and the pixel count, for cases no timings list.
+// A deterministic cost estimate in seconds, for cases no timings list: its stage's measured
+// figures (core/pipeline.h StageCost) over the case's pixels and baked LUT texels as its pipeline
+// resolves them; 0 for a degenerate case (never evaluated).
 double static_case_cost(const Case& c);
 
 // The timings --shard balances with (process-wide, set once before select_shard): `path` (a

@@ -120,6 +120,10 @@ const Pipeline& operators_pipeline() {
       255,
       2500,
       &named_values_of,
+      // Each stage's seconds per case, fitted to a default-suite run (2026-11-27, --images all,
+      // -j 2, lavapipe; bench/shard_balance.py fit; docs/performance-notes.md, "Shard balance"):
+      // µs per case, per pixel, per baked LUT texel.
+      {{"tone_curve", 928, 0.903, 0}},
   };
   return pipeline;
 }

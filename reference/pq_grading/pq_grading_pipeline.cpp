@@ -139,6 +139,10 @@ const Pipeline& pq_grading_pipeline() {
       245,
       3400,
       &named_values_of,
+      // Each stage's seconds per case, fitted to a default-suite run (2026-11-27, --images all,
+      // -j 2, lavapipe; bench/shard_balance.py fit; docs/performance-notes.md, "Shard balance"):
+      // µs per case, per pixel, per baked LUT texel.
+      {{"pq_grade", 848, 1.61, 0}},
   };
   return pipeline;
 }

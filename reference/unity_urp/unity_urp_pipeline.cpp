@@ -129,6 +129,10 @@ const Pipeline& unity_urp_pipeline() {
       235,
       2450,
       &named_values_of,
+      // Each stage's seconds per case, fitted to a default-suite run (2026-11-27, --images all,
+      // -j 2, lavapipe; bench/shard_balance.py fit; docs/performance-notes.md, "Shard balance"):
+      // µs per case, per pixel, per baked LUT texel.
+      {{"lut_bake", 1052, 1.42, 0}, {"color_grading", 2766, 0, 0.617}},
   };
   return pipeline;
 }

@@ -183,6 +183,17 @@ const Pipeline& ue55_pipeline() {
       // Measured per pixel, 2048x2048 minus 256x256, lavapipe (runner/budget.h).
       290,
       3600,
+      nullptr,  // named values: probe's UE path prints them (runner/probe.cpp)
+      // Each stage's seconds per case, fitted to a default-suite run (2026-11-27, --images all,
+      // -j 2, lavapipe; bench/shard_balance.py fit; docs/performance-notes.md, "Shard balance"):
+      // µs per case, per pixel, per baked LUT texel.
+      {{"shaper", 272, 0.934, 0},
+       {"linear_device", 431, 1.08, 0},
+       {"combine_luts", 1426, 2.12, 0},
+       {"tonemap", 2775, 3.71, 0.401},
+       {"dither", 93, 1.22, 0},
+       {"ui_composite", 2194, 0, 0},
+       {"visualize_hdr", 79926, 0, 0}},
   };
   return pipeline;
 }
