@@ -1245,14 +1245,14 @@ struct Builder {
     h += tol_rows.empty()
              ? "<p class=\"muted\">—</p>"
              : "<table class=\"kv\" id=\"tolerance-table\"><tbody>" + tol_rows + "</tbody></table>";
-    const std::string reason = text(tj ? get(*tj, {"reason"}) : nullptr);
-    if (const auto it = reasons.find(reason); it != reasons.end())
-      h += "<p><b>Reason:</b> " + html_escape(reason_lead(reason)) + " <a href=\"" + root +
+    const std::string tol_reason = text(tj ? get(*tj, {"reason"}) : nullptr);
+    if (const auto it = reasons.find(tol_reason); it != reasons.end())
+      h += "<p><b>Reason:</b> " + html_escape(reason_lead(tol_reason)) + " <a href=\"" + root +
            "tolerances.html#r" + std::to_string(it->second.id) +
            "\" id=\"tolerance-reason\">(the whole reason; " + std::to_string(it->second.cases) +
            " cases share it)</a></p>";
     else
-      h += "<p><b>Reason:</b> " + html_escape(reason) + "</p>";
+      h += "<p><b>Reason:</b> " + html_escape(tol_reason) + "</p>";
     h += "<p><b>Source:</b> <span id=\"tolerance-source\">" +
          esc_text(tj ? get(*tj, {"source"}) : nullptr) + "</span></p></section>\n";
 
