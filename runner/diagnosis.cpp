@@ -219,7 +219,7 @@ bool uniform_scale(const Signature& s, const DiagnosisInput& in, std::string* ev
 bool constant_offset(const Signature& s, const DiagnosisInput& in, std::string* evidence) {
   const Image& ref = *in.reference;
   const Image& cand = *in.candidate;
-  double sum[3] = {0, 0, 0}, sum_sq[3] = {0, 0, 0};
+  double sum[3] = {0, 0, 0}, sum_sq[3] = {0, 0, 0}, sum_abs_ref[3] = {0, 0, 0};
   size_t pixels = 0;
   const size_t n = ref.pixel_count(), step = stride_of(n);
   for (size_t i = 0; i < n; i += step) {
@@ -230,17 +230,36 @@ bool constant_offset(const Signature& s, const DiagnosisInput& in, std::string* 
     for (int ch = 0; ch < 3; ++ch) {
       sum[ch] += c[ch] - r[ch];
       sum_sq[ch] += (c[ch] - r[ch]) * (c[ch] - r[ch]);
+      sum_abs_ref[ch] += std::fabs(r[ch]);
     }
   }
   if (pixels == 0) return false;
   double straight = 0, residual = 0, largest = 0, d[3];
+  int widest = 0;
   for (int ch = 0; ch < 3; ++ch) {
     d[ch] = sum[ch] / static_cast<double>(pixels);
     straight += sum_sq[ch];
     residual += std::fmax(sum_sq[ch] - static_cast<double>(pixels) * d[ch] * d[ch], 0.0);
-    largest = std::fmax(largest, std::fabs(d[ch]));
+    if (std::fabs(d[ch]) > largest) {
+      largest = std::fabs(d[ch]);
+      widest = ch;
+    }
   }
+  // In a LUT stored as RGBA16F (lut_format 1, the LUT geometry every pipeline's bake shares), an
+  // offset of about one half-float step at the channel's typical value is the store's rounding gone
+  // one way (measured: ue58's scRGB LUTs pass with every red texel one step, 2^-10 at values in
+  // [1, 2), above the reference's), not a bias a port added: there it must exceed min_half_steps
+  // such steps (IEEE 754 binary16: spacing 2^(e - 10) in [2^e, 2^(e+1)), 2^-24 below 2^-14).
+  const bool half_store = in.resolved && in.resolved->spec.stage &&
+                          !in.resolved->spec.stage->takes_input &&
+                          in.resolved->params.lut_format == 1;
+  const double typical = sum_abs_ref[widest] / static_cast<double>(pixels);
+  const double half_step = !half_store ? 0.0
+                           : typical >= std::ldexp(1.0, -14)
+                               ? std::ldexp(1.0, std::ilogb(typical) - 10)
+                               : std::ldexp(1.0, -24);
   if (!(straight > 0) || !(largest >= s.params.at("min_offset")) ||
+      !(largest >= s.params.at("min_half_steps") * half_step) ||
       !(residual <= s.params.at("max_residual_share") * straight))
     return false;
   *evidence = "candidate − reference = (" + fmt3(d[0]) + ", " + fmt3(d[1]) + ", " + fmt3(d[2]) +
@@ -322,9 +341,11 @@ const std::vector<DetectorEntry>& detector_table() {
         "max_residual_share of the squared error"},
        uniform_scale},
       {{"constant_offset",
-        {"max_residual_share", "min_offset"},
+        {"max_residual_share", "min_offset", "min_half_steps"},
         {},
-        "candidate = reference + d per channel, |d| >= min_offset, within max_residual_share of "
+        "candidate = reference + d per channel, |d| >= min_offset (and, in an RGBA16F LUT, >= "
+        "min_half_steps float16 steps at the channel's mean |reference|), within "
+        "max_residual_share of "
         "the squared error"},
        constant_offset},
       {{"saturation_only",

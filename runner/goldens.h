@@ -112,9 +112,11 @@ GoldenRunSummary check_run_against_goldens(const std::vector<Case>& cases,
 // The goldens' size budget, enforced by Goldens.TheRepositorysGoldensStayWithinTheirBudget
 // (docs/goldens.md, "Size"). Measured 2026-11-27: 1381 goldens, 33.45 MB (76 % of the tracked
 // tree's bytes, 83 % of its files); the largest image 2.52 MB (lut/storage/lut64_dev3_fmt2_layout1,
-// a 64³ float LUT), the largest sidecar 818 bytes. The budget leaves about 8 % for new cases:
-// more needs a decision (smaller images, coarser stimuli), not a silent growth.
-inline constexpr uintmax_t kGoldensBudgetBytes = 36'000'000;     // the whole folder
+// a 64³ float LUT), the largest sidecar 818 bytes; then the ue58 pipeline's 247 goldens, 5.40 MB
+// (16³ LUTs). The budget leaves about 8 % for new cases: more needs a decision (smaller images,
+// coarser stimuli, or a new pipeline's measured size stated in docs/goldens.md), not a silent
+// growth.
+inline constexpr uintmax_t kGoldensBudgetBytes = 42'000'000;     // the whole folder
 inline constexpr uintmax_t kGoldenImageBudgetBytes = 3'000'000;  // one EXR
 inline constexpr uintmax_t kGoldenSidecarBudgetBytes = 4096;     // one sidecar
 

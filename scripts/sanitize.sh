@@ -61,7 +61,14 @@ cd "$build"
 # leftover replays of merge (OutputSet.*Merge*) and the budget tests that run cases against a
 # memory budget (Budget.*); the main build runs all of them, and merge's inputs are fuzzed under
 # the sanitizers here (fuzz.merge).
+# Left out since 2026-11-27 (the ue58 pipeline: 247 cases more; the stage's tests then took 1,961
+# s, up from 1,604): the whole-suite flows whose code the sanitizers see in smaller tests here and
+# whose runs the main build makes: every export checked against the params schema
+# (ParamsContract.EveryExportedParamsJsonMatchesTheSchema, 83 s: 1,655 exports, ue58's tables in
+# each), the shard listing of the whole suite (Cli.ShardsPartitionTheCaseList, 88 s), the CI
+# image runs (CliImages.*, 55 s) and the diagnosis over a sample of passing cases
+# (DiagnosisOnPassingCases.*, 27 s; the detectors run under the sanitizers in Diagnosis*.*).
 # The unit tests run as GoogleTest shards (CMakeLists.txt, hdrc_discover_tests), so the tests left
 # out are named to GoogleTest; a filter of the caller's own replaces this one.
-export GTEST_FILTER="${GTEST_FILTER:--*DevicesThreeAndFourOnlyOverTheWholeSuite*:*ThreeShardsMergedEqualOneUnshardedRun*:*ValidationLayerIsClean*:Hygiene.*Validation*:Pipelines.Planted*:DitherPlanted.*:VisualizeDevice.H200*:*_too_big:Pipelines.WorstCaseDevice*:*MergeSandboxInput.*:OutputSet.*Merge*:Budget.*}"
+export GTEST_FILTER="${GTEST_FILTER:--*DevicesThreeAndFourOnlyOverTheWholeSuite*:*ThreeShardsMergedEqualOneUnshardedRun*:*ValidationLayerIsClean*:Hygiene.*Validation*:Pipelines.Planted*:DitherPlanted.*:VisualizeDevice.H200*:*_too_big:Pipelines.WorstCaseDevice*:*MergeSandboxInput.*:OutputSet.*Merge*:Budget.*:ParamsContract.EveryExportedParamsJsonMatchesTheSchema:Cli.ShardsPartitionTheCaseList:CliImages.*:DiagnosisOnPassingCases.*}"
 exec ctest --output-on-failure -j"$(nproc)" -L 'unit|conformance|fuzz' "$@"

@@ -91,20 +91,8 @@ Result<Resolution> resolve(const Case& c, int width, int height) {
   p.output_max_luminance = max_lum;
 
   // ACES parameters (RenderCore.cpp: ConfigureACESTonemapParams; float32 as UE).
-  const float min_lum =
-      std::pow(10.0f, static_cast<float>(cv.get("r.HDR.Display.MinLuminanceLog10")));
-  const auto aces = aces::configure_aces_tonemap_params(
-      min_lum, static_cast<float>(cv.get("r.HDR.Display.MidLuminance")),
-      static_cast<float>(max_lum), static_cast<float>(cv.get("r.HDR.Aces.SceneColorMultiplier")),
-      static_cast<float>(cv.get("r.HDR.Aces.GamutCompression")));
+  const auto aces = configure_aces13(cv, max_lum, &p);
   const auto& a = aces.packed;
-  p.aces_min_max = {a.min_max_data[0], a.min_max_data[1], a.min_max_data[2], a.min_max_data[3]};
-  p.aces_mid = {a.mid_data[0], a.mid_data[1], a.mid_data[2], a.mid_data[3]};
-  p.aces_coefs_low_0 = {a.coefs_low_0[0], a.coefs_low_0[1], a.coefs_low_0[2], a.coefs_low_0[3]};
-  p.aces_coefs_high_0 = {a.coefs_high_0[0], a.coefs_high_0[1], a.coefs_high_0[2],
-                         a.coefs_high_0[3]};
-  p.aces_coefs_low_4 = a.coefs_low_4;
-  p.aces_coefs_high_4 = a.coefs_high_4;
   p.aces_scene_color_multiplier = a.scene_color_multiplier;
   p.aces_gamut_compression = a.gamut_compression;
   // Only stages that run CombineLUTs' device encoding use these parameters.
@@ -254,6 +242,25 @@ Result<ParamBlock> resolve_params(const Case& c, int width, int height) {
   auto r = resolve(c, width, height);
   if (!r) return r.error();
   return r->params;
+}
+
+aces::AcesConfigured configure_aces13(const CvarValues& cv, double max_luminance, ParamBlock* p) {
+  const float min_lum =
+      std::pow(10.0f, static_cast<float>(cv.get("r.HDR.Display.MinLuminanceLog10")));
+  auto aces = aces::configure_aces_tonemap_params(
+      min_lum, static_cast<float>(cv.get("r.HDR.Display.MidLuminance")),
+      static_cast<float>(max_luminance),
+      static_cast<float>(cv.get("r.HDR.Aces.SceneColorMultiplier")),
+      static_cast<float>(cv.get("r.HDR.Aces.GamutCompression")));
+  const auto& a = aces.packed;
+  p->aces_min_max = {a.min_max_data[0], a.min_max_data[1], a.min_max_data[2], a.min_max_data[3]};
+  p->aces_mid = {a.mid_data[0], a.mid_data[1], a.mid_data[2], a.mid_data[3]};
+  p->aces_coefs_low_0 = {a.coefs_low_0[0], a.coefs_low_0[1], a.coefs_low_0[2], a.coefs_low_0[3]};
+  p->aces_coefs_high_0 = {a.coefs_high_0[0], a.coefs_high_0[1], a.coefs_high_0[2],
+                          a.coefs_high_0[3]};
+  p->aces_coefs_low_4 = a.coefs_low_4;
+  p->aces_coefs_high_4 = a.coefs_high_4;
+  return aces;
 }
 
 }  // namespace hdrc::ref

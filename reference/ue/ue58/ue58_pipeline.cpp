@@ -152,21 +152,7 @@ Result<Resolution> resolve58(const Case& c, int width, int height) {
 
   // The ACES 1.3 parameters: GetACESTonemapParameters, HDRConfigureCVars' global set for
   // r.HDR.Display.MaxLuminance, or FACESTonemapParams' 1000-nit defaults when that is 0.
-  const float min_lum =
-      std::pow(10.0f, static_cast<float>(cv.get("r.HDR.Display.MinLuminanceLog10")));
-  const auto aces13 = aces::configure_aces_tonemap_params(
-      min_lum, static_cast<float>(cv.get("r.HDR.Display.MidLuminance")),
-      static_cast<float>(max_cvar > 0.0 ? max_cvar : 1000.0),
-      static_cast<float>(cv.get("r.HDR.Aces.SceneColorMultiplier")),
-      static_cast<float>(cv.get("r.HDR.Aces.GamutCompression")));
-  const auto& a = aces13.packed;
-  p.aces_min_max = {a.min_max_data[0], a.min_max_data[1], a.min_max_data[2], a.min_max_data[3]};
-  p.aces_mid = {a.mid_data[0], a.mid_data[1], a.mid_data[2], a.mid_data[3]};
-  p.aces_coefs_low_0 = {a.coefs_low_0[0], a.coefs_low_0[1], a.coefs_low_0[2], a.coefs_low_0[3]};
-  p.aces_coefs_high_0 = {a.coefs_high_0[0], a.coefs_high_0[1], a.coefs_high_0[2],
-                         a.coefs_high_0[3]};
-  p.aces_coefs_low_4 = a.coefs_low_4;
-  p.aces_coefs_high_4 = a.coefs_high_4;
+  const auto aces13 = configure_aces13(cv, max_cvar > 0.0 ? max_cvar : 1000.0, &p);
 
   // The limiting colour space and the white-scale flags.
   int limiting = static_cast<int>(st.get("LimitingGamut"));
