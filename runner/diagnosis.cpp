@@ -34,6 +34,22 @@ bool finite3(const double* p) {
   return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
 }
 
+// Calls f(r, c) with the reference's and candidate's RGB of each sampled pixel (stride_of) where
+// both are finite; returns how many pixels that was.
+template <class F>
+size_t for_each_finite_sample(const Image& ref, const Image& cand, F&& f) {
+  size_t pixels = 0;
+  const size_t n = ref.pixel_count(), step = stride_of(n);
+  for (size_t i = 0; i < n; i += step) {
+    const double* r = &ref.data[i * Image::kChannels];
+    const double* c = &cand.data[i * Image::kChannels];
+    if (!finite3(r) || !finite3(c)) continue;
+    ++pixels;
+    f(r, c);
+  }
+  return pixels;
+}
+
 // The squared error of the candidate against the reference (straight) and against a variant of
 // the reference, over the RGB values finite in all three, and how far the variant is from the
 // reference.
@@ -187,13 +203,7 @@ bool uniform_scale(const Signature& s, const DiagnosisInput& in, std::string* ev
   const Image& ref = *in.reference;
   const Image& cand = *in.candidate;
   double rr = 0, rc = 0, cc = 0, straight = 0;
-  size_t pixels = 0;
-  const size_t n = ref.pixel_count(), step = stride_of(n);
-  for (size_t i = 0; i < n; i += step) {
-    const double* r = &ref.data[i * Image::kChannels];
-    const double* c = &cand.data[i * Image::kChannels];
-    if (!finite3(r) || !finite3(c)) continue;
-    ++pixels;
+  const size_t pixels = for_each_finite_sample(ref, cand, [&](const double* r, const double* c) {
     for (int ch = 0; ch < 3; ++ch) {
       const double a = enc.to_nits(r[ch]), b = enc.to_nits(c[ch]);
       if (!std::isfinite(a) || !std::isfinite(b)) continue;
@@ -202,7 +212,7 @@ bool uniform_scale(const Signature& s, const DiagnosisInput& in, std::string* ev
       cc += b * b;
       straight += (b - a) * (b - a);
     }
-  }
+  });
   if (pixels == 0 || !(rr > 0) || !(straight > 0)) return false;
   const double k = rc / rr;
   const double residual = std::fmax(cc - 2 * k * rc + k * k * rr, 0.0);  // Σ (b − k a)²
@@ -220,19 +230,13 @@ bool constant_offset(const Signature& s, const DiagnosisInput& in, std::string* 
   const Image& ref = *in.reference;
   const Image& cand = *in.candidate;
   double sum[3] = {0, 0, 0}, sum_sq[3] = {0, 0, 0}, sum_abs_ref[3] = {0, 0, 0};
-  size_t pixels = 0;
-  const size_t n = ref.pixel_count(), step = stride_of(n);
-  for (size_t i = 0; i < n; i += step) {
-    const double* r = &ref.data[i * Image::kChannels];
-    const double* c = &cand.data[i * Image::kChannels];
-    if (!finite3(r) || !finite3(c)) continue;
-    ++pixels;
+  const size_t pixels = for_each_finite_sample(ref, cand, [&](const double* r, const double* c) {
     for (int ch = 0; ch < 3; ++ch) {
       sum[ch] += c[ch] - r[ch];
       sum_sq[ch] += (c[ch] - r[ch]) * (c[ch] - r[ch]);
       sum_abs_ref[ch] += std::fabs(r[ch]);
     }
-  }
+  });
   if (pixels == 0) return false;
   double straight = 0, residual = 0, largest = 0, d[3];
   int widest = 0;
