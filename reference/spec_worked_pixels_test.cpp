@@ -442,7 +442,12 @@ void check_block(const Block& b, const Computed& c) {
     for (const std::string& name : c.order) {
       if (c.optional.count(name) && !listed.count(name)) continue;
       text += name;
-      for (double v : c.values.at(name)) text += " " + g9(v);
+      for (double v : c.values.at(name)) {
+        // Two appends, not `" " + g9(v)`: GCC 12 at -O3 warns (-Wrestrict) about the inlined
+        // operator+(const char*, string&&) (a false positive of that compiler).
+        text += ' ';
+        text += g9(v);
+      }
       text += "\n";
     }
     ADD_FAILURE() << where << ": the code's values of this pixel:\n" << text;
