@@ -127,8 +127,11 @@ std::vector<Row> rows() {
                u58(dev(5), {{"r.LUT.Shaper", 1}}), u58(dev(5))});
   r.push_back(
       {"L7 d7", "device 7: PQ vs log shaper", u58(dev(7), {{"r.LUT.Shaper", 1}}), u58(dev(7))});
-  Row greys7{"L7 d7 grey", "device 7, grey ramp only", u58(dev(7), {{"r.LUT.Shaper", 1}}),
-             u58(dev(7))};
+  // The grey-ramp rows that bench/ue58_effects_test.cpp computes by hand (ExpandGamut 0: every
+  // CombineLUTs step acts on each channel alone).
+  Row greys7{"L7 d7 grey", "device 7, greys, ExpandGamut 0: PQ vs log shaper",
+             u58(dev(7), {{"r.LUT.Shaper", 1}, {"ExpandGamut", 0}}),
+             u58(dev(7), {{"ExpandGamut", 0}})};
   greys7.greys_only = true;
   r.push_back(greys7);
   // L8: LUTInvMax 1/1.05 (5.5) vs 1 (5.8) where 5.8 changed it.
@@ -137,6 +140,10 @@ std::vector<Row> rows() {
   r.push_back({"L8 d2", "device 2: LUT / 1.05 vs / 1 (5.8 stores no value above 1)",
                with(u58(dev(2)), as55), u58(dev(2))});
   r.push_back({"L8 d7", "device 7: LUT / 1.05 vs / 1", with(u58(dev(7)), as55), u58(dev(7))});
+  Row greys8{"L8 d7 grey", "device 7, greys, ExpandGamut 0: LUT / 1.05 vs / 1",
+             with(u58(dev(7), {{"ExpandGamut", 0}}), as55), u58(dev(7), {{"ExpandGamut", 0}})};
+  greys8.greys_only = true;
+  r.push_back(greys8);
   r.push_back({"L8 d0A", "device 0 StandardACES: LUT / 1.05 vs / 1", with(u58(dev(0), kAces), as55),
                u58(dev(0), kAces)});
   // L9: device 0's encode, sRGB OETF vs BT.1886, shown on the same (sRGB) display.
