@@ -99,7 +99,8 @@ std::vector<Row> rows() {
            {1, 0, {}, "device 1"},
            {3, 2, {}, "device 3 Rec.2020"},
            {4, 2, {{"r.HDR.Display.MaxLuminance", 2000}}, "device 4 Rec.2020 2000 nits"},
-           {5, 0, {}, "device 5 sRGB"}}) {
+           {5, 0, {}, "device 5 sRGB"},
+           {9, 0, {}, "device 9"}}) {
     r.push_back({"L3 d" + std::to_string(d), label + " StandardACES: ACES 1.3 vs 2.0",
                  u58(plus(dev(d, g), extra), plus(kAces, {{"r.HDR.Aces.Version", 1}})),
                  u58(plus(dev(d, g), extra), kAces)});
