@@ -98,7 +98,7 @@ struct Path::Impl {
   }
 };
 
-Path::Path(const Config& c) : impl_(new Impl) {
+Path::Path(const Config& c) : impl_(std::make_unique<Impl>()) {
   impl_->ue55 = c.ue55;
   impl_->p = resolve_config(c, &impl_->degenerate);
   const Pipeline& pl = c.ue55 ? default_pipeline() : ref::ue58::ue58_pipeline();
@@ -117,9 +117,7 @@ Path::Path(const Config& c) : impl_(new Impl) {
   }
 }
 
-Path::~Path() {
-  delete impl_;
-}
+Path::~Path() = default;
 
 const ParamBlock& Path::params() const {
   return impl_->p;
@@ -252,8 +250,8 @@ Effect measure(Path& a, Path& b, const std::vector<Stimulus>& set, bool same_dis
       }
       diffs.push_back(d);
       if (d > e.max || e.worst.empty()) {
-        if (d > e.max) e.max = d;
-        if (d >= e.max) e.worst = s.name;
+        e.max = std::max(e.max, d);
+        e.worst = s.name;
       }
     }
     const double de = delta_e_itp(ictcp_from_rec2020_nits(na), ictcp_from_rec2020_nits(nb));

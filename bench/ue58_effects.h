@@ -20,6 +20,7 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -60,7 +61,7 @@ class Path {
 
  private:
   struct Impl;
-  Impl* impl_;
+  std::unique_ptr<Impl> impl_;
 };
 
 // The stimulus set: a grey ramp (0 and 240 values log-spaced over 2^-14 .. 2^8), the ColorChecker
