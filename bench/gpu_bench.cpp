@@ -16,10 +16,10 @@
 #include <vector>
 
 #include "gpu/vulkan_engine.h"
-#include "reference/ue/combine_luts.h"
 #include "reference/reference_engine.h"
-#include "reference/ue/tonemap.h"
+#include "reference/ue/combine_luts.h"
 #include "reference/ue/cpp/resolve.h"
+#include "reference/ue/tonemap.h"
 
 namespace {
 

@@ -27,13 +27,13 @@
 #include <vector>
 
 #include "gpu/vulkan_engine.h"
-#include "reference/ue/aces/aces_output.h"
 #include "reference/color/fast_paths.h"
-#include "reference/ue/combine_luts.h"
-#include "reference/ue/lut_cache.h"
 #include "reference/reference_engine.h"
-#include "reference/ue/tonemap.h"
+#include "reference/ue/aces/aces_output.h"
+#include "reference/ue/combine_luts.h"
 #include "reference/ue/cpp/resolve.h"
+#include "reference/ue/lut_cache.h"
+#include "reference/ue/tonemap.h"
 #include "runner/probe.h"
 
 namespace {

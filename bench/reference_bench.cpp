@@ -11,8 +11,8 @@
 
 #include "color/st2084.h"
 #include "reference/ue/combine_luts.h"
-#include "reference/ue/tonemap.h"
 #include "reference/ue/cpp/resolve.h"
+#include "reference/ue/tonemap.h"
 
 namespace {
 

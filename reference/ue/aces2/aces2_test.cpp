@@ -668,6 +668,35 @@ struct Display {
   const Chromaticities* output;
 };
 
+// UE's transform against OpenColorIO 2.4.1's published outputs (the 35 forward vectors at P3-D65,
+// 1000 nits: limiting RGB before the peak clamp, 1.0 = 100 nits) in 10-bit PQ codes of the nits
+// (negatives black), with the reference's double tables and with UE's float host tables
+// (docs/ue58-decisions.md B, "UE vs OCIO's published vectors").
+TEST(Aces2Differences, PublishedVectorsInPqCodes) {
+  const Fixture& f = p3_1000();
+  const Tables tf = make_tables(f.p, kP3D65, TableScalar::kFloat32);
+  for (const bool float_tables : {false, true}) {
+    double worst = 0, worst_linear = 0;
+    int at = -1;
+    for (int i = 0; i < 35; ++i) {
+      const Vec3 got = limit_rgb_from_xyz(
+          output_transform_fwd(f32(kOtInput[i]), f.p, float_tables ? tf : f.t, kUe), f.p);
+      for (int c = 0; c < 3; ++c) {
+        const double d = std::fabs(pq_code(100 * got[c]) - pq_code(100 * kOtExpected[i][c]));
+        if (d > worst) worst = d, at = i;
+        worst_linear = std::fmax(worst_linear, std::fabs(got[c] - kOtExpected[i][c]));
+      }
+    }
+    std::printf(
+        "UE mode vs OCIO 2.4.1 vectors, %s tables: max %.3g PQ codes (vector %d), %.3g "
+        "linear\n",
+        float_tables ? "float" : "double", worst, at, worst_linear);
+    // Documented: 8.1e-4 codes (double tables, vector 2), 2.5e-3 (float tables, vector 8).
+    EXPECT_LE(worst, float_tables ? 3e-3 : 1e-3);
+    EXPECT_GT(worst, 0.0);
+  }
+}
+
 TEST(Aces2Differences, MeasuredSizes) {
   for (const Display& d :
        {Display{"1000-nit P3-D65 limit, Rec.2020 out", 1000.0, &kP3D65, &kRec2020},

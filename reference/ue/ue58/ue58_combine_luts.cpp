@@ -178,6 +178,8 @@ Vec3 CombineLuts58::inner_lookup(const Vec3& encoded, bool inv_eotf_pq) const {
     // LUT covers every caller), kept for completeness.
   } else if (std::isnan(encoded[0]) || std::isnan(encoded[1]) || std::isnan(encoded[2])) {
     color = {d3d::kNaN, d3d::kNaN, d3d::kNaN};
+  } else if (exact_inner_) {
+    color = inner_texel(clamp3(encoded, 0.0, 1.0));
   } else {
     int i0[3], i1[3];
     double f[3];

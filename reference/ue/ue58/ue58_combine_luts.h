@@ -56,6 +56,12 @@ class CombineLuts58 {
   // CombineLUTsCommon at outer lattice coordinate `e`: the stored value OutDeviceColor * LUTInvMax
   // before the outer LUT's storage rounding.
   Vec3 outer_texel(const Vec3& e) const;
+  // Measurement only (bench/ue58_differences.cpp, docs/ue58-decisions.md F): with `exact`,
+  // inner_lookup evaluates MethodLUTsCommon at the lookup coordinate itself (clamped to [0, 1], as
+  // the clamp addressing does) instead of sampling the stored inner LUT — 5.8's output transform
+  // without the inner LUT's interpolation and storage rounding (docs/ue58-differences.md L2).
+  // UE has no such path.
+  void set_exact_inner(bool exact) { exact_inner_ = exact; }
 
  private:
   Vec3 graded_color(const Vec3& color_ap1) const;
@@ -69,6 +75,7 @@ class CombineLuts58 {
   // Not thread-safe: one evaluator per thread.
   mutable std::vector<Vec3> inner_;
   mutable std::vector<uint8_t> inner_done_;
+  bool exact_inner_ = false;
 };
 
 // The outer LUT as stored: N^3 texels (r fastest), each channel rounded to P.lut_format.
