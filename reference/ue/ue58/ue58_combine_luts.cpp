@@ -102,6 +102,7 @@ CombineLuts58::CombineLuts58(const ParamBlock& p)
   if (!p_.ue58_inner_needed) return;
   const size_t m = static_cast<size_t>(p_.ue58_inner_lut_size);
   inner_.resize(m * m * m);
+  inner_out_.resize(m * m * m);
   inner_done_.assign(m * m * m, 0);
   inner_range_.resize(m * m * m);
   inner_range_done_.assign(m * m * m, 0);
@@ -115,7 +116,9 @@ const Vec3& CombineLuts58::inner_stored(int r, int g, int b) const {
   const size_t i = (static_cast<size_t>(b) * m + g) * m + r;
   if (!inner_done_[i]) {
     const double step = 1.0 / (m - 1);
-    const Vec3 v = inner_texel({r * step, g * step, b * step});
+    // The output before its encode is kept for the device range (inner_stored_range).
+    inner_out_[i] = inner_output({r * step, g * step, b * step});
+    const Vec3 v = inner_encode(inner_out_[i]);
     for (int c = 0; c < 3; ++c) inner_[i][c] = quantize_lut_value(p_.ue58_inner_format, v[c]);
     inner_done_[i] = 1;
   }
@@ -170,7 +173,11 @@ Vec3 CombineLuts58::inner_output(const Vec3& e) const {
 
 // PostProcessCombineLUTsInner.usf: MethodLUTsCommon.
 Vec3 CombineLuts58::inner_texel(const Vec3& e) const {
-  Vec3 out = inner_output(e);
+  return inner_encode(inner_output(e));
+}
+
+// MethodLUTsCommon's encode of the output transform's nits: PQ above 100 nits, else sRGB.
+Vec3 CombineLuts58::inner_encode(Vec3 out) const {
   if (p_.output_max_luminance > kLinearToNits) return pq(clamp3(out, 0.0, kPqWhiteNits));
   out = clamp3(scale(out, 1.0 / kLinearToNits), 0.0, 1.0);  // saturate
   return {linear_to_srgb(out[0]), linear_to_srgb(out[1]), linear_to_srgb(out[2])};
@@ -399,6 +406,25 @@ constexpr double kBt1886PowNoise = kShaderNoise;
 // larger operand, spirv_precision.h; as strip_device_range.h): 7.5 ULP of the largest texel bound.
 constexpr double kTrilinearUlps = 7.5;
 
+// linear_tap_boxes with the consecutive boxes of the same two taps merged into one: the
+// coordinates between theirs reach every fraction between, and the filtered value is linear in
+// it, so the merged box's ends hold the extremes of both. A pair of equal (clamped) taps weighs
+// nothing: one corner.
+std::vector<TapBox> merged_tap_boxes(double t, int size, int bits, double noise) {
+  std::vector<TapBox> out;
+  for (const TapBox& b : linear_tap_boxes(t, size, bits, noise)) {
+    if (!out.empty() && out.back().i0 == b.i0 && out.back().i1 == b.i1) {
+      out.back().f_lo = std::fmin(out.back().f_lo, b.f_lo);
+      out.back().f_hi = std::fmax(out.back().f_hi, b.f_hi);
+    } else {
+      out.push_back(b);
+    }
+  }
+  for (TapBox& b : out)
+    if (b.i0 == b.i1) b.f_lo = b.f_hi = 0;
+  return out;
+}
+
 }  // namespace
 
 const Range3& CombineLuts58::inner_stored_range(int r, int g, int b,
@@ -406,9 +432,8 @@ const Range3& CombineLuts58::inner_stored_range(int r, int g, int b,
   const int m = p_.ue58_inner_lut_size;
   const size_t i = (static_cast<size_t>(b) * m + g) * m + r;
   if (inner_range_done_[i]) return inner_range_[i];
-  const double step = 1.0 / (m - 1);
-  const Vec3 e{r * step, g * step, b * step};
-  const Range3 out = with_shader_noise(inner_output(e));
+  const Vec3& stored = inner_stored(r, g, b);  // and inner_out_[i], the output before its encode
+  const Range3 out = with_shader_noise(inner_out_[i]);
   Range3 enc;
   if (p_.output_max_luminance > kLinearToNits) {
     enc = pq_clamped_on_device(out);
@@ -423,11 +448,11 @@ const Range3& CombineLuts58::inner_stored_range(int r, int g, int b,
     enc = widen_relative(map_nondecreasing(x, [](double v) { return linear_to_srgb(v); }),
                          kEncodePowNoise);
   }
-  enc.include(inner_texel(e));  // the float32-exact value, whatever path rounded the ends
+  enc.include(
+      inner_encode(inner_out_[i]));  // the float32-exact value, whatever path rounded the ends
   Vec3 lo, hi;
   uint8_t nan = 0;
   store_either_way(p_.ue58_inner_format, device.fp16_rte, enc, &lo, &hi, &nan);
-  const Vec3& stored = inner_stored(r, g, b);
   Range3& range = inner_range_[i];
   for (int c = 0; c < 3; ++c) {
     range.lo[c] = std::fmin(lo[c], stored[c]);
@@ -453,7 +478,7 @@ Range3 CombineLuts58::inner_lookup_range(const Range3& encoded, bool inv_eotf_pq
     const double lo = encoded.lo[a] * (m - 1), hi = encoded.hi[a] * (m - 1);
     const double noise =
         0.5 * (hi - lo) + 4.0 * spirv::ulp32(std::fmax(1.0, std::fabs(encoded.hi[a]))) * m;
-    taps[a] = linear_tap_boxes(0.5 * (lo + hi), m, device.sub_texel_bits, noise);
+    taps[a] = merged_tap_boxes(0.5 * (lo + hi), m, device.sub_texel_bits, noise);
   }
   for (int c = 0; c < 3; ++c) {
     color.lo[c] = HUGE_VAL;
@@ -470,25 +495,41 @@ Range3 CombineLuts58::inner_lookup_range(const Range3& encoded, bool inv_eotf_pq
     const TapBox* box[3] = {&taps[0][combo % taps[0].size()],
                             &taps[1][(combo / taps[0].size()) % taps[1].size()],
                             &taps[2][combo / (taps[0].size() * taps[1].size())]};
+    // The 8 texels of this combination, once; then the corners (one per axis where the box is
+    // a single weight).
+    const Range3* texel[8];
+    for (int k = 0; k < 8; ++k) {
+      // A texel whose weight is 0 at every corner is not read (as inner_lookup skips it).
+      bool read = true;
+      for (int a = 0; a < 3; ++a)
+        read = read && ((k >> a) & 1 ? box[a]->f_hi > 0 : box[a]->f_lo < 1);
+      texel[k] = nullptr;
+      if (!read) continue;
+      texel[k] =
+          &inner_stored_range(k & 1 ? box[0]->i1 : box[0]->i0, k & 2 ? box[1]->i1 : box[1]->i0,
+                              k & 4 ? box[2]->i1 : box[2]->i0, device);
+      for (int c = 0; c < 3; ++c) {
+        if (texel[k]->nan[c]) nan |= uint8_t(1u << c);
+        all_nonnegative = all_nonnegative && texel[k]->lo[c] >= 0;
+        big = std::fmax(big, std::fmax(std::fabs(texel[k]->lo[c]), std::fabs(texel[k]->hi[c])));
+      }
+    }
     for (int corner = 0; corner < 8; ++corner) {
+      bool repeated = false;
+      for (int a = 0; a < 3; ++a)
+        repeated = repeated || (((corner >> a) & 1) && box[a]->f_lo == box[a]->f_hi);
+      if (repeated) continue;
       Vec3 slo{}, shi{};
       for (int k = 0; k < 8; ++k) {
         double w = 1;
-        int idx[3];
         for (int a = 0; a < 3; ++a) {
           const double f = (corner >> a) & 1 ? box[a]->f_hi : box[a]->f_lo;
-          const bool second = (k >> a) & 1;
-          w *= second ? f : 1 - f;
-          idx[a] = second ? box[a]->i1 : box[a]->i0;
+          w *= (k >> a) & 1 ? f : 1 - f;
         }
-        if (w == 0) continue;
-        const Range3& t = inner_stored_range(idx[0], idx[1], idx[2], device);
+        if (w == 0 || !texel[k]) continue;
         for (int c = 0; c < 3; ++c) {
-          if (t.nan[c]) nan |= uint8_t(1u << c);
-          slo[c] += w * t.lo[c];
-          shi[c] += w * t.hi[c];
-          all_nonnegative = all_nonnegative && t.lo[c] >= 0;
-          big = std::fmax(big, std::fmax(std::fabs(t.lo[c]), std::fabs(t.hi[c])));
+          slo[c] += w * texel[k]->lo[c];
+          shi[c] += w * texel[k]->hi[c];
         }
       }
       for (int c = 0; c < 3; ++c) {
@@ -600,7 +641,11 @@ Range3 CombineLuts58::outer_texel_range(const Vec3& e, const DevicePrecision& de
 }
 
 DeviceLutRanges bake_outer_lut_device(const ParamBlock& p, const DevicePrecision& device) {
-  const CombineLuts58 luts(p);
+  return bake_outer_lut_device(CombineLuts58(p), p, device);
+}
+
+DeviceLutRanges bake_outer_lut_device(const CombineLuts58& luts, const ParamBlock& p,
+                                      const DevicePrecision& device) {
   const int n = p.lut_size;
   const size_t count = static_cast<size_t>(n) * n * n;
   DeviceLutRanges out;
@@ -622,7 +667,10 @@ DeviceLutRanges bake_outer_lut_device(const ParamBlock& p, const DevicePrecision
 }
 
 std::vector<Vec3> bake_outer_lut(const ParamBlock& p) {
-  const CombineLuts58 luts(p);
+  return bake_outer_lut(CombineLuts58(p), p);
+}
+
+std::vector<Vec3> bake_outer_lut(const CombineLuts58& luts, const ParamBlock& p) {
   const int n = p.lut_size;
   std::vector<Vec3> out(static_cast<size_t>(n) * n * n);
   const double step = 1.0 / (n - 1);  // MainCS: DispatchThreadId * InvLUTSizeMinusOne

@@ -85,7 +85,8 @@ class CombineLuts58 {
   Vec3 apply_tone_curve(const Vec3& color_ap1, double peak, bool inv_eotf_pq) const;
   Vec3 output_aces(const Vec3& graded) const;
   Vec3 inv_output_aces(const Vec3& film_nits) const;
-  Vec3 inner_output(const Vec3& e) const;  // MethodLUTsCommon before its encode (nits / 1)
+  Vec3 inner_output(const Vec3& e) const;  // MethodLUTsCommon before its encode (nits)
+  Vec3 inner_encode(Vec3 out) const;       // and its encode
   Vec3 color_corrected(const Vec3& e) const;
   Range3 tone_curve_range(const Vec3& color_ap1, double peak, bool inv_eotf_pq,
                           const DevicePrecision& device) const;
@@ -94,6 +95,7 @@ class CombineLuts58 {
   Aces2Set fwd_, sdr_;
   // Not thread-safe: one evaluator per thread.
   mutable std::vector<Vec3> inner_;
+  mutable std::vector<Vec3> inner_out_;  // inner_output at each kept texel, before its encode
   mutable std::vector<uint8_t> inner_done_;
   mutable std::vector<Range3> inner_range_;
   mutable std::vector<uint8_t> inner_range_done_;
@@ -101,6 +103,8 @@ class CombineLuts58 {
 
 // The outer LUT as stored: N^3 texels (r fastest), each channel rounded to P.lut_format.
 std::vector<Vec3> bake_outer_lut(const ParamBlock& p);
+// The same with an evaluator of `p` (its inner texels kept for a later bake_outer_lut_device).
+std::vector<Vec3> bake_outer_lut(const CombineLuts58& luts, const ParamBlock& p);
 
 // The outer LUT as a conformant device with precision `device` may store it: per texel (r
 // fastest) outer_texel_range stored either way in P.lut_format (store_either_way), holding the
@@ -110,5 +114,7 @@ struct DeviceLutRanges {
   std::vector<uint8_t> nan;
 };
 DeviceLutRanges bake_outer_lut_device(const ParamBlock& p, const DevicePrecision& device);
+DeviceLutRanges bake_outer_lut_device(const CombineLuts58& luts, const ParamBlock& p,
+                                      const DevicePrecision& device);
 
 }  // namespace hdrc::ref::ue58

@@ -288,7 +288,8 @@ OutputEncoding encoding(const StageInfo&, const ParamBlock& p) {
 
 Result<Image> reference(const ResolvedCase& c, bool) {
   const ParamBlock& p = c.params;
-  const std::vector<Vec3> lut = bake_outer_lut(p);
+  const CombineLuts58 luts(p);  // one evaluator: the device ranges reuse its inner texels
+  const std::vector<Vec3> lut = bake_outer_lut(luts, p);
   const int n = p.lut_size;
   Image out(n * n, n);
   for (int b = 0; b < n; ++b)
@@ -304,7 +305,7 @@ Result<Image> reference(const ResolvedCase& c, bool) {
   if (c.device_allowances) {
     // What a conformant device with the candidate's precision may store (docs/ue58-decisions.md
     // E8): both LUTs' either-way stores, the inner lookup's weight box, the arithmetic's bounds.
-    const DeviceLutRanges d = bake_outer_lut_device(p, c.device);
+    const DeviceLutRanges d = bake_outer_lut_device(luts, p, c.device);
     out.device_admissible.reserve(d.lo.size());
     for (int b = 0; b < n; ++b)
       for (int g = 0; g < n; ++g)
