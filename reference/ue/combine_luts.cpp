@@ -20,6 +20,7 @@
 #include "reference/ue/grading/film_tonemap.h"
 #include "reference/ue/grading/hlsl_ops.h"
 #include "reference/ue/lut_shaper.h"
+#include "reference/ue/lut_store_range.h"
 
 namespace hdrc::ref {
 
@@ -446,14 +447,7 @@ BakedLut bake_lut(const ParamBlock& p, const UeLutSet* luts) {
   return lut;
 }
 
-namespace {
-
-// The relative error of the device encodes' own pow (sRGB / Rec.709 / explicit gamma: pow(x, g)
-// with g ≤ 1/1.8 and |log2 x| ≤ 24 over the LUT's range): inherited from exp2(g·log2 x), log2
-// 3 ulp(24) = 5.7e-6 absolute, times g and ln 2: 2.2e-6; exp2 of |g·log2 x| ≤ 13: 29 ulp = 3.5e-6
-// relative. Together under 2^-17 (7.6e-6), the figure applied.
-constexpr double kEncodePowNoise = 1.0 / 131072.0;
-
+// kEncodePowNoise's derivation: lut_store_range.h.
 Range3 widen_relative(Range3 r, double k) {
   for (int c = 0; c < 3; ++c) {
     r.lo[c] -= std::fabs(r.lo[c]) * k;
@@ -461,6 +455,8 @@ Range3 widen_relative(Range3 r, double k) {
   }
   return r;
 }
+
+namespace {
 
 // What a conformant device may compute for the stored value (before storage), from the texel's
 // trace: the shader arithmetic's noise, kShaderNoise · max|channel| (the derivation of
@@ -541,8 +537,8 @@ Range3 device_texel_range(const ParamBlock& p, const grading::InverseGamma& inve
   return r;
 }
 
-// The storage format's either-way rounding of a range (the format's treatment of NaN as
-// quantize_lut_value's: 10-bit UNORM stores 0, the float formats keep NaN).
+}  // namespace
+
 void store_either_way(int lut_format, bool fp16_rte, const Range3& r, Vec3* lo, Vec3* hi,
                       uint8_t* nan_flags) {
   for (int c = 0; c < 3; ++c) {
@@ -569,6 +565,8 @@ void store_either_way(int lut_format, bool fp16_rte, const Range3& r, Vec3* lo, 
     (*hi)[c] = h;
   }
 }
+
+namespace {
 
 // FilmColorNoGamma's range on a device from the user-LUT blend's (BLENDCOUNT > 1): the blend's
 // range (blend_user_luts_device_range, from FilmColor before the blend: the film tone curve of

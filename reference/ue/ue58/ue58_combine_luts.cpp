@@ -7,6 +7,8 @@
 #include "color/d3d_math.h"
 #include "color/gamma_correction.h"
 #include "color/st2084.h"
+#include "reference/color/device_allowance.h"
+#include "reference/color/spirv_precision.h"
 #include "reference/color/ue_log_shaper.h"
 #include "reference/ue/aces/aces_output.h"
 #include "reference/ue/combine_luts.h"
@@ -15,6 +17,7 @@
 #include "reference/ue/grading/expand_gamut.h"
 #include "reference/ue/grading/film_tonemap.h"
 #include "reference/ue/grading/hlsl_ops.h"
+#include "reference/ue/lut_store_range.h"
 
 namespace hdrc::ref::ue58 {
 
@@ -99,7 +102,10 @@ CombineLuts58::CombineLuts58(const ParamBlock& p)
   if (!p_.ue58_inner_needed) return;
   const size_t m = static_cast<size_t>(p_.ue58_inner_lut_size);
   inner_.resize(m * m * m);
+  inner_out_.resize(m * m * m);
   inner_done_.assign(m * m * m, 0);
+  inner_range_.resize(m * m * m);
+  inner_range_done_.assign(m * m * m, 0);
 }
 
 // AddCombineLUTPass: the inner LUT, M^3 texels at (i, j, k) / (M - 1) (MainCS: DispatchThreadId
@@ -110,7 +116,9 @@ const Vec3& CombineLuts58::inner_stored(int r, int g, int b) const {
   const size_t i = (static_cast<size_t>(b) * m + g) * m + r;
   if (!inner_done_[i]) {
     const double step = 1.0 / (m - 1);
-    const Vec3 v = inner_texel({r * step, g * step, b * step});
+    // The output before its encode is kept for the device range (inner_stored_range).
+    inner_out_[i] = inner_output({r * step, g * step, b * step});
+    const Vec3 v = inner_encode(inner_out_[i]);
     for (int c = 0; c < 3; ++c) inner_[i][c] = quantize_lut_value(p_.ue58_inner_format, v[c]);
     inner_done_[i] = 1;
   }
@@ -151,8 +159,8 @@ Vec3 CombineLuts58::inv_output_aces(const Vec3& film_nits) const {
   return scale(p_.ue58_wcs_from_ap0 * ap0, 1.0 / p_.aces_scene_color_multiplier);
 }
 
-// PostProcessCombineLUTsInner.usf: MethodLUTsCommon.
-Vec3 CombineLuts58::inner_texel(const Vec3& e) const {
+// PostProcessCombineLUTsInner.usf: MethodLUTsCommon up to its encode: the output transform's nits.
+Vec3 CombineLuts58::inner_output(const Vec3& e) const {
   Vec3 graded;
   if (p_.ue58_tonemapping_method == static_cast<int>(Method::kStandardAces)) {
     graded = p_.wcs_from_ap1 * scale(pq_inv(e), 1.0 / kLinearToNits);
@@ -160,7 +168,16 @@ Vec3 CombineLuts58::inner_texel(const Vec3& e) const {
     // "Automatic HDR": undo the outer LUT's x 1.9682001, then the SDR inverse.
     graded = inv_output_aces(pq_inv(scale(e, kFilmPqUnscale)));
   }
-  Vec3 out = output_aces(graded);
+  return output_aces(graded);
+}
+
+// PostProcessCombineLUTsInner.usf: MethodLUTsCommon.
+Vec3 CombineLuts58::inner_texel(const Vec3& e) const {
+  return inner_encode(inner_output(e));
+}
+
+// MethodLUTsCommon's encode of the output transform's nits: PQ above 100 nits, else sRGB.
+Vec3 CombineLuts58::inner_encode(Vec3 out) const {
   if (p_.output_max_luminance > kLinearToNits) return pq(clamp3(out, 0.0, kPqWhiteNits));
   out = clamp3(scale(out, 1.0 / kLinearToNits), 0.0, 1.0);  // saturate
   return {linear_to_srgb(out[0]), linear_to_srgb(out[1]), linear_to_srgb(out[2])};
@@ -269,8 +286,8 @@ Vec3 CombineLuts58::apply_tone_curve(const Vec3& color_ap1, double peak, bool in
   return inv_eotf_pq ? pq(scale(out, kLinearToNits)) : out;  // ApplyInvEOTF
 }
 
-// PostProcessCombineLUTs.usf: CombineLUTsCommon.
-Vec3 CombineLuts58::outer_texel(const Vec3& e) const {
+// PostProcessCombineLUTs.usf: CombineLUTsCommon up to ColorCorrectAll (AP1).
+Vec3 CombineLuts58::color_corrected(const Vec3& e) const {
   Vec3 linear;
   if (p_.ue58_lut_shaper) {
     linear = scale(pq_inv(e), 1.0 / kLinearToNits);
@@ -281,7 +298,12 @@ Vec3 CombineLuts58::outer_texel(const Vec3& e) const {
   // (5.5's SKIP_TEMPERATURE permutation), the same condition the host's white_balance_enabled is.
   const Vec3 balanced = p_.white_balance_enabled ? p_.white_balance * linear : linear;
   const Vec3 ap1 = grading::expand_gamut(p_.wcs_to_ap1 * balanced, p_.expand_gamut);
-  const Vec3 cc = grading::color_correct_all(ap1, color_correct_params(p_));
+  return grading::color_correct_all(ap1, color_correct_params(p_));
+}
+
+// PostProcessCombineLUTs.usf: CombineLUTsCommon.
+Vec3 CombineLuts58::outer_texel(const Vec3& e) const {
+  const Vec3 cc = color_corrected(e);
   Vec3 device;
   switch (p_.output_device) {
     case 0: {
@@ -318,8 +340,339 @@ Vec3 CombineLuts58::outer_texel(const Vec3& e) const {
   return scale(device, p_.ue58_lut_inv_max);
 }
 
+// ---- Device allowances (docs/precision.md "Device allowances", docs/ue58-decisions.md E8) ----
+
+namespace {
+
+// pq(clamp3(nits, 0, 10000)) over a range on a device: HLSL clamp makes NaN 0, then LinearToST2084
+// with the precision table's bounds (device_allowance.h pq_encode_on_device; PQ is increasing).
+Range3 pq_clamped_on_device(const Range3& nits) {
+  Range3 r;
+  for (int c = 0; c < 3; ++c) {
+    auto clamp = [](double v) { return std::isnan(v) ? 0.0 : std::clamp(v, 0.0, kPqWhiteNits); };
+    double lo = clamp(nits.lo[c]), hi = clamp(nits.hi[c]);
+    if (nits.nan[c]) lo = 0.0;
+    if (hi < lo) hi = lo;
+    const spirv::Interval e = pq_encode_on_device(lo, hi);
+    r.lo[c] = e.lo;
+    r.hi[c] = e.hi;
+  }
+  return r;
+}
+
+// pq(nits) without the clamp (device 7, ApplyInvEOTF): a negative value is NaN (pow of a negative
+// base), as the point path's pq().
+Range3 pq_on_device(const Range3& nits) {
+  Range3 r;
+  for (int c = 0; c < 3; ++c) {
+    double lo = nits.lo[c], hi = nits.hi[c];
+    r.nan[c] = nits.nan[c] || std::isnan(lo) || std::isnan(hi) || lo < 0.0;
+    if (!(hi >= 0.0)) {
+      r.lo[c] = r.hi[c] = d3d::kNaN;
+      continue;
+    }
+    lo = std::isnan(lo) ? 0.0 : std::fmax(lo, 0.0);
+    const spirv::Interval e = pq_encode_on_device(lo, hi);
+    r.lo[c] = e.lo;
+    r.hi[c] = e.hi;
+  }
+  return r;
+}
+
+// A product by a positive constant in float32 (OpFMul, correctly rounded: half an ULP each way).
+Range3 mul_on_device(const Range3& r, double k) {
+  Range3 out = r;
+  for (int c = 0; c < 3; ++c) {
+    const spirv::Interval m = spirv::mul({r.lo[c], r.hi[c]}, spirv::Interval::point(k));
+    out.lo[c] = m.lo;
+    out.hi[c] = m.hi;
+  }
+  return out;
+}
+
+// The range of `at` with the upstream shader arithmetic's noise: kShaderNoise of its largest
+// channel (noise_range.h).
+Range3 with_shader_noise(const Vec3& at) {
+  Range3 r = Range3::point(at);
+  widen_noise(at, kShaderNoise, &r);
+  return r;
+}
+
+// pow(x, 2.4) (BT.1886's re-linearisation of Filmic's automatic HDR) on a device: inherited from
+// exp2(2.4·log2 x); log2's 3 ulp(24) = 5.7e-6 absolute times 2.4·ln 2: 9.5e-6 relative; exp2 of
+// |2.4·log2 x| ≤ 58: 3 + 2·58 = 119 ulp = 1.4e-5 relative. Together 2.4e-5, under 2^-15
+// (kShaderNoise), the figure applied.
+constexpr double kBt1886PowNoise = kShaderNoise;
+
+// Each lookup of the trilinear filter's three lerp levels rounds (a + t·(b − a): 2.5 ULP of the
+// larger operand, spirv_precision.h; as strip_device_range.h): 7.5 ULP of the largest texel bound.
+constexpr double kTrilinearUlps = 7.5;
+
+// linear_tap_boxes with the consecutive boxes of the same two taps merged into one: the
+// coordinates between theirs reach every fraction between, and the filtered value is linear in
+// it, so the merged box's ends hold the extremes of both. A pair of equal (clamped) taps weighs
+// nothing: one corner.
+std::vector<TapBox> merged_tap_boxes(double t, int size, int bits, double noise) {
+  std::vector<TapBox> out;
+  for (const TapBox& b : linear_tap_boxes(t, size, bits, noise)) {
+    if (!out.empty() && out.back().i0 == b.i0 && out.back().i1 == b.i1) {
+      out.back().f_lo = std::fmin(out.back().f_lo, b.f_lo);
+      out.back().f_hi = std::fmax(out.back().f_hi, b.f_hi);
+    } else {
+      out.push_back(b);
+    }
+  }
+  for (TapBox& b : out)
+    if (b.i0 == b.i1) b.f_lo = b.f_hi = 0;
+  return out;
+}
+
+}  // namespace
+
+const Range3& CombineLuts58::inner_stored_range(int r, int g, int b,
+                                                const DevicePrecision& device) const {
+  const int m = p_.ue58_inner_lut_size;
+  const size_t i = (static_cast<size_t>(b) * m + g) * m + r;
+  if (inner_range_done_[i]) return inner_range_[i];
+  const Vec3& stored = inner_stored(r, g, b);  // and inner_out_[i], the output before its encode
+  const Range3 out = with_shader_noise(inner_out_[i]);
+  Range3 enc;
+  if (p_.output_max_luminance > kLinearToNits) {
+    enc = pq_clamped_on_device(out);
+  } else {
+    // saturate(out / 100) (NaN → 0), then the sRGB encode's pow (kEncodePowNoise).
+    Range3 x = scale(out, 1.0 / kLinearToNits);
+    for (int c = 0; c < 3; ++c) {
+      x.lo[c] = std::isnan(x.lo[c]) || x.nan[c] ? 0.0 : std::clamp(x.lo[c], 0.0, 1.0);
+      x.hi[c] = std::isnan(x.hi[c]) ? 0.0 : std::clamp(x.hi[c], 0.0, 1.0);
+      x.nan[c] = false;
+    }
+    enc = widen_relative(map_nondecreasing(x, [](double v) { return linear_to_srgb(v); }),
+                         kEncodePowNoise);
+  }
+  enc.include(
+      inner_encode(inner_out_[i]));  // the float32-exact value, whatever path rounded the ends
+  Vec3 lo, hi;
+  uint8_t nan = 0;
+  store_either_way(p_.ue58_inner_format, device.fp16_rte, enc, &lo, &hi, &nan);
+  Range3& range = inner_range_[i];
+  for (int c = 0; c < 3; ++c) {
+    range.lo[c] = std::fmin(lo[c], stored[c]);
+    range.hi[c] = std::fmax(hi[c], stored[c]);
+    range.nan[c] = (nan & (1u << c)) != 0 || std::isnan(stored[c]);
+  }
+  inner_range_done_[i] = 1;
+  return range;
+}
+
+Range3 CombineLuts58::inner_lookup_range(const Range3& encoded, bool inv_eotf_pq,
+                                         const DevicePrecision& device) const {
+  const int m = p_.ue58_inner_lut_size;
+  Range3 color;
+  if (inner_.empty()) return Range3::point({0, 0, 0});  // as inner_lookup: never on such a path
+  // Per axis: UVW = encoded·(1 − 1/M) + 0.5/M and the filter's UVW·M − 0.5 = encoded·(M − 1),
+  // over the coordinate's range, plus the float32 rounding of those steps (a few ULP of UVW ≤ 1,
+  // times M in texel units: 4 ULP of max(1, |encoded|)).
+  std::vector<TapBox> taps[3];
+  bool nan_in = false;
+  for (int a = 0; a < 3; ++a) {
+    nan_in = nan_in || encoded.nan[a];
+    const double lo = encoded.lo[a] * (m - 1), hi = encoded.hi[a] * (m - 1);
+    const double noise =
+        0.5 * (hi - lo) + 4.0 * spirv::ulp32(std::fmax(1.0, std::fabs(encoded.hi[a]))) * m;
+    taps[a] = merged_tap_boxes(0.5 * (lo + hi), m, device.sub_texel_bits, noise);
+  }
+  for (int c = 0; c < 3; ++c) {
+    color.lo[c] = HUGE_VAL;
+    color.hi[c] = -HUGE_VAL;
+  }
+  bool all_nonnegative = true;
+  double big = 0;
+  uint8_t nan = 0;
+  // Every combination of the axes' boxes, every corner of each box: the filtered value is linear
+  // in each weight (and nondecreasing in each texel), so the per-channel extremes lie there
+  // (as reference/ue/combine_luts.cpp sample_lut_device_range).
+  const size_t combos = taps[0].size() * taps[1].size() * taps[2].size();
+  for (size_t combo = 0; combo < combos; ++combo) {
+    const TapBox* box[3] = {&taps[0][combo % taps[0].size()],
+                            &taps[1][(combo / taps[0].size()) % taps[1].size()],
+                            &taps[2][combo / (taps[0].size() * taps[1].size())]};
+    // The 8 texels of this combination, once; then the corners (one per axis where the box is
+    // a single weight).
+    const Range3* texel[8];
+    for (int k = 0; k < 8; ++k) {
+      // A texel whose weight is 0 at every corner is not read (as inner_lookup skips it).
+      bool read = true;
+      for (int a = 0; a < 3; ++a)
+        read = read && ((k >> a) & 1 ? box[a]->f_hi > 0 : box[a]->f_lo < 1);
+      texel[k] = nullptr;
+      if (!read) continue;
+      texel[k] =
+          &inner_stored_range(k & 1 ? box[0]->i1 : box[0]->i0, k & 2 ? box[1]->i1 : box[1]->i0,
+                              k & 4 ? box[2]->i1 : box[2]->i0, device);
+      for (int c = 0; c < 3; ++c) {
+        if (texel[k]->nan[c]) nan |= uint8_t(1u << c);
+        all_nonnegative = all_nonnegative && texel[k]->lo[c] >= 0;
+        big = std::fmax(big, std::fmax(std::fabs(texel[k]->lo[c]), std::fabs(texel[k]->hi[c])));
+      }
+    }
+    for (int corner = 0; corner < 8; ++corner) {
+      bool repeated = false;
+      for (int a = 0; a < 3; ++a)
+        repeated = repeated || (((corner >> a) & 1) && box[a]->f_lo == box[a]->f_hi);
+      if (repeated) continue;
+      Vec3 slo{}, shi{};
+      for (int k = 0; k < 8; ++k) {
+        double w = 1;
+        for (int a = 0; a < 3; ++a) {
+          const double f = (corner >> a) & 1 ? box[a]->f_hi : box[a]->f_lo;
+          w *= (k >> a) & 1 ? f : 1 - f;
+        }
+        if (w == 0 || !texel[k]) continue;
+        for (int c = 0; c < 3; ++c) {
+          slo[c] += w * texel[k]->lo[c];
+          shi[c] += w * texel[k]->hi[c];
+        }
+      }
+      for (int c = 0; c < 3; ++c) {
+        color.lo[c] = std::fmin(color.lo[c], slo[c]);
+        color.hi[c] = std::fmax(color.hi[c], shi[c]);
+      }
+    }
+  }
+  const double e = kTrilinearUlps * spirv::ulp32(big);
+  for (int c = 0; c < 3; ++c) {
+    color.lo[c] -= e;
+    if (all_nonnegative) color.lo[c] = std::fmax(color.lo[c], 0.0);
+    color.hi[c] += e;
+    color.nan[c] = nan_in || (nan & (1u << c)) != 0;
+  }
+  if (p_.output_max_luminance > kLinearToNits) {
+    if (inv_eotf_pq) return color;
+    // ST2084ToLinear on a device (pq_decode_on_device, increasing), then / 100.
+    Range3 nits = color;
+    for (int c = 0; c < 3; ++c) {
+      nits.lo[c] = pq_decode_on_device(color.lo[c]).lo;
+      nits.hi[c] = pq_decode_on_device(color.hi[c]).hi;
+    }
+    return mul_on_device(nits, 1.0 / kLinearToNits);
+  }
+  // sRGBToLinear (without the min-normal clamp), its pow's kEncodePowNoise.
+  Range3 linear = widen_relative(
+      map_nondecreasing(color, [](double v) { return srgb_to_linear(v, MinNormalClamp::kOff); }),
+      kEncodePowNoise);
+  return inv_eotf_pq ? pq_on_device(mul_on_device(linear, kLinearToNits)) : linear;
+}
+
+Range3 CombineLuts58::tone_curve_range(const Vec3& color_ap1, double peak, bool inv_eotf_pq,
+                                       const DevicePrecision& device) const {
+  if (p_.ue58_tonemapping_method == static_cast<int>(Method::kStandardAces)) {
+    const Vec3 graded_ap1 = p_.wcs_to_ap1 * graded_color(color_ap1);
+    const Range3 nits = with_shader_noise(scale(graded_ap1, kLinearToNits));
+    return inner_lookup_range(pq_clamped_on_device(nits), inv_eotf_pq, device);
+  }
+  const grading::InverseGamma gamma{p_.inverse_gamma[0], p_.inverse_gamma[1], p_.inverse_gamma[2]};
+  Range3 out = map_nondecreasing(with_shader_noise(film_color_no_gamma(color_ap1)), [&](double v) {
+    return grading::apply_film_gamma({v, v, v}, gamma)[0];
+  });
+  if (gamma.y != 1.0) out = widen_relative(out, kEncodePowNoise);
+  if (!(p_.wcs_is_srgb && p_.output_gamut == 0))
+    out = apply_matrix(p_.ap1_to_output, apply_matrix(p_.wcs_to_ap1, out));
+  if (peak > kLinearToNits) {
+    if (p_.ue58_sdr_inv_eotf == 0) {
+      out = widen_relative(map_nondecreasing(out, [](double v) { return linear_to_srgb(v); }),
+                           kEncodePowNoise);
+      out = widen_relative(map_nonnegative(out, [](double v) { return d3d::pow(v, kBt1886Gamma); }),
+                           kBt1886PowNoise);
+    }
+    const Range3 enc =
+        mul_on_device(pq_clamped_on_device(mul_on_device(out, kLinearToNits)), kFilmPqScale);
+    return inner_lookup_range(enc, inv_eotf_pq, device);
+  }
+  return inv_eotf_pq ? pq_on_device(mul_on_device(out, kLinearToNits)) : out;
+}
+
+Range3 CombineLuts58::outer_texel_range(const Vec3& e, const DevicePrecision& device) const {
+  const Vec3 cc = color_corrected(e);
+  const double peak = p_.output_max_luminance;
+  Range3 d;
+  switch (p_.output_device) {
+    case 0: {
+      const Range3 x = tone_curve_range(cc, kLinearToNits, false, device);
+      d = p_.ue58_sdr_inv_eotf == 0
+              ? map_nondecreasing(x, [](double v) { return linear_to_srgb(v); })
+              : map_nonnegative(x, [](double v) { return d3d::pow(v, 1.0 / kBt1886Gamma); });
+      d = widen_relative(d, kEncodePowNoise);
+      break;
+    }
+    case 1:
+      d = widen_relative(map_nondecreasing(tone_curve_range(cc, kLinearToNits, false, device),
+                                           [](double v) { return linear_to_rec709_branchless(v); }),
+                         kEncodePowNoise);
+      break;
+    case 3:
+    case 4:
+      d = tone_curve_range(cc, peak, true, device);
+      break;
+    case 5:
+    case 6:
+      d = mul_on_device(tone_curve_range(cc, peak, false, device), kLinearToNits / kScRgbWhiteNits);
+      break;
+    case 7: {
+      const Range3 out = apply_matrix(
+          p_.ap1_to_output, apply_matrix(p_.wcs_to_ap1, with_shader_noise(graded_color(cc))));
+      d = pq_on_device(mul_on_device(out, kLinearToNits));
+      break;
+    }
+    case 8:
+      d = with_shader_noise(graded_color(cc));
+      break;
+    case 9:
+      d = tone_curve_range(cc, kLinearToNits, false, device);
+      break;
+    default: {  // 2: explicit gamma
+      const double g = p_.inverse_gamma[2];
+      d = widen_relative(map_nonnegative(tone_curve_range(cc, kLinearToNits, false, device),
+                                         [g](double v) { return d3d::pow(v, g); }),
+                         kEncodePowNoise);
+    }
+  }
+  if (p_.ue58_lut_inv_max != 1.0) d = mul_on_device(d, p_.ue58_lut_inv_max);
+  d.include(outer_texel(e));  // the float32-exact value, whatever path rounded the ends
+  return d;
+}
+
+DeviceLutRanges bake_outer_lut_device(const ParamBlock& p, const DevicePrecision& device) {
+  return bake_outer_lut_device(CombineLuts58(p), p, device);
+}
+
+DeviceLutRanges bake_outer_lut_device(const CombineLuts58& luts, const ParamBlock& p,
+                                      const DevicePrecision& device) {
+  const int n = p.lut_size;
+  const size_t count = static_cast<size_t>(n) * n * n;
+  DeviceLutRanges out;
+  out.lo.resize(count);
+  out.hi.resize(count);
+  out.nan.assign(count, 0);
+  const double step = 1.0 / (n - 1);
+  for (int b = 0; b < n; ++b)
+    for (int g = 0; g < n; ++g)
+      for (int r = 0; r < n; ++r) {
+        const size_t i = (static_cast<size_t>(b) * n + g) * n + r;
+        const Vec3 e{r * step, g * step, b * step};
+        // The range holds outer_texel's value (outer_texel_range includes it), so the store's
+        // either-way ends hold the tight bake's nearest value too.
+        store_either_way(p.lut_format, device.fp16_rte, luts.outer_texel_range(e, device),
+                         &out.lo[i], &out.hi[i], &out.nan[i]);
+      }
+  return out;
+}
+
 std::vector<Vec3> bake_outer_lut(const ParamBlock& p) {
-  const CombineLuts58 luts(p);
+  return bake_outer_lut(CombineLuts58(p), p);
+}
+
+std::vector<Vec3> bake_outer_lut(const CombineLuts58& luts, const ParamBlock& p) {
   const int n = p.lut_size;
   std::vector<Vec3> out(static_cast<size_t>(n) * n * n);
   const double step = 1.0 / (n - 1);  // MainCS: DispatchThreadId * InvLUTSizeMinusOne

@@ -15,7 +15,9 @@
 #include <vector>
 
 #include "color/vec.h"
+#include "core/device_precision.h"
 #include "core/shader_interface.h"
+#include "reference/color/noise_range.h"
 #include "reference/ue/aces2/aces2.h"
 
 namespace hdrc::ref::ue58 {
@@ -63,22 +65,63 @@ class CombineLuts58 {
   // UE has no such path.
   void set_exact_inner(bool exact) { exact_inner_ = exact; }
 
+  // Device allowances (docs/precision.md "Device allowances", docs/ue58-decisions.md E8): what a
+  // conformant Vulkan device with precision `device` may store, as ranges. Each holds the point
+  // value of the float32-exact evaluation above.
+  //
+  // The inner texel (r, g, b) as such a device may store it: MethodLUTsCommon's output (nits, or
+  // sRGB-range linear) widened by kShaderNoise of its largest channel (the upstream arithmetic,
+  // ACES 1.3 / 2.0 included: noise_range.h), through the device's PQ (pq_encode_on_device) or
+  // sRGB encode (monotone, plus kEncodePowNoise), then either neighbouring value of the inner
+  // format (store_either_way). Evaluated on first use and kept.
+  const Range3& inner_stored_range(int r, int g, int b, const DevicePrecision& device) const;
+  // InnerLookupTable over a range of coordinates `encoded` on such a device: per axis the texel
+  // planes the range spans and the weight box of the device's sub-texel bits (UE samples the
+  // inner LUT with a hardware bilinear sampler: linear_tap_boxes), the 8 stored texels' ranges
+  // at the box corners that minimise / maximise each channel, the filter's own arithmetic, then
+  // the decode as inner_lookup does it (PQ on a device: pq_decode_on_device).
+  Range3 inner_lookup_range(const Range3& encoded, bool inv_eotf_pq,
+                            const DevicePrecision& device) const;
+  // CombineLUTsCommon at `e` on such a device, before the outer store.
+  Range3 outer_texel_range(const Vec3& e, const DevicePrecision& device) const;
+
  private:
   Vec3 graded_color(const Vec3& color_ap1) const;
   Vec3 film_color_no_gamma(const Vec3& color_ap1) const;
   Vec3 apply_tone_curve(const Vec3& color_ap1, double peak, bool inv_eotf_pq) const;
   Vec3 output_aces(const Vec3& graded) const;
   Vec3 inv_output_aces(const Vec3& film_nits) const;
+  Vec3 inner_output(const Vec3& e) const;  // MethodLUTsCommon before its encode (nits)
+  Vec3 inner_encode(Vec3 out) const;       // and its encode
+  Vec3 color_corrected(const Vec3& e) const;
+  Range3 tone_curve_range(const Vec3& color_ap1, double peak, bool inv_eotf_pq,
+                          const DevicePrecision& device) const;
 
   ParamBlock p_;
   Aces2Set fwd_, sdr_;
   // Not thread-safe: one evaluator per thread.
   mutable std::vector<Vec3> inner_;
+  mutable std::vector<Vec3> inner_out_;  // inner_output at each kept texel, before its encode
   mutable std::vector<uint8_t> inner_done_;
   bool exact_inner_ = false;
+  mutable std::vector<Range3> inner_range_;
+  mutable std::vector<uint8_t> inner_range_done_;
 };
 
 // The outer LUT as stored: N^3 texels (r fastest), each channel rounded to P.lut_format.
 std::vector<Vec3> bake_outer_lut(const ParamBlock& p);
+// The same with an evaluator of `p` (its inner texels kept for a later bake_outer_lut_device).
+std::vector<Vec3> bake_outer_lut(const CombineLuts58& luts, const ParamBlock& p);
+
+// The outer LUT as a conformant device with precision `device` may store it: per texel (r
+// fastest) outer_texel_range stored either way in P.lut_format (store_either_way), holding the
+// texel bake_outer_lut stores; `nan` bit c where NaN may be stored in channel c.
+struct DeviceLutRanges {
+  std::vector<Vec3> lo, hi;
+  std::vector<uint8_t> nan;
+};
+DeviceLutRanges bake_outer_lut_device(const ParamBlock& p, const DevicePrecision& device);
+DeviceLutRanges bake_outer_lut_device(const CombineLuts58& luts, const ParamBlock& p,
+                                      const DevicePrecision& device);
 
 }  // namespace hdrc::ref::ue58

@@ -288,7 +288,8 @@ OutputEncoding encoding(const StageInfo&, const ParamBlock& p) {
 
 Result<Image> reference(const ResolvedCase& c, bool) {
   const ParamBlock& p = c.params;
-  const std::vector<Vec3> lut = bake_outer_lut(p);
+  const CombineLuts58 luts(p);  // one evaluator: the device ranges reuse its inner texels
+  const std::vector<Vec3> lut = bake_outer_lut(luts, p);
   const int n = p.lut_size;
   Image out(n * n, n);
   for (int b = 0; b < n; ++b)
@@ -301,6 +302,32 @@ Result<Image> reference(const ResolvedCase& c, bool) {
         o[2] = t[2];
         o[3] = 0.0;  // MainCS writes alpha 0
       }
+  if (c.device_allowances) {
+    // What a conformant device with the candidate's precision may store (docs/ue58-decisions.md
+    // E8): both LUTs' either-way stores, the inner lookup's weight box, the arithmetic's bounds.
+    const DeviceLutRanges d = bake_outer_lut_device(luts, p, c.device);
+    out.device_admissible.reserve(d.lo.size());
+    for (int b = 0; b < n; ++b)
+      for (int g = 0; g < n; ++g)
+        for (int r = 0; r < n; ++r) {
+          const size_t i = (static_cast<size_t>(b) * n + g) * n + r;
+          AdmissibleRange a;
+          a.pixel = static_cast<size_t>(g) * out.width + r + n * b;
+          for (int ch = 0; ch < 3; ++ch) {
+            a.lo[ch] = d.lo[i][ch];
+            a.hi[ch] = d.hi[i][ch];
+          }
+          a.nan_ok = d.nan[i] & 0x7;
+          out.device_admissible.push_back(a);
+        }
+    std::sort(out.device_admissible.begin(), out.device_admissible.end(),
+              [](const AdmissibleRange& x, const AdmissibleRange& y) { return x.pixel < y.pixel; });
+    out.device_allowances = {"LUT storage rounding (either neighbour; inner and outer LUT)"};
+    if (p.ue58_inner_needed)
+      out.device_allowances.push_back("filter weights (the inner LUT's trilinear lookup, " +
+                                      std::to_string(c.device.sub_texel_bits) + " sub-texel bits)");
+    out.device_allowances.push_back("shader arithmetic (the Vulkan precision table's bounds)");
+  }
   return out;
 }
 

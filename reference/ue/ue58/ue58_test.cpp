@@ -263,4 +263,109 @@ TEST(Ue58Pipeline, StageSettingsAndDegeneratePeak) {
   EXPECT_NE(degenerate.find("ACES 2.0 at OutputMaxLuminance"), std::string::npos) << degenerate;
 }
 
+// Device allowances (docs/ue58-decisions.md E8). The black inner texel of StandardACES: ACES of
+// black is 0 nits, whose PQ is c1^m2 = 0.8359375^78.84375 = 7.29e-7 (ln 0.8359375 = -0.179206,
+// x 78.84375 = -14.1293). A 10-bit store may give either neighbouring code: 7.29e-7 x 1023 =
+// 7.5e-4 codes, so code 0 or code 1 (Vulkan, Fixed-Point Data Conversions). A float16 store
+// without RTE either neighbouring half: 7.29e-7 / 2^-24 = 12.23 subnormal steps, so 12 or 13
+// x 2^-24; with RTE only the nearest, 12 x 2^-24. The device's PQ of 0 nits (pow(c1, m2) with
+// log2's 2^-21 absolute bound times m2 = 78.84: 2.6e-5 relative) stays inside those steps.
+TEST(Ue58DeviceRanges, BlackInnerTexelEitherNeighbour) {
+  hdrc::DevicePrecision device;
+  device.sub_texel_bits = 8;
+  {
+    const auto p = resolved({{"TonemappingMethod", 1}, {"r.LUT.Inner.Size", 17}},
+                            {{"r.HDR.Display.OutputDevice", 3}});
+    ASSERT_EQ(p.ue58_inner_format, 0);
+    const ue58::CombineLuts58 luts(p);
+    const auto& r = luts.inner_stored_range(0, 0, 0, device);
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_EQ(r.lo[c], 0.0) << c;
+      EXPECT_DOUBLE_EQ(r.hi[c], 1.0 / 1023) << c;
+      EXPECT_FALSE(r.nan[c]);
+    }
+  }
+  const auto p = resolved({{"TonemappingMethod", 1}, {"r.LUT.Inner.Size", 17}},
+                          {{"r.HDR.Display.OutputDevice", 5}});
+  ASSERT_EQ(p.ue58_inner_format, 1);
+  for (const bool rte : {false, true}) {
+    device.fp16_rte = rte;
+    const ue58::CombineLuts58 luts(p);
+    const auto& r = luts.inner_stored_range(0, 0, 0, device);
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_EQ(r.lo[c], std::ldexp(12.0, -24)) << c << " rte " << rte;
+      EXPECT_EQ(r.hi[c], std::ldexp(rte ? 12.0 : 13.0, -24)) << c << " rte " << rte;
+    }
+  }
+}
+
+// The inner lookup at an inner lattice point (UVW on a texel centre, encoded = 8/16 at M = 17):
+// a hardware filter with b sub-texel bits may give the neighbouring texel of each axis a weight
+// of 2^-b (the coordinate's float32 rounding carries it either side of the centre: weight box
+// [1 - 2^-b, 1] of the texel below, or [0, 2^-b] of the one above; Vulkan, Texel Filtering), on
+// top of each texel's either-way store. So at 8 bits the low end reaches (255 lo(8,8,8) +
+// lo(7,8,8)) / 256 and no lower than the 27 neighbours' lowest stored bound; at 4 bits
+// (15 lo(8,8,8) + lo(7,8,8)) / 16.
+TEST(Ue58DeviceRanges, InnerLookupAtALatticePointAdmitsTheNeighboursSubTexelWeight) {
+  const auto p = resolved({{"TonemappingMethod", 1}, {"r.LUT.Inner.Size", 17}},
+                          {{"r.HDR.Display.OutputDevice", 3}});
+  for (const int bits : {8, 4}) {
+    SCOPED_TRACE(bits);
+    hdrc::DevicePrecision device;
+    device.sub_texel_bits = bits;
+    const ue58::CombineLuts58 luts(p);
+    hdrc::ref::Range3 at;
+    at.lo = at.hi = {0.5, 0.5, 0.5};
+    const hdrc::ref::Range3 r = luts.inner_lookup_range(at, /*inv_eotf_pq=*/true, device);
+    const auto& centre = luts.inner_stored_range(8, 8, 8, device);
+    const double w = std::ldexp(1.0, -bits);
+    for (int c = 0; c < 3; ++c) {
+      double lowest = HUGE_VAL, highest = -HUGE_VAL;
+      for (int k = 0; k < 27; ++k) {
+        const auto& t = luts.inner_stored_range(7 + k % 3, 7 + k / 3 % 3, 7 + k / 9, device);
+        lowest = std::fmin(lowest, t.lo[c]);
+        highest = std::fmax(highest, t.hi[c]);
+      }
+      for (int a = 0; a < 3; ++a) {
+        int below[3] = {8, 8, 8}, above[3] = {8, 8, 8};
+        below[a] = 7;
+        above[a] = 9;
+        const auto& lo_n = luts.inner_stored_range(below[0], below[1], below[2], device);
+        const auto& hi_n = luts.inner_stored_range(above[0], above[1], above[2], device);
+        EXPECT_LE(r.lo[c], (1 - w) * centre.lo[c] + w * lo_n.lo[c] + 1e-12) << c << " " << a;
+        EXPECT_GE(r.hi[c], (1 - w) * centre.hi[c] + w * hi_n.hi[c] - 1e-12) << c << " " << a;
+      }
+      EXPECT_GE(r.lo[c], lowest - 1e-6) << c;
+      EXPECT_LE(r.hi[c], highest + 1e-6) << c;
+    }
+  }
+}
+
+// The outer store: every stored 10-bit value may be either neighbouring code of the exact one,
+// so each texel's range holds floor(v·1023)/1023 and ceil(v·1023)/1023 of outer_texel's v, and
+// the tight bake's texel.
+TEST(Ue58DeviceRanges, OuterTexelsAdmitBothNeighbouringCodes) {
+  const auto p = resolved({{"TonemappingMethod", 1}, {"r.LUT.Inner.Size", 17}},
+                          {{"r.HDR.Display.OutputDevice", 3}, {"r.LUT.Size", 16}});
+  ASSERT_EQ(p.lut_format, 0);
+  hdrc::DevicePrecision device;
+  device.sub_texel_bits = 8;
+  const ue58::DeviceLutRanges d = ue58::bake_outer_lut_device(p, device);
+  const std::vector<Vec3> tight = ue58::bake_outer_lut(p);
+  const ue58::CombineLuts58 luts(p);
+  const int n = p.lut_size;
+  ASSERT_EQ(d.lo.size(), tight.size());
+  for (size_t i = 0; i < tight.size(); ++i) {
+    const Vec3 e{double(i % n) / (n - 1), double(i / n % n) / (n - 1), double(i / n / n) / (n - 1)};
+    const Vec3 v = luts.outer_texel(e);
+    for (int c = 0; c < 3; ++c) {
+      const double x = std::clamp(v[c], 0.0, 1.0) * 1023;
+      EXPECT_LE(d.lo[i][c], std::floor(x) / 1023) << i << " " << c;
+      EXPECT_GE(d.hi[i][c], std::ceil(x) / 1023) << i << " " << c;
+      EXPECT_LE(d.lo[i][c], tight[i][c]);
+      EXPECT_GE(d.hi[i][c], tight[i][c]);
+    }
+  }
+}
+
 }  // namespace
