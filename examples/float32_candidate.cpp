@@ -44,12 +44,22 @@ constexpr int kDeclineStage = 78;
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
 // --- HLSL intrinsics with D3D's meaning (docs/spec/semantics.md) ---
-float max_num(float a, float b) { return std::fmax(a, b); }  // maxNum: max(0, NaN) = 0
-float saturate(float x) { return std::isnan(x) ? 0.0f : std::fmin(std::fmax(x, 0.0f), 1.0f); }
+float max_num(float a, float b) {
+  return std::fmax(a, b);
+}  // maxNum: max(0, NaN) = 0
+float saturate(float x) {
+  return std::isnan(x) ? 0.0f : std::fmin(std::fmax(x, 0.0f), 1.0f);
+}
 // pow(x, y) = exp2(y · log2 x) (semantics.md: DXC's lowering), for x >= 0.
-float pow_e2(float x, float y) { return std::exp2(y * std::log2(x)); }
-float log10_e2(float x) { return std::log2(x) * 0.301029996f; }  // log10(2)
-float exp_e2(float x) { return std::exp2(x * 1.44269504f); }     // log2(e)
+float pow_e2(float x, float y) {
+  return std::exp2(y * std::log2(x));
+}
+float log10_e2(float x) {
+  return std::log2(x) * 0.301029996f;
+}  // log10(2)
+float exp_e2(float x) {
+  return std::exp2(x * 1.44269504f);
+}  // log2(e)
 
 // A params.json number: a JSON number, or "NaN" / "Infinity" / "-Infinity".
 float number(const json& v) {
@@ -170,8 +180,8 @@ Film film_params(const json& p) {
   } else {
     const float bt = (0.18f + f.black_clip) / f.toe_scale - 1.0f;
     // 0.5 · ln((1 + bt) / (1 − bt)) = 0.5 · log2(...) · ln 2
-    f.toe_match = log_in - 0.5f * std::log2((1.0f + bt) / (1.0f - bt)) * 0.693147181f *
-                               f.toe_scale / f.slope;
+    f.toe_match =
+        log_in - 0.5f * std::log2((1.0f + bt) / (1.0f - bt)) * 0.693147181f * f.toe_scale / f.slope;
   }
   f.straight_match = (1.0f - f.toe) / f.slope - f.toe_match;
   f.shoulder_match = f.shoulder / f.slope - f.straight_match;
@@ -236,7 +246,8 @@ float film_curve(float w, const Film& f) {
 // AP1_RGB2Y; lerp(y, c, s) written y·(1 − s) + c·s (both finite here: step 4 clamped, step 5's
 // NaN goes through either way).
 void desaturate(float c[3], float s) {
-  const float y = std::fmaf(0.0536895174f, c[2], std::fmaf(0.6740817658f, c[1], 0.2722287168f * c[0]));
+  const float y =
+      std::fmaf(0.0536895174f, c[2], std::fmaf(0.6740817658f, c[1], 0.2722287168f * c[0]));
   for (int i = 0; i < 3; ++i) c[i] = std::fmaf(c[i], s, y * (1.0f - s));
 }
 
@@ -276,7 +287,6 @@ void film_tone_map(const float ap1[3], const Film& f, float out[3]) {
   desaturate(out, 0.93f);
   for (int i = 0; i < 3; ++i) out[i] = max_num(0.0f, out[i]);
 }
-
 
 // --- pq_grading (docs/spec/pq_grading.md) ---
 
@@ -346,7 +356,8 @@ int fail(const std::string& what) {
 }
 
 // Reads an EXR as float RGBA (alpha 1 where the file has none).
-bool read_rgba(const std::string& path, int* w, int* h, std::vector<float>* rgba, std::string* err) {
+bool read_rgba(const std::string& path, int* w, int* h, std::vector<float>* rgba,
+               std::string* err) {
   auto in = OIIO::ImageInput::open(path);
   if (!in) {
     *err = path + ": " + OIIO::geterror();
@@ -411,11 +422,20 @@ void tone_curve(const json& p, std::vector<float>* image) {
       }
       const float x = exposure * v;
       switch (op) {
-        case 0: px[c] = reinhard(x); break;
-        case 1: px[c] = reinhard_white(v, exposure, white); break;
-        case 2: px[c] = hable(x, hable_k, hable_w, hable_bias); break;
-        case 3: px[c] = aces_narkowicz(x, pre_scale); break;
-        default: px[c] = unity_neutral(v, exposure);
+        case 0:
+          px[c] = reinhard(x);
+          break;
+        case 1:
+          px[c] = reinhard_white(v, exposure, white);
+          break;
+        case 2:
+          px[c] = hable(x, hable_k, hable_w, hable_bias);
+          break;
+        case 3:
+          px[c] = aces_narkowicz(x, pre_scale);
+          break;
+        default:
+          px[c] = unity_neutral(v, exposure);
       }
     }
   }
@@ -447,7 +467,7 @@ void pq_grade(const json& p, const Strip& strip, std::vector<float>* image) {
       // 2-3. Exposure, saturate, PQ encode.
       pq[c] = pq_from_nits(saturate(stored * fract) * 1e4f);
     }
-    lut_lookup(strip, dmin, dmax, pq, graded_pq);  // 4-5
+    lut_lookup(strip, dmin, dmax, pq, graded_pq);                                       // 4-5
     for (int c = 0; c < 3; ++c) graded[c] = nits_from_pq(graded_pq[c]) * decode_scale;  // 6
     // 7. Display mapping.
     if (display == 1) {
@@ -462,10 +482,17 @@ void pq_grade(const json& p, const Strip& strip, std::vector<float>* image) {
     // The back buffer's encoding.
     for (int c = 0; c < 3; ++c) {
       switch (back_buffer) {
-        case 0: px[c] = saturate(pq_from_nits(out[c] * white)); break;
-        case 1: px[c] = out[c] * (white * 0.0125f); break;
-        case 2: px[c] = srgb_encode(saturate(out[c])); break;
-        default: px[c] = pow_e2(saturate(out[c]), 1.0f / 2.2f);
+        case 0:
+          px[c] = saturate(pq_from_nits(out[c] * white));
+          break;
+        case 1:
+          px[c] = out[c] * (white * 0.0125f);
+          break;
+        case 2:
+          px[c] = srgb_encode(saturate(out[c]));
+          break;
+        default:
+          px[c] = pow_e2(saturate(out[c]), 1.0f / 2.2f);
       }
     }
   }
@@ -514,8 +541,8 @@ int main(int argc, char** argv) {
       tone_curve(doc.at("params"), &image);
     } else {
       Strip strip;
-      if (!read_rgba(dir + images.at("user_lut").at("file").get<std::string>(), &strip.w,
-                     &strip.h, &strip.texels, &err))
+      if (!read_rgba(dir + images.at("user_lut").at("file").get<std::string>(), &strip.w, &strip.h,
+                     &strip.texels, &err))
         return fail(err);
       strip.n = strip.h;
       if (strip.w != strip.n * strip.n)
