@@ -73,6 +73,10 @@ struct Tolerance {
   std::array<double, kMetricCount> allowed_fraction{};  // in [0, 1]
   std::array<double, kMetricCount> hard{kNotJudged, kNotJudged, kNotJudged, kNotJudged, kNotJudged};
   std::array<double, kMetricCount> warn{kNotJudged, kNotJudged, kNotJudged, kNotJudged, kNotJudged};
+  // The PQ metrics' near-black floor (nits; 0: none, docs/tolerances.md "The near-black floor"):
+  // in a pixel whose ΔE_ITP and every channel's linear error pass their max, each channel is
+  // evaluated by PQ no lower than this many nits.
+  double pq_near_black = 0.0;
   DitherCriterion dither;  // the dither stage's properties (not judged unless set)
   std::string reason;      // why these numbers (measured error and its cause)
   std::string source;      // where they came from: "cases/x.json: /tolerance" or "default", and

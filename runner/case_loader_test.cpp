@@ -454,6 +454,8 @@ TEST(CaseLoader, TheDefaultSuiteLoads) {
                                                   {"lut/working_color_space_custom", 50},
                                                   {"operators/exposure", 30},
                                                   {"operators/film_presets", 15},
+                                                  {"operators/hable_blog2010", 3},
+                                                  {"operators/hable_gdc2010", 3},
                                                   {"operators/operators", 30},
                                                   {"operators/parameters", 13},
                                                   {"pq_grading/amplify", 25},
@@ -496,7 +498,7 @@ TEST(CaseLoader, TheDefaultSuiteLoads) {
                                                   {"visualize/visualize_hdr", 30},
                                                   {"visualize/working_color_space", 21}};
   EXPECT_EQ(per_file, expected);
-  EXPECT_EQ(loaded.cases.size(), 1655u);
+  EXPECT_EQ(loaded.cases.size(), 1661u);
   for (const auto& c : loaded.cases) EXPECT_NE(c.tolerance.source, "default") << c.id;
 }
 

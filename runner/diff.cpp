@@ -384,6 +384,20 @@ DiffStats diff_images(const Image& input, const Image& reference, const Image& c
       if (s.nonfinite.mismatch > 0 && s.nonfinite.first_mismatch.x == x &&
           s.nonfinite.first_mismatch.y == y)
         s.nonfinite.first_mismatch.delta_e_itp = de;
+      // The near-black floor (docs/tolerances.md, "The near-black floor"): where the pixel's
+      // ΔE_ITP and every channel's linear error pass, PQ judges no channel below it.
+      double pq_floor_nits = 0;
+      if (tol.pq_near_black > 0 && rgb_finite && tol.delta_e_itp < kNotJudged &&
+          de <= tol.delta_e_itp) {
+        bool linear_ok = tol.linear_rel < kNotJudged || tol.linear_abs < kNotJudged;
+        for (int ch = 0; ch < 3 && linear_ok; ++ch) {
+          const double abs = std::fabs(c[ch] - r[ch]);
+          const double rel = abs == 0 ? 0.0 : abs / std::fmax(std::fabs(r[ch]), tol.rel_floor);
+          linear_ok = (!(tol.linear_rel < kNotJudged) || rel <= tol.linear_rel) &&
+                      (!(tol.linear_abs < kNotJudged) || abs <= tol.linear_abs);
+        }
+        if (linear_ok) pq_floor_nits = tol.pq_near_black;
+      }
       for (int ch = 0; ch < 3; ++ch) {
         if (!std::isfinite(r[ch]) || !std::isfinite(c[ch])) continue;
         ++s.values;
@@ -393,8 +407,9 @@ DiffStats diff_images(const Image& input, const Image& reference, const Image& c
         // error.
         const double rel = abs == 0 ? 0.0 : abs / std::fmax(std::fabs(r[ch]), tol.rel_floor);
         // PQ's slope is unbounded at 0, so it is evaluated no lower than the pixel's float32
-        // noise floor (docs/diff-metrics.md, "PQ noise floor"): values both below it agree.
-        const double floor_nits = kSignBoundaryNoise * pixel_scale;
+        // noise floor (docs/diff-metrics.md, "PQ noise floor"): values both below it agree; nor,
+        // where the tolerance sets one and the other metrics pass, below the near-black floor.
+        const double floor_nits = std::fmax(kSignBoundaryNoise * pixel_scale, pq_floor_nits);
         const double pq = std::fabs(pq_signal(std::fmax(cand_nits[ch], floor_nits)) -
                                     pq_signal(std::fmax(ref_nits[ch], floor_nits)));
         auto& a = acc[band];

@@ -8,8 +8,8 @@
 #include <cmath>
 #include <limits>
 
-#include "core/pipeline.h"
 #include "color/st2084.h"
+#include "core/pipeline.h"
 #include "reference/color/ue_matrices.h"
 
 namespace {
@@ -476,6 +476,55 @@ TEST(Diff, PqNoiseFloorIsRelativeToThePixel) {
   const double want = (pq(2e-3) - pq(1e-3)) * 1023.0;
   EXPECT_NEAR(pq10(83.5, 1e-3, 2e-3), want, 1e-12);
   EXPECT_NEAR(pq10(83.5, 0.0, 2e-3), (pq(2e-3) - pq(f)) * 1023.0, 1e-12);
+}
+
+// The near-black floor (docs/tolerances.md, "The near-black floor"): X is where the linear
+// criterion's absolute bound below rel_floor, a = linear_rel x rel_floor, moves PQ by the PQ
+// limit. For UE's FilmToneMap in `operators` (cases/tolerance_overlays.json: linear_rel 2.5e-4,
+// rel_floor 1e-3 of 100 nits, pq_code10 0.012) that is 0.0407 nits. The pixel is the one a
+// second float32 evaluation (examples/float32_candidate.cpp) met in operators/operators/
+// operator5_log_ramp: 0.0308 PQ codes without the floor, 0 with it; a dark channel that the
+// linear criterion or ΔE_ITP sees as wrong keeps PQ's full judgement.
+TEST(Diff, NearBlackFloorIsWhereLinearAndPqLimitsMeet) {
+  auto pq = [](double nits) { return hdrc::ref::st2084::pq_from_nits(nits); };
+  const double a = 2.5e-4 * 1e-3 * 100.0, limit = 0.012;
+  double lo = 1e-9, hi = 1e4;  // 1023 (PQ(x + a) - PQ(x)) falls with x: bisect for the limit
+  for (int i = 0; i < 200; ++i) {
+    const double mid = std::sqrt(lo * hi);
+    ((pq(mid + a) - pq(mid)) * 1023.0 > limit ? lo : hi) = mid;
+  }
+  EXPECT_NEAR(hi, 0.0407, 0.0001);
+
+  const OutputEncoding linear7 = ue_encoding("linear_device", 7);  // values are nits
+  hdrc::Tolerance t = tol(2.5e-4, 0.1, limit);                     // rel_floor 1e-3 x 100 nits
+  t.delta_e_itp = 3e-4;
+  hdrc::Image in = grey(1, 0.0), ref = grey(1, 0.0), cnd = grey(1, 0.0);
+  const double r[3] = {4.29910846, 1.56323576e-4, 88.855766};
+  const double c[3] = {4.29908819, 1.60053185e-4, 88.8557792};
+  for (int ch = 0; ch < 3; ++ch) {
+    ref.px(0, 0)[ch] = r[ch];
+    cnd.px(0, 0)[ch] = c[ch];
+  }
+  auto stats = [&](const hdrc::Tolerance& with) {
+    return hdrc::diff_images(in, ref, cnd, linear7, with);
+  };
+  const auto without = stats(t);
+  EXPECT_NEAR(without[Metric::kPqCode10].max, 0.0308, 0.0005);
+  EXPECT_LT(without[Metric::kDeltaEItp].max, 3e-4);
+  EXPECT_LT(without[Metric::kLinearRel].max, 2.5e-4);
+  t.pq_near_black = 0.0407;
+  EXPECT_TRUE(hdrc::judge(stats(t), t).pass);
+  EXPECT_LT(stats(t)[Metric::kPqCode10].max, 1e-3);  // the 4.3-nit channel's own codes
+  // A dark channel off by 10x the linear bound fails linear_rel: no floor, PQ judges it too.
+  cnd.px(0, 0)[1] = r[1] + 2.5e-4;
+  const auto wrong = stats(t);
+  EXPECT_GT(wrong[Metric::kLinearRel].max, 2.5e-4);
+  EXPECT_GT(wrong[Metric::kPqCode10].max, 1.0);
+  // Within the linear bound but a colour ΔE_ITP sees: the floor does not apply either.
+  hdrc::Tolerance strict_de = t;
+  strict_de.delta_e_itp = 1e-6;
+  cnd.px(0, 0)[1] = c[1];
+  EXPECT_NEAR(stats(strict_de)[Metric::kPqCode10].max, 0.0308, 0.0005);
 }
 
 // A case that compares no finite value cannot fail, so it must not pass: an ERROR naming the

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <string>
@@ -14,6 +15,7 @@
 #include <vector>
 
 #include "core/pipeline.h"
+#include "reference/operators/operators.h"
 #include "runner/case_loader.h"
 #include "runner/json_read.h"
 #include "runner/test_support.h"
@@ -321,6 +323,39 @@ TEST(Pipelines, PlantedHableConstantFailsOnlyTheHableCases) {
   EXPECT_TRUE(contains(failing, "operators/operators/operator2_log_ramp")) << out;
   EXPECT_GE(failing.size(), 10u) << out;
   for (const auto& id : failing) EXPECT_NE(id.find("/operator2_"), std::string::npos) << id;
+  // Both published constant sets' cases see it.
+  EXPECT_TRUE(contains(failing, "operators/hable_gdc2010/operator2_log_ramp")) << out;
+  EXPECT_TRUE(contains(failing, "operators/hable_blog2010/operator2_log_ramp")) << out;
+}
+
+// Hable published two constant sets (docs/spec/operators.md, Hable): the GDC 2010 slides'
+// (142-143) and the blog post's ("Filmic Tonemapping Operators", filmicworlds.com 2010). Each has
+// its own case file, named after it, that writes every constant out: the settings of each case
+// are exactly its set, and the GDC set is the settings' defaults.
+TEST(Pipelines, HablesTwoConstantSetsEachHaveTheirCases) {
+  const hdrc::LoadedCases loaded = hdrc::load_cases(kCasesDir);
+  ASSERT_TRUE(loaded.errors.empty()) << loaded.errors[0].to_string();
+  const std::vector<std::string> names = {"HableA", "HableB", "HableC", "HableD",
+                                          "HableE", "HableF", "HableW", "ExposureBias"};
+  const std::map<std::string, std::vector<double>> sets = {
+      {"operators/hable_gdc2010/", {0.22, 0.30, 0.10, 0.20, 0.01, 0.30, 11.2, 2.0}},
+      {"operators/hable_blog2010/", {0.15, 0.50, 0.10, 0.20, 0.02, 0.30, 11.2, 2.0}}};
+  std::map<std::string, int> count;
+  for (const hdrc::Case& c : loaded.cases) {
+    for (const auto& [prefix, values] : sets) {
+      if (c.id.rfind(prefix, 0) != 0) continue;
+      ++count[prefix];
+      EXPECT_EQ(c.settings.get("Operator"), 2.0) << c.id;
+      for (size_t i = 0; i < names.size(); ++i)
+        EXPECT_DOUBLE_EQ(c.settings.get(names[i]), values[i]) << c.id << " " << names[i];
+    }
+  }
+  for (const auto& [prefix, values] : sets) EXPECT_EQ(count[prefix], 3) << prefix;
+  // The defaults are the GDC set: a case that sets none of the constants runs it.
+  const hdrc::ref::operators::HableParams defaults;
+  EXPECT_EQ(defaults.curve.a, 0.22);
+  EXPECT_EQ(defaults.curve.b, 0.30);
+  EXPECT_EQ(defaults.curve.e, 0.01);
 }
 
 // pq_grading's user LUTs are no setting, so coverage_pq_grading.json cannot declare them: every

@@ -140,7 +140,7 @@ std::string metric_keys() {
 }
 
 std::string tolerance_keys() {
-  return metric_keys() + ", dither, rel_floor, reason";
+  return metric_keys() + ", dither, rel_floor, pq_near_black, reason";
 }
 
 Tolerance default_tolerance_policy() {
@@ -164,7 +164,7 @@ Result<Tolerance> parse_tolerance(const json& j, const std::string& file,
   for (auto it = j.begin(); it != j.end(); ++it) {
     const std::string& key = it.key();
     const std::string at = pointer + "/" + escape_pointer_token(key);
-    bool known = key == "rel_floor" || key == "reason" || key == "dither";
+    bool known = key == "rel_floor" || key == "pq_near_black" || key == "reason" || key == "dither";
     for (Metric m : kMetrics) known = known || key == metric_key(m);
     if (!known) return Error{file, at, "unknown key '" + key + "'", keys};
   }
@@ -232,6 +232,24 @@ Result<Tolerance> parse_tolerance(const json& j, const std::string& file,
     if (!x) return x.error();
     t.rel_floor = *x;
   }
+  if (j.contains("pq_near_black")) {
+    const std::string at = pointer + "/pq_near_black";
+    if (j["pq_near_black"].is_null()) {
+      t.pq_near_black = 0;
+    } else {
+      Result<double> x = limit_value(j["pq_near_black"], file, at, "pq_near_black", false);
+      if (!x) return x.error();
+      t.pq_near_black = *x;
+    }
+  }
+  // The near-black floor stands on the other metrics' agreement: both must be judged.
+  if (t.pq_near_black > 0 &&
+      (!(t.delta_e_itp < kNotJudged) || !(t.linear_rel < kNotJudged || t.linear_abs < kNotJudged)))
+    return Error{file, pointer + "/pq_near_black",
+                 "pq_near_black " + format_number(t.pq_near_black) +
+                     " needs delta_e_itp and linear_rel (or linear_abs) judged with a max: the "
+                     "floor applies where they agree that a pixel is right",
+                 "set delta_e_itp and linear_rel, or \"pq_near_black\": null"};
   if (!j.contains("reason") || !j["reason"].is_string() || j["reason"].get<std::string>().empty())
     return Error{file, pointer + "/reason",
                  "a tolerance must say why (measured error and its cause)", "a non-empty string"};
@@ -395,6 +413,7 @@ json tolerance_json(const Tolerance& t) {
   else
     j["dither"] = nullptr;
   j["rel_floor"] = t.rel_floor;
+  j["pq_near_black"] = t.pq_near_black > 0 ? json(t.pq_near_black) : json(nullptr);
   j["reason"] = t.reason;
   j["source"] = t.source;
   return j;

@@ -18,10 +18,11 @@ struct BadTolerance {
 const BadTolerance kBad[] = {
     {"not_object", R"(3)",
      "t.json: /tolerance: a tolerance is an object, got number 3; valid choices: an object with "
-     "keys linear_abs, linear_rel, pq_code10, pq_code12, delta_e_itp, dither, rel_floor, reason"},
+     "keys linear_abs, linear_rel, pq_code10, pq_code12, delta_e_itp, dither, rel_floor, "
+     "pq_near_black, reason"},
     {"unknown_key", R"({"pq_code": 1, "reason": "x"})",
      "t.json: /tolerance/pq_code: unknown key 'pq_code'; valid choices: linear_abs, linear_rel, "
-     "pq_code10, pq_code12, delta_e_itp, dither, rel_floor, reason"},
+     "pq_code10, pq_code12, delta_e_itp, dither, rel_floor, pq_near_black, reason"},
     {"negative", R"({"pq_code10": -1, "reason": "x"})",
      "t.json: /tolerance/pq_code10: pq_code10 -1 is negative; valid choices: a number >= 0"},
     {"string", R"({"linear_rel": "1e-5", "reason": "x"})",
@@ -47,6 +48,13 @@ const BadTolerance kBad[] = {
     {"no_reason", R"({"linear_rel": 1e-5})",
      "t.json: /tolerance/reason: a tolerance must say why (measured error and its cause); valid "
      "choices: a non-empty string"},
+    {"near_black_without_delta_e", R"({"pq_near_black": 0.04, "reason": "x"})",
+     "t.json: /tolerance/pq_near_black: pq_near_black 0.04 needs delta_e_itp and linear_rel (or "
+     "linear_abs) judged with a max: the floor applies where they agree that a pixel is right; "
+     "valid choices: set delta_e_itp and linear_rel, or \"pq_near_black\": null"},
+    {"near_black_negative", R"({"pq_near_black": -1, "reason": "x"})",
+     "t.json: /tolerance/pq_near_black: pq_near_black -1 is negative; valid choices: a number "
+     ">= 0"},
     {"null_floor", R"({"rel_floor": null, "reason": "x"})",
      "t.json: /tolerance/rel_floor: rel_floor must be a number, got null null; valid choices: a "
      "number >= 0"},
@@ -96,6 +104,18 @@ TEST(Tolerance, ParsesEveryCriterionOverTheDefault) {
                                        "/tolerance");
   ASSERT_TRUE(n.ok());
   EXPECT_FALSE(n->judged(Metric::kPqCode10));
+  // The near-black floor over delta_e_itp and linear_rel; null removes it.
+  const auto nb = hdrc::parse_tolerance(
+      json::parse(R"({"delta_e_itp": 3e-4, "pq_near_black": 0.0407, "reason": "r"})"), "f",
+      "/tolerance");
+  ASSERT_TRUE(nb.ok()) << nb.error().to_string();
+  EXPECT_EQ(nb->pq_near_black, 0.0407);
+  EXPECT_EQ(hdrc::tolerance_json(*nb)["pq_near_black"], 0.0407);
+  const auto off = hdrc::parse_tolerance(json::parse(R"({"pq_near_black": null, "reason": "r"})"),
+                                         "f", "/tolerance", *nb);
+  ASSERT_TRUE(off.ok()) << off.error().to_string();
+  EXPECT_EQ(off->pq_near_black, 0.0);
+  EXPECT_TRUE(hdrc::tolerance_json(*off)["pq_near_black"].is_null());
 }
 
 hdrc::Case shaper_case(const std::string& id) {
