@@ -496,7 +496,7 @@ TEST(CaseLoader, TheDefaultSuiteLoads) {
                                                   {"visualize/visualize_hdr", 30},
                                                   {"visualize/working_color_space", 21}};
   EXPECT_EQ(per_file, expected);
-  EXPECT_EQ(loaded.cases.size(), 1655u);
+  EXPECT_EQ(loaded.cases.size(), 1656u);
   for (const auto& c : loaded.cases) EXPECT_NE(c.tolerance.source, "default") << c.id;
 }
 
