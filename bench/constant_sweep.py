@@ -49,7 +49,7 @@ PIPELINES = {
     "operators": {"stages": ["operators/stages/curve.comp"], "filter": "operators/*"},
     "unity_urp": {
         "stages": ["unity_urp/stages/lut_bake.comp", "unity_urp/stages/color_grading.comp"],
-        "filter": "unity_urp/*",
+        "filter": "unity_urp/graded_look/*,unity_urp/lut_modes/*",
     },
     "ue55": {
         "stages": ["stages/combine_luts.comp", "stages/tonemap.comp"],
@@ -370,6 +370,7 @@ TABLE = os.path.join(ROOT, "docs", "constant-sweep.md")
 PINNED = [
     ("pq_grading.PQ_M2", 4, "pq_grading/isolate/pq_m1_m2_roundtrip/near_black_decode"),
     ("pq_grading.PQ_M1", 4, "pq_grading/isolate/pq_m1_m2_roundtrip/near_black_decode"),
+    ("pq_grading.PQG_SRGB_EXPONENT", 4, "pq_grading/isolate/srgb_exponent/near_black_srgb"),
 ]
 
 
@@ -447,13 +448,44 @@ def effect_text(row):
     return "; ".join(parts) if parts else "no metric moved"
 
 
-def markdown_rows(results, notes):
-    """One table row per constant from the sweep's JSON lines (both digit counts)."""
+def verdict_note(row):
+    """Why a plant that failed nothing is not a hole: what it moved, against float32 noise."""
+    if row.get("exact") or row.get("fail_count"):
+        return ""
+    ratio = 0.0
+    for k in METRICS:
+        e = row.get("largest", {}).get(k)
+        if e and e["baseline"] > 0:
+            ratio = max(ratio, e["planted"] / e["baseline"] - 1.0)
+        elif e and e["planted"] > 0:
+            ratio = float("inf")
+    if ratio <= 0:
+        return "no case's largest error moved: below float32 resolution on every stimulus"
+    if ratio < 0.5:
+        return "largest error up by %.0f %% at most: within float32 noise" % (100 * ratio)
+    return "**uncaught**: the largest error grows %.3g x and no case fails" % (1 + ratio)
+
+
+def markdown_rows(constants, results, notes):
+    """One table row per enumerated constant, from the sweep's JSON lines (both digit counts); a
+    constant typed exactly needs no run, one without results is "not swept"."""
     by_id = {}
     for r in results:
         by_id.setdefault(r["id"], {})[r["digits"]] = r
     lines = []
-    for cid, per in by_id.items():
+    for c in constants:
+        cid = c.id
+        per = by_id.get(cid, {})
+        for d in (4, 5):
+            if d not in per and c.exact_at(d):
+                per[d] = {"id": cid, "where": c.where, "value": c.values, "digits": d,
+                          "typed": c.typed(d), "exact": True}
+        if not per:
+            value = ", ".join("%.10g" % v for v in c.values) if len(c.values) == 1 else \
+                "%d entries" % len(c.values)
+            lines.append("| `%s` | %s | %s | not swept | — | %s |" % (
+                cid, c.where, value, notes.get(cid, "not swept in this measurement (time)")))
+            continue
         any_row = next(iter(per.values()))
         value = ", ".join("%.10g" % v for v in any_row["value"])
         if len(any_row["value"]) > 1:
@@ -462,18 +494,23 @@ def markdown_rows(results, notes):
         for d in (4, 5):
             r = per.get(d)
             if r is None:
-                cells.append("not run")
+                moved = per.get(4) and not per[4].get("exact") and \
+                    effect_text(per[4]) != "no metric moved"
+                cells.append("not run" if moved else "—")
             elif r.get("exact"):
                 cells.append("exact (%s)" % r["typed"] if len(r["value"]) == 1 else "exact")
             else:
                 typed = r["typed"] if len(r["value"]) == 1 else "each entry"
                 if r["fail_count"]:
+                    # the isolating case where one catches it, else the first
+                    named = next((i for i in r["fail"] if "/isolate/" in i), r["fail"][0])
                     cells.append("%s: **%d FAIL**, e.g. `%s`; %s" % (
-                        typed, r["fail_count"], r["fail"][0], effect_text(r)))
+                        typed, r["fail_count"], named, effect_text(r)))
                 else:
                     cells.append("%s: 0 FAIL; %s" % (typed, effect_text(r)))
+        note = notes.get(cid) or verdict_note(per.get(4, any_row))
         lines.append("| `%s` | %s | %s | %s | %s | %s |" % (
-            cid, any_row["where"], value, cells[0], cells[1], notes.get(cid, "")))
+            cid, any_row["where"], value, cells[0], cells[1], note))
     return lines
 
 
@@ -485,11 +522,14 @@ def main():
     ap.add_argument("--digits", default="4,5", help="significant digits typed (default 4,5)")
     ap.add_argument("--filter", help="override the pipeline's case filter")
     ap.add_argument("--build", default=os.path.join(ROOT, "build"), help="build folder")
+    ap.add_argument("--hdrconform", help="the hdrconform binary (default: BUILD/runner/hdrconform; "
+                    "a copy keeps a long sweep off a rebuild)")
     ap.add_argument("-j", "--jobs", type=int, default=2)
     ap.add_argument("--json", help="append the results (JSON lines) to this file; the constants "
                     "and digits it holds already are not run again")
-    ap.add_argument("--markdown", metavar="JSONL",
-                    help="print the table rows of a sweep's --json output and exit")
+    ap.add_argument("--markdown", metavar="JSONL[,JSONL...]",
+                    help="print the table rows of the enumerated constants from sweeps' --json "
+                    "output and exit")
     ap.add_argument("--check-table", action="store_true",
                     help="exit 1 unless docs/constant-sweep.md has a row for every constant")
     ap.add_argument("--pinned", action="store_true",
@@ -497,7 +537,7 @@ def main():
     args = ap.parse_args()
 
     dump = os.path.join(args.build, "bench", "shader_constants_dump")
-    hdrconform = os.path.join(args.build, "runner", "hdrconform")
+    hdrconform = args.hdrconform or os.path.join(args.build, "runner", "hdrconform")
     pipelines = args.pipeline or list(PIPELINES)
     constants = [c for p in pipelines for c in enumerate_constants(p, dump)]
     if args.only:
@@ -505,8 +545,9 @@ def main():
     digits = [int(d) for d in args.digits.split(",")]
 
     if args.markdown:
-        results = [json.loads(l) for l in open(args.markdown, encoding="utf-8") if l.strip()]
-        print("\n".join(markdown_rows(results, {})))
+        results = [json.loads(l) for f in args.markdown.split(",")
+                   for l in open(f, encoding="utf-8") if l.strip()]
+        print("\n".join(markdown_rows(constants, results, {})))
         return 0
     if args.check_table:
         return check_table(constants)
