@@ -32,6 +32,7 @@ import math
 import os
 import re
 import shutil
+import signal
 import struct
 import subprocess
 import sys
@@ -570,6 +571,8 @@ def main():
             if line.strip():
                 r = json.loads(line)
                 done.add((r["id"], r["digits"]))
+    # SIGTERM as an exception, so that the finally below removes the work folder.
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))
     work = tempfile.mkdtemp(prefix="constant-sweep-")
     baselines = {}
     sink = open(args.json, "a", encoding="utf-8") if args.json else None
