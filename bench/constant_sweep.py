@@ -499,7 +499,9 @@ def markdown_rows(constants, results, notes):
         cells = []
         for d in (4, 5):
             r = per.get(d)
-            if r is None:
+            if r is None and d == 4:
+                cells.append("not swept")
+            elif r is None:
                 moved = per.get(4) and not per[4].get("exact") and \
                     effect_text(per[4]) != "no metric moved"
                 cells.append("not run" if moved else "—")
@@ -514,7 +516,8 @@ def markdown_rows(constants, results, notes):
                         typed, r["fail_count"], named, effect_text(r)))
                 else:
                     cells.append("%s: 0 FAIL; %s" % (typed, effect_text(r)))
-        note = notes.get(cid) or verdict_note(per.get(4, any_row))
+        note = notes.get(cid) or (verdict_note(per[4]) if 4 in per else
+                                  "not swept in this measurement (time)")
         lines.append("| `%s` | %s | %s | %s | %s | %s |" % (
             cid, any_row["where"], value, cells[0], cells[1], note))
     return lines
