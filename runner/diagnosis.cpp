@@ -7,6 +7,7 @@
 #include <set>
 
 #include "color/gamma_correction.h"
+#include "color/st2084.h"
 #include "report/assets.h"
 #include "runner/json_read.h"
 
@@ -334,7 +335,8 @@ const std::vector<DetectorEntry>& detector_table() {
        matches_variant},
       {{"matches_case_variant",
         {"max_residual_share"},
-        {"saturate_input", "swap_input_rb", "lut_half_texel_up", "lut_half_texel_down"},
+        {"saturate_input", "swap_input_rb", "lut_half_texel_up", "lut_half_texel_down",
+         "pq_decode_m2_rounded", "pq_decode_m1_rounded"},
         "the candidate matches the reference of a changed copy of the case within "
         "max_residual_share of the squared error"},
        matches_case_variant},
@@ -411,6 +413,19 @@ Image shifted_strip(const Image& strip, double delta) {
   return out;
 }
 
+// ST 2084's m1 and m2 as a port commonly types them: four significant digits
+// (docs/constant-sweep.md).
+constexpr double kPqM1Typed = 0.1593;
+constexpr double kPqM2Typed = 78.84;
+
+// ST 2084's decode (color/st2084.h nits_from_pq: PQ signal to nits) with m1 and m2 given.
+double pq_decode_typed(double pq, double m1, double m2) {
+  namespace st = ref::st2084;
+  const double np = std::pow(pq, 1.0 / m2);
+  const double l = std::fmax(np - st::kC1, 0.0) / (st::kC2 - st::kC3 * np);
+  return std::pow(l, 1.0 / m1) * st::kPeakNits;
+}
+
 }  // namespace
 
 std::string Hint::text() const {
@@ -446,6 +461,27 @@ bool make_case_variant(const std::string& variant, ResolvedCase* c) {
       }
     }
     return changed;
+  }
+  if (variant == "pq_decode_m2_rounded" || variant == "pq_decode_m1_rounded") {
+    // A lookup table of PQ signals (pq_grading's) decoded by a port with m2 typed 78.84 or m1
+    // typed 0.1593: every value v read as PQ(PQ⁻¹_typed(v)), so that the reference's own decode
+    // gives what the port's does. Exact where the lookup's coordinate does not matter (a flat
+    // table, pq_grading/isolate/); a table of other values gives a variant that explains nothing.
+    const bool m2 = variant == "pq_decode_m2_rounded";
+    bool any = false;
+    for (Image& strip : c->user_luts)
+      for (size_t i = 0; i < strip.pixel_count(); ++i)
+        for (int ch = 0; ch < 3; ++ch) {
+          double& v = strip.data[i * Image::kChannels + ch];
+          const double typed = pq_decode_typed(v, m2 ? ref::st2084::kM1 : kPqM1Typed,
+                                               m2 ? kPqM2Typed : ref::st2084::kM2);
+          const double e = ref::st2084::pq_from_nits(typed);
+          if (std::isfinite(e) && !(e == v)) {
+            v = e;
+            any = true;
+          }
+        }
+    return any;
   }
   if (variant == "lut_half_texel_up" || variant == "lut_half_texel_down") {
     bool any = false;

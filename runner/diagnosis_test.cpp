@@ -10,6 +10,7 @@
 #include <cmath>
 #include <filesystem>
 #include <set>
+#include <utility>
 
 #include "color/gamma_correction.h"
 #include "core/pipeline.h"
@@ -331,6 +332,29 @@ TEST_P(DiagnosisPlantedShader, FiresItsSignatureAlone) {
 
 INSTANTIATE_TEST_SUITE_P(PqGrading, DiagnosisPlantedShader, ::testing::ValuesIn(kPlantedShaders),
                          [](const auto& info) { return std::string(info.param.name); });
+
+// ST 2084's m2 and m1 typed with four digits (78.84, 0.1593) where a port's encode and decode
+// share them (one #define in gpu/shaders/lib/st2084.glsl): the isolating case fails
+// (docs/constant-sweep.md) and the hint names the rounded constant, not the other one.
+// constant_offset fires beside it: the case's flat LUT makes each channel's output nearly one
+// value, so a relative error is also a per-channel offset (docs/diagnosis.md#pq_m2_rounded).
+TEST(DiagnosisPlantedShader, PqConstantRoundedInEncodeAndDecode) {
+  if (hdrc::test::vulkan_optional()) GTEST_SKIP() << "HDRC_ALLOW_NO_VULKAN: no Vulkan device";
+  const std::string id = "pq_grading/isolate/pq_m1_m2_roundtrip/near_black_decode";
+  for (const auto& [define, expect] : {std::pair{"#define PQ_M2 78.84\n", "pq_m2_rounded"},
+                                       std::pair{"#define PQ_M1 0.1593\n", "pq_m1_rounded"}}) {
+    std::string out;
+    nlohmann::json results;
+    const std::string include = "#include \"d3d_math.glsl\"\n";
+    const auto failing = hdrc::test::planted_shader_failures(
+        "lib/st2084.glsl", include, include + define, "--filter '=" + id + "'", &out, 1, &results);
+    ASSERT_EQ(failing, std::vector<std::string>{id}) << define << out;
+    std::set<std::string> hints;
+    for (const auto& c : results["cases"])
+      for (const auto& h : c["hints"]) hints.insert(h["id"].get<std::string>());
+    EXPECT_EQ(hints, (std::set<std::string>{expect, "constant_offset"})) << define << out;
+  }
+}
 
 // The output's R and B swapped in pq_grading's shader: the hint ends the console's and JUnit's
 // reason, is in results.json, and the report's case page lists it under the verdict; the verdict

@@ -121,6 +121,17 @@ def main():
           "PQ look (as pq_look_33) on the lattice of DOMAIN_MIN 0.05 0 0.1, DOMAIN_MAX 0.9 0.85 0.95",
           ['TITLE "PQ look over a partial domain"', "LUT_3D_SIZE 33", "DOMAIN_MIN 0.05 0 0.1",
            "DOMAIN_MAX 0.9 0.85 0.95"], rows_3d(33, lo_pq, hi_pq, pq_look))
+    # The PQ decode alone (issue 28 item 5, docs/constant-sweep.md): each output channel a flat
+    # ramp of 0.001 in PQ over its own input channel, near black (PQ 0.02, 0.035, 0.05: about
+    # 0.005, 0.02 and 0.06 nits), so that the lookup's coordinate (the encode) moves the output by
+    # under 2e-8 of PQ and the hardware's 8-bit filter weights by under 6e-8, and the output is
+    # PQ^-1 of the LUT's value: an encode and decode that share a rounded m1 or m2 no longer
+    # cancel.
+    write("pq_decode_33.cube",
+          "PQ decode probe: out = (0.02 + 0.001 r, 0.035 + 0.001 g, 0.05 + 0.001 b)",
+          ['TITLE "PQ decode probe near black"', "LUT_3D_SIZE 33"],
+          rows_3d(33, z, o, lambda r, g, b: (0.02 + 0.001 * r, 0.035 + 0.001 * g,
+                                             0.05 + 0.001 * b)))
 
     # UE 5.5's user colour-grading LUTs (docs/ue55-lut-blend-spec.md §2.9): 16 points, input and
     # output sRGB-encoded, [0, 1]. Converted with `hdrc lut convert --to strip --origin top`

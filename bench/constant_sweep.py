@@ -1,0 +1,616 @@
+#!/usr/bin/env python3
+"""The planted-constant sweep (issue 28 item 5; docs/constant-sweep.md).
+
+For every constant a porter types into a pipeline's GLSL port, make a copy of gpu/shaders with that
+one constant rounded to the significant digits people commonly type (4 and 5), run the pipeline's
+cases on it with the real CLI (`hdrconform run --shader-dir COPY`) and record the cases that FAIL
+and the largest metrics against those of the unplanted shaders (float32 noise).
+
+The constants are enumerated, not listed by hand, so that a new one cannot be missed:
+  * every `const float NAME = <literal>;`, `const vec3 NAME = vec3(<literals>);` and
+    `const mat3 NAME = mat3(<literals>);` in the files the pipeline's stage shaders include;
+  * every constant and matrix of the generated include hdrc/interface.glsl
+    (gpu/shader_constants.cpp, printed by build/bench/shader_constants_dump) that those files use,
+    planted wherever it appears (encode and decode sharing it); ST 2084's m1, m2, c1, c2, c3 also
+    in the encode (pq_from_nits) or the decode (nits_from_pq) alone;
+  * the parameters a port types from the spec pages: the `spec-constants` blocks' matrices of
+    docs/spec/<pipeline>.md and the published sets of docs/spec/operators.md and
+    docs/spec/film_tonemap.md (PARAM_CONSTANTS below), planted where the shader reads P.<name>.
+A constant whose published value already has at most d significant digits is typed exactly at d:
+no plant, no run ("exact").
+
+  bench/constant_sweep.py --list                    the enumerated constants (id, pipeline, value)
+  bench/constant_sweep.py --pipeline pq_grading     sweep one pipeline (writes --json)
+  bench/constant_sweep.py --only pq.m2              the constants whose id starts with pq.m2
+
+Runs on this machine's lavapipe with -j 2 by default (the default suite's device).
+"""
+
+import argparse
+import json
+import math
+import os
+import re
+import shutil
+import signal
+import struct
+import subprocess
+import sys
+import tempfile
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+SHADERS = os.path.join(ROOT, "gpu", "shaders")
+
+# Each pipeline's stage shaders (relative to gpu/shaders) and the cases a plant is judged on.
+# ue55's and ue58's suites are large: their sweep runs the case files that exercise every output
+# device's ACES and PQ paths (--filter), named here; a constant they leave uncaught is then tried
+# on the pipeline's whole suite (--filter).
+PIPELINES = {
+    "pq_grading": {"stages": ["pq_grading/stages/grade.comp"], "filter": "pq_grading/*"},
+    "operators": {"stages": ["operators/stages/curve.comp"], "filter": "operators/*"},
+    "unity_urp": {
+        "stages": ["unity_urp/stages/lut_bake.comp", "unity_urp/stages/color_grading.comp"],
+        "filter": "unity_urp/graded_look/*,unity_urp/lut_modes/*",
+    },
+    "ue55": {
+        "stages": ["stages/combine_luts.comp", "stages/tonemap.comp"],
+        "filter": "lut/devices/*",
+    },
+    "ue58": {
+        "stages": ["ue58/stages/combine_luts.comp", "ue58/stages/combine_luts_inner.comp"],
+        "filter": "ue58/hdr_display/*,ue58/shaper_eotf/*,ue58/grading/*",
+    },
+}
+
+# Parameters a port types from the spec pages rather than reading params.json: name, pipeline,
+# the shader file and expression that reads it, and the published value(s). Matrices are the
+# spec-constants blocks (docs/spec/operators.md, pq_grading.md); Hable's two published sets
+# (docs/spec/operators.md "Hable"); FilmToneMap's Default preset (docs/spec/film_tonemap.md).
+HABLE_SETS = {
+    # J. Hable, "Uncharted 2: HDR Lighting", GDC 2010, slide 142.
+    "gdc": {"a": 0.22, "b": 0.30, "c": 0.10, "d": 0.20, "e": 0.01, "f": 0.30, "w": 11.2},
+    # J. Hable, "Filmic Tonemapping Operators" (filmicworlds.com, 2010).
+    "blog": {"a": 0.15, "b": 0.50, "c": 0.10, "d": 0.20, "e": 0.02, "f": 0.30, "w": 11.2},
+}
+FILM_DEFAULT = {"slope": 0.88, "toe": 0.55, "shoulder": 0.26, "black_clip": 0.0, "white_clip": 0.04}
+
+
+def spec_matrices(pipeline):
+    """The 3x3 matrices of docs/spec/<pipeline>.md's spec-constants block: {name: [9 floats]}."""
+    path = os.path.join(ROOT, "docs", "spec", pipeline + ".md")
+    out = {}
+    if not os.path.exists(path):
+        return out
+    text = open(path, encoding="utf-8").read()
+    for block in re.findall(r"```spec-constants[^\n]*\n(.*?)```", text, re.S):
+        for line in block.splitlines():
+            parts = line.split()
+            if len(parts) == 10:
+                out[parts[0]] = [float(v) for v in parts[1:]]
+    return out
+
+
+def round_sig(x, digits):
+    """x to `digits` significant digits, as the decimal a porter types."""
+    if x == 0 or not math.isfinite(x):
+        return x
+    return float("%.*g" % (digits, x))
+
+
+def f32(x):
+    return struct.unpack("f", struct.pack("f", x))[0]
+
+
+def glsl_float(x):
+    s = "%.9g" % x
+    if not re.search(r"[.eE]", s):
+        s += ".0"
+    return s
+
+
+def resolve_include(including, name):
+    for base in (os.path.dirname(including), SHADERS):
+        p = os.path.normpath(os.path.join(base, name))
+        if os.path.exists(p):
+            return p
+    return None
+
+
+def closure(stages):
+    """The files the stage shaders include, transitively (absolute paths, in discovery order)."""
+    seen, order = set(), []
+    todo = [os.path.join(SHADERS, s) for s in stages]
+    while todo:
+        f = todo.pop(0)
+        if f in seen:
+            continue
+        seen.add(f)
+        order.append(f)
+        for inc in re.findall(r'#include\s+"([^"]+)"', open(f, encoding="utf-8").read()):
+            if inc == "hdrc/interface.glsl":
+                continue
+            p = resolve_include(f, inc)
+            if p:
+                todo.append(p)
+    return order
+
+
+NUM = r"[-+]?(?:\d+\.\d*|\.\d+|\d+)(?:[eE][-+]?\d+)?"
+
+
+def strip_comments(s):
+    return re.sub(r"//[^\n]*", "", s)
+
+
+def literal_decls(path):
+    """const float/vec3/mat3 declarations whose initializer is numeric literals only."""
+    text = open(path, encoding="utf-8").read()
+    out = []
+    for m in re.finditer(r"const\s+float\s+(\w+)\s*=\s*(" + NUM + r")\s*;", text):
+        out.append((m.group(1), "float", [float(m.group(2))]))
+    # A quotient of two literals (1.0 / 2.4): a port may type its value instead.
+    for m in re.finditer(r"const\s+float\s+(\w+)\s*=\s*(" + NUM + r")\s*/\s*(" + NUM + r")\s*;",
+                         text):
+        out.append((m.group(1), "quotient", [float(m.group(2)) / float(m.group(3))]))
+    for m in re.finditer(r"const\s+(vec3|mat3)\s+(\w+)\s*=\s*\1\s*\(", text):
+        end = text.index(");", m.end())
+        body = strip_comments(text[m.end():end])
+        items = [i.strip() for i in body.split(",")]
+        if items and all(re.fullmatch(NUM, i) for i in items):
+            out.append((m.group(2), m.group(1), [float(i) for i in items]))
+    return out
+
+
+def generated_constants(dump_exe):
+    """{NAME: (kind, [values])} of hdrc/interface.glsl's generated constants and matrices."""
+    text = subprocess.run([dump_exe], check=True, capture_output=True, text=True).stdout
+    out = {}
+    for m in re.finditer(r"const float (\w+) = (" + NUM + r");", text):
+        out[m.group(1)] = ("float", [float(m.group(2))])
+    for m in re.finditer(r"const mat3 (\w+) = mat3\(([^)]*)\);", text):
+        out[m.group(1)] = ("mat3", [float(v) for v in m.group(2).split(",")])
+    for m in re.finditer(r"const vec3 (\w+)\[3\] = vec3\[3\]\((.*)\);", text):
+        vals = [float(v) for v in re.findall(NUM, m.group(2).replace("vec3", ""))]
+        out[m.group(1)] = ("rows", vals)
+    return out
+
+
+def rel(path):
+    return os.path.relpath(path, SHADERS)
+
+
+def function_span(text, fn):
+    """(start, end) of the body of GLSL function `fn` (first definition) in text."""
+    m = re.search(r"\b\w+\s+" + fn + r"\s*\([^)]*\)\s*\{", text)
+    if not m:
+        return None
+    depth, i = 1, m.end()
+    while depth:
+        depth += {"{": 1, "}": -1}.get(text[i], 0)
+        i += 1
+    return m.end(), i
+
+
+def expr(kind, vals):
+    if kind in ("float", "quotient"):
+        return "(" + glsl_float(vals[0]) + ")"
+    if kind == "vec3":
+        return "vec3(" + ", ".join(glsl_float(v) for v in vals) + ")"
+    if kind == "mat3":
+        return "mat3(" + ", ".join(glsl_float(v) for v in vals) + ")"
+    if kind == "rows":
+        return "vec3[3](" + ", ".join(
+            "vec3(" + ", ".join(glsl_float(v) for v in vals[3 * r:3 * r + 3]) + ")"
+            for r in range(3)) + ")"
+    if kind == "param_rows":  # P.<matrix>: vec4[3] rows
+        return "vec4[3](" + ", ".join(
+            "vec4(" + ", ".join(glsl_float(v) for v in vals[3 * r:3 * r + 3]) + ", 0.0)"
+            for r in range(3)) + ")"
+    raise ValueError(kind)
+
+
+class Constant:
+    """One constant of one pipeline and how to plant it.
+
+    plants: [(file relative to gpu/shaders, mode, symbol, function or None)]; mode "decl" rewrites
+    the declaration's literals, "symbol" replaces every whole-word use of symbol (within function,
+    if given) by the rounded value's expression."""
+
+    def __init__(self, cid, pipeline, name, kind, values, plants, where):
+        self.id, self.pipeline, self.name = cid, pipeline, name
+        self.kind, self.values, self.plants, self.where = kind, values, plants, where
+
+    def rounded(self, digits):
+        return [round_sig(v, digits) for v in self.values]
+
+    def exact_at(self, digits):
+        """The typed value is the shader's float32 value: nothing to plant."""
+        return all(f32(round_sig(v, digits)) == f32(v) for v in self.values)
+
+    def typed(self, digits):
+        r = self.rounded(digits)
+        s = ", ".join("%.*g" % (digits, v) for v in r)
+        return s if len(r) == 1 else "[" + s + "]"
+
+    def plant(self, shader_dir, digits):
+        vals = self.rounded(digits)
+        for f, mode, symbol, fn in self.plants:
+            path = os.path.join(shader_dir, f)
+            text = open(path, encoding="utf-8").read()
+            if mode == "decl":
+                if self.kind in ("float", "quotient"):
+                    quotient = r"\s*/\s*" + NUM if self.kind == "quotient" else ""
+                    pat = r"(const\s+float\s+" + symbol + r"\s*=\s*)" + NUM + quotient + r"(\s*;)"
+                    new, n = re.subn(pat, lambda m: m.group(1) + glsl_float(vals[0]) + m.group(2),
+                                     text)
+                else:
+                    pat = r"const\s+" + self.kind + r"\s+" + symbol + r"\s*=\s*" + self.kind + \
+                        r"\s*\((.*?)\);"
+                    new, n = re.subn(pat, lambda m: "const " + self.kind + " " + symbol + " = " +
+                                     expr(self.kind, vals) + ";", text, flags=re.S)
+            else:
+                kind = self.kind
+                span = function_span(text, fn) if fn else (0, len(text))
+                if span is None:
+                    raise RuntimeError("%s: no function %s" % (f, fn))
+                a, b = span
+                body, n = re.subn(r"(?<![\w.])" + re.escape(symbol) + r"(?!\w)",
+                                  expr(kind, vals), text[a:b])
+                new = text[:a] + body + text[b:]
+            if n == 0:
+                raise RuntimeError("%s: %s not found in %s" % (self.id, symbol, f))
+            open(path, "w", encoding="utf-8").write(new)
+
+
+def enumerate_constants(pipeline, dump_exe):
+    files = closure(PIPELINES[pipeline]["stages"])
+    out = []
+    seen = set()
+    for path in files:
+        for name, kind, vals in literal_decls(path):
+            if name in seen:
+                continue
+            seen.add(name)
+            out.append(Constant("%s.%s" % (pipeline, name), pipeline, name, kind, vals,
+                                [(rel(path), "decl", name, None)], rel(path)))
+    gen = generated_constants(dump_exe)
+    texts = {rel(p): open(p, encoding="utf-8").read() for p in files}
+    for name, (kind, vals) in gen.items():
+        users = [f for f, t in texts.items() if re.search(r"(?<![\w.])" + name + r"(?!\w)", t)]
+        if not users:
+            continue
+        plants = [(f, "symbol", name, None) for f in users]
+        out.append(Constant("%s.%s" % (pipeline, name), pipeline, name, kind, vals, plants,
+                            ", ".join(users) + " (generated)"))
+        if name in ("PQ_M1", "PQ_M2", "PQ_C1", "PQ_C2", "PQ_C3") and "lib/st2084.glsl" in users:
+            for fn, side in (("pq_from_nits", "encode"), ("nits_from_pq", "decode")):
+                out.append(Constant("%s.%s.%s" % (pipeline, name, side), pipeline,
+                                    name + " (" + side + " only)", kind, vals,
+                                    [("lib/st2084.glsl", "symbol", name, fn)],
+                                    "lib/st2084.glsl " + fn + " (generated)"))
+    # Parameters typed from the spec pages.
+    prefix = {"pq_grading": "pq_", "operators": "op_"}.get(pipeline)
+    if prefix:
+        for name, vals in spec_matrices(pipeline).items():
+            users = [f for f, t in texts.items() if ("P." + name) in t]
+            out.append(Constant("%s.%s" % (pipeline, name), pipeline, name, "param_rows", vals,
+                                [(f, "symbol", "P." + name, None) for f in users],
+                                ", ".join(users) + " (P." + name + ")"))
+    if pipeline == "operators":
+        for set_name, k in HABLE_SETS.items():
+            for letter, v in k.items():
+                out.append(Constant("operators.hable_%s.%s" % (set_name, letter), pipeline,
+                                    "Hable %s %s" % (set_name, letter.upper()), "float", [v],
+                                    [("operators/lib/operators.glsl", "symbol",
+                                      "P.op_hable_" + letter, None)],
+                                    "operators/lib/operators.glsl (P.op_hable_%s)" % letter))
+    if pipeline in ("operators", "pq_grading"):
+        for field, v in FILM_DEFAULT.items():
+            out.append(Constant("%s.film_%s" % (pipeline, field), pipeline,
+                                "FilmToneMap Default " + field, "float", [v],
+                                [("lib/film_tonemap.glsl", "symbol", "P.film_" + field, None)],
+                                "lib/film_tonemap.glsl (P.film_%s)" % field))
+    return out
+
+
+def run_cases(hdrconform, shader_dir, filt, jobs, out_dir):
+    cmd = [hdrconform, "run", "--shader-dir", shader_dir, "--filter", filt, "-j", str(jobs),
+           "--out", out_dir, "--images", "none", "--no-goldens"]
+    path = os.path.join(out_dir, "results.json")
+    for _ in range(2):  # once more after a run that published nothing (cases/ edited meanwhile)
+        p = subprocess.run(cmd, capture_output=True, text=True)
+        if os.path.exists(path):
+            break
+    if not os.path.exists(path):
+        raise RuntimeError("no results: %s\n%s" % (" ".join(cmd), p.stderr[-2000:]))
+    return json.load(open(path, encoding="utf-8"))
+
+
+METRICS = ("pq_code10", "delta_e_itp", "linear_rel")
+
+
+def case_maxima(results):
+    """{case id: (verdict, {metric: max})}"""
+    out = {}
+    for c in results["cases"]:
+        overall = ((c.get("stats") or {}).get("overall") or {})
+        m = {}
+        for k in METRICS:
+            v = (overall.get(k) or {}).get("max")
+            m[k] = v if isinstance(v, (int, float)) else (float("inf") if v else None)
+        out[c["id"]] = (c["verdict"], m)
+    return out
+
+
+def summarize(planted, baseline):
+    """FAIL ids and, per metric, the largest planted max with its case and the baseline there."""
+    fails = sorted(i for i, (v, _) in planted.items() if v in ("FAIL", "ERROR"))
+    newly = [i for i in fails if baseline.get(i, ("PASS",))[0] not in ("FAIL", "ERROR")]
+    largest = {}
+    for k in METRICS:
+        best = None
+        for i, (_, m) in planted.items():
+            v = m.get(k)
+            if v is None:
+                continue
+            b = baseline.get(i, (None, {}))[1].get(k) or 0.0
+            # the case where the plant moved the metric most above float32 noise
+            gain = v - b
+            if best is None or gain > best[0]:
+                best = (gain, i, v, b)
+        if best:
+            largest[k] = {"case": best[1], "planted": best[2], "baseline": best[3]}
+    return {"fail": newly, "fail_count": len(newly), "largest": largest}
+
+
+TABLE = os.path.join(ROOT, "docs", "constant-sweep.md")
+
+# Representative rows of docs/constant-sweep.md that CTest pins (constant_sweep.pinned): the
+# constant planted at the digits, the named case FAILs (and passes unplanted), and the table's row
+# for the constant names that case.
+PINNED = [
+    ("pq_grading.PQ_M2", 4, "pq_grading/isolate/pq_m1_m2_roundtrip/near_black_decode"),
+    ("pq_grading.PQ_M1", 4, "pq_grading/isolate/pq_m1_m2_roundtrip/near_black_decode"),
+    ("pq_grading.PQG_SRGB_EXPONENT", 4, "pq_grading/isolate/srgb_exponent/near_black_srgb"),
+]
+
+
+def table_rows():
+    """{constant id: the table's row text} of docs/constant-sweep.md (rows start with | `id`)."""
+    rows = {}
+    text = open(TABLE, encoding="utf-8").read()
+    for line in text[text.index("\n## The table\n"):].splitlines():
+        m = re.match(r"\|\s*`([^`]+)`", line)
+        if m:
+            rows[m.group(1)] = line
+    return rows
+
+
+def check_table(constants):
+    rows = table_rows()
+    missing = [c.id for c in constants if c.id not in rows]
+    known = {c.id for c in constants}
+    stale = [i for i in rows if i not in known]
+    for i in missing:
+        print("docs/constant-sweep.md: no row for %s (bench/constant_sweep.py --list enumerates it)"
+              % i)
+    for i in stale:
+        print("docs/constant-sweep.md: row %s is no constant the sweep enumerates" % i)
+    print("%d constants, %d rows" % (len(constants), len(rows)))
+    return 1 if missing or stale else 0
+
+
+def check_pinned(constants, hdrconform, jobs):
+    by_id = {c.id: c for c in constants}
+    rows = table_rows()
+    work = tempfile.mkdtemp(prefix="constant-sweep-pinned-")
+    bad = 0
+    try:
+        for cid, digits, case in PINNED:
+            c = by_id.get(cid)
+            if c is None:
+                print("FAIL %s: not enumerated" % cid)
+                bad += 1
+                continue
+            if case not in rows.get(cid, ""):
+                print("FAIL %s: the table's row does not name %s" % (cid, case))
+                bad += 1
+            base = case_maxima(run_cases(hdrconform, SHADERS, "=" + case, jobs,
+                                         os.path.join(work, "base")))
+            copy = os.path.join(work, "shaders")
+            shutil.rmtree(copy, ignore_errors=True)
+            shutil.copytree(SHADERS, copy)
+            c.plant(copy, digits)
+            planted = case_maxima(run_cases(hdrconform, copy, "=" + case, jobs,
+                                            os.path.join(work, "out")))
+            ok = base.get(case, ("?",))[0] == "PASS" and planted.get(case, ("?",))[0] == "FAIL"
+            print("%s %s typed %s: %s unplanted %s, planted %s" % (
+                "ok  " if ok else "FAIL", cid, c.typed(digits), case, base.get(case, ("?",))[0],
+                planted.get(case, ("?",))[0]))
+            bad += 0 if ok else 1
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+    return 1 if bad else 0
+
+
+def fmt(v):
+    return "%.3g" % v
+
+
+def effect_text(row):
+    """'pq_code10 +8.02 (0.554 → 8.57), ...' over the metrics the plant moved."""
+    parts = []
+    for k in METRICS:
+        e = row.get("largest", {}).get(k)
+        if not e:
+            continue
+        gain = e["planted"] - e["baseline"]
+        if gain > 0:
+            parts.append("%s %s → %s" % (k, fmt(e["baseline"]), fmt(e["planted"])))
+    return "; ".join(parts) if parts else "no metric moved"
+
+
+def verdict_note(row):
+    """Why a plant that failed nothing is not a hole: what it moved, against float32 noise."""
+    if row.get("exact") or row.get("fail_count"):
+        return ""
+    ratio = 0.0
+    for k in METRICS:
+        e = row.get("largest", {}).get(k)
+        if e and e["baseline"] > 0:
+            ratio = max(ratio, e["planted"] / e["baseline"] - 1.0)
+        elif e and e["planted"] > 0:
+            ratio = float("inf")
+    if ratio <= 0:
+        return "no case's largest error moved: below float32 resolution on every stimulus"
+    if ratio < 0.5:
+        return "largest error up by %.0f %% at most: within float32 noise" % (100 * ratio)
+    if math.isinf(ratio):
+        return ("**uncaught** in the selection: a case matched exactly unplanted and moves, "
+                "within its tolerance")
+    return "**uncaught** in the selection: the largest error grows %.3g x, within every " \
+        "case's tolerance" % (1 + ratio)
+
+
+def markdown_rows(constants, results, notes):
+    """One table row per enumerated constant, from the sweep's JSON lines (both digit counts); a
+    constant typed exactly needs no run, one without results is "not swept"."""
+    by_id = {}
+    for r in results:
+        by_id.setdefault(r["id"], {})[r["digits"]] = r
+    lines = []
+    for c in constants:
+        cid = c.id
+        per = by_id.get(cid, {})
+        for d in (4, 5):
+            if d not in per and c.exact_at(d):
+                per[d] = {"id": cid, "where": c.where, "value": c.values, "digits": d,
+                          "typed": c.typed(d), "exact": True}
+        if not per:
+            value = ", ".join("%.10g" % v for v in c.values) if len(c.values) == 1 else \
+                "%d entries" % len(c.values)
+            lines.append("| `%s` | %s | %s | not swept | — | %s |" % (
+                cid, c.where, value, notes.get(cid, "not swept in this measurement (time)")))
+            continue
+        any_row = next(iter(per.values()))
+        value = ", ".join("%.10g" % v for v in any_row["value"])
+        if len(any_row["value"]) > 1:
+            value = "%d entries" % len(any_row["value"])
+        cells = []
+        for d in (4, 5):
+            r = per.get(d)
+            if r is None and d == 4:
+                cells.append("not swept")
+            elif r is None:
+                moved = per.get(4) and not per[4].get("exact") and \
+                    effect_text(per[4]) != "no metric moved"
+                cells.append("not run" if moved else "—")
+            elif r.get("exact"):
+                cells.append("exact (%s)" % r["typed"] if len(r["value"]) == 1 else "exact")
+            else:
+                typed = r["typed"] if len(r["value"]) == 1 else "each entry"
+                if r["fail_count"]:
+                    # the isolating case where one catches it, else the first
+                    named = next((i for i in r["fail"] if "/isolate/" in i), r["fail"][0])
+                    cells.append("%s: **%d FAIL**, e.g. `%s`; %s" % (
+                        typed, r["fail_count"], named, effect_text(r)))
+                else:
+                    cells.append("%s: 0 FAIL; %s" % (typed, effect_text(r)))
+        note = notes.get(cid) or (verdict_note(per[4]) if 4 in per else
+                                  "not swept in this measurement (time)")
+        lines.append("| `%s` | %s | %s | %s | %s | %s |" % (
+            cid, any_row["where"], value, cells[0], cells[1], note))
+    return lines
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
+    ap.add_argument("--list", action="store_true", help="print the enumerated constants and exit")
+    ap.add_argument("--pipeline", action="append", help="pipeline(s) to sweep (default: all)")
+    ap.add_argument("--only", action="append", help="constant id prefix(es)")
+    ap.add_argument("--digits", default="4,5", help="significant digits typed (default 4,5)")
+    ap.add_argument("--filter", help="override the pipeline's case filter")
+    ap.add_argument("--build", default=os.path.join(ROOT, "build"), help="build folder")
+    ap.add_argument("--hdrconform", help="the hdrconform binary (default: BUILD/runner/hdrconform; "
+                    "a copy keeps a long sweep off a rebuild)")
+    ap.add_argument("-j", "--jobs", type=int, default=2)
+    ap.add_argument("--json", help="append the results (JSON lines) to this file; the constants "
+                    "and digits it holds already are not run again")
+    ap.add_argument("--markdown", metavar="JSONL[,JSONL...]",
+                    help="print the table rows of the enumerated constants from sweeps' --json "
+                    "output and exit")
+    ap.add_argument("--check-table", action="store_true",
+                    help="exit 1 unless docs/constant-sweep.md has a row for every constant")
+    ap.add_argument("--pinned", action="store_true",
+                    help="plant the table's pinned rows (PINNED): each named case must FAIL")
+    args = ap.parse_args()
+
+    dump = os.path.join(args.build, "bench", "shader_constants_dump")
+    hdrconform = args.hdrconform or os.path.join(args.build, "runner", "hdrconform")
+    pipelines = args.pipeline or list(PIPELINES)
+    constants = [c for p in pipelines for c in enumerate_constants(p, dump)]
+    if args.only:
+        constants = [c for c in constants if any(c.id.startswith(o) for o in args.only)]
+    digits = [int(d) for d in args.digits.split(",")]
+
+    if args.markdown:
+        results = [json.loads(l) for f in args.markdown.split(",")
+                   for l in open(f, encoding="utf-8") if l.strip()]
+        print("\n".join(markdown_rows(constants, results, {})))
+        return 0
+    if args.check_table:
+        return check_table(constants)
+    if args.pinned:
+        return check_pinned(constants, hdrconform, args.jobs)
+    if args.list:
+        for c in constants:
+            print("%s\t%s\t%s\t%s" % (c.id, c.pipeline, c.where,
+                                      ", ".join("%.10g" % v for v in c.values)))
+        return 0
+
+    done = set()
+    if args.json and os.path.exists(args.json):
+        for line in open(args.json, encoding="utf-8"):
+            if line.strip():
+                r = json.loads(line)
+                done.add((r["id"], r["digits"]))
+    # SIGTERM as an exception, so that the finally below removes the work folder.
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))
+    work = tempfile.mkdtemp(prefix="constant-sweep-")
+    baselines = {}
+    sink = open(args.json, "a", encoding="utf-8") if args.json else None
+    try:
+        for c in constants:
+            filt = args.filter or PIPELINES[c.pipeline]["filter"]
+            for d in digits:
+                if (c.id, d) in done:
+                    continue
+                row = {"id": c.id, "pipeline": c.pipeline, "name": c.name, "where": c.where,
+                       "value": c.values, "digits": d, "typed": c.typed(d), "filter": filt}
+                if c.exact_at(d):
+                    row["exact"] = True
+                else:
+                    if filt not in baselines:
+                        baselines[filt] = case_maxima(run_cases(
+                            hdrconform, SHADERS, filt, args.jobs,
+                            os.path.join(work, "baseline-%d" % len(baselines))))
+                    copy = os.path.join(work, "shaders")
+                    shutil.rmtree(copy, ignore_errors=True)
+                    shutil.copytree(SHADERS, copy)
+                    c.plant(copy, d)
+                    out = os.path.join(work, "out")
+                    shutil.rmtree(out, ignore_errors=True)
+                    row.update(summarize(case_maxima(run_cases(hdrconform, copy, filt, args.jobs,
+                                                               out)), baselines[filt]))
+                line = json.dumps(row)
+                print(line, flush=True)
+                if sink:
+                    sink.write(line + "\n")
+                    sink.flush()
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
