@@ -90,6 +90,15 @@ def exp2(x):
         return INF
 
 
+def fdiv(a, b):
+    """IEEE-754 division (Python raises on x / 0): x / 0 = ±Inf, 0 / 0 = NaN."""
+    if b == 0.0:
+        if a != a or a == 0.0:
+            return NAN
+        return math.copysign(INF, a) * math.copysign(1.0, b)
+    return a / b
+
+
 def smoothstep(e0, e1, x):
     t = sat((x - e0) / (e1 - e0))
     return t * t * (3.0 - 2.0 * t)
@@ -482,6 +491,15 @@ def main():
         level, lum = p["ui_level"], p["ui_luminance"]
         planes = {c: [0.0] * npx for c in "RGB"}
         planes["A"] = [1.0] * npx
+        if int(p["ui_composite_mode"]) == 0:
+            # CompositeMode 0: no shader composite; the UI is blended over the back buffer's codes
+            # with premultiplied alpha (docs/spec/ue55.md §8, "CompositeMode 0").
+            for i in range(npx):
+                a = ui["A"][i]
+                for c in "RGB":
+                    planes[c][i] = src[c][i] * (1.0 - a) + ui[c][i]
+            write_exr(args.output, iw, ih, planes)
+            return 0
         for i in range(npx):
             u = [srgb_to_linear(ui[c][i]) for c in "RGB"]
             u = [v * lum for v in mul(SRGB_TO_REC2020, u)]
@@ -489,8 +507,8 @@ def main():
             scene = [st2084_to_linear(src[c][i]) for c in "RGB"]
             if 0.0 < a < 1.0:
                 scene = [hmax(v, 0.0) for v in scene]
-                l = (0.2627 * scene[0] + 0.678 * scene[1] + 0.0593 * scene[2]) / level
-                out_l = 1.0 / (l + 1.0)
+                l = fdiv(0.2627 * scene[0] + 0.678 * scene[1] + 0.0593 * scene[2], level)
+                out_l = fdiv(1.0, l + 1.0)
                 k = lerp(1.0, out_l * level, a)
                 scene = [v * k for v in scene]
             rgb = [scene[c] * (1.0 - a) + u[c] * level for c in range(3)]
