@@ -7,8 +7,8 @@ step), docs/spec/film_tonemap.md (the glow helpers the ACES sweeteners share), d
 Nothing of hdrconform's source was read.
 
 Stages: `shaper`, `combine_luts`, `tonemap` (device 3 only). Every other stage is declined with
-exit 78, another device with exit 77, a tonemap feature this port lacks (colour fringe, sharpen,
-film grain) with exit 77.
+exit 78, another device with exit 77, a tonemap feature this port lacks (colour fringe, the bloom
+dirt mask) with exit 77.
 
 Usage: ue55_dev3_candidate.py --params {params} --output {output}
 """
@@ -521,8 +521,6 @@ def main():
     fringe = p.get("fringe", [0, 0, 0, 0])
     if fringe[3]:
         return decline(77, "colour fringe is not implemented by this port")
-    if p.get("sharpen_div6", 0.0) > 0.0:
-        return decline(77, "sharpen is not implemented by this port")
     n, fmt = ue.n, int(p["lut_format"])
     lut = [None] * (n * n * n)
     layout = int(p["lut_layout"])
@@ -543,12 +541,22 @@ def main():
     exposure = p["exposure"]
     tint = p["scene_color_tint"]
     vig = p["vignette_intensity"]
+    sharpen = p.get("sharpen_div6", 0.0)
     ar = ih / iw
     planes = {c: [0.0] * npx for c in "RGBA"}
     for y in range(ih):
         for x in range(iw):
             i = y * iw + x
             s = [src["R"][i], src["G"][i], src["B"][i]]
+            if sharpen > 0.0:  # §6.1 step 2; neighbours clamped to the image
+                a0 = luminance(s)
+                nb = [(min(x + 1, iw - 1), y), (max(x - 1, 0), y), (x, min(y + 1, ih - 1)),
+                      (x, max(y - 1, 0))]
+                cs = [[src[c][ny * iw + nx] for c in "RGB"] for nx, ny in nb]
+                edge = exposure * max(abs(a0 - luminance(c)) for c in cs)
+                edge_mask = sat(1.0 - edge)
+                s = [s[c] + ((cs[0][c] + cs[1][c] + cs[2][c] + cs[3][c]) - 4.0 * s[c])
+                     * (-edge_mask * sharpen) for c in range(3)]
             mask = 1.0
             if vig > 0.0:
                 px = (x + 0.5) / iw * 2.0 - 1.0
@@ -565,6 +573,10 @@ def main():
             planes["A"][i] = 0.299 * dev[0] + 0.587 * dev[1] + 0.114 * dev[2]
     write_exr(args.output, iw, ih, planes)
     return 0
+
+
+def luminance(c):  # §6.1 step 2: the sharpen's luminance
+    return 0.3 * c[0] + 0.59 * c[1] + 0.11 * c[2]
 
 
 def clamp_nan(x):
