@@ -519,8 +519,6 @@ def main():
 
     # tonemap (§6.1 steps 1-9)
     fringe = p.get("fringe", [0, 0, 0, 0])
-    if fringe[3]:
-        return decline(77, "colour fringe is not implemented by this port")
     n, fmt = ue.n, int(p["lut_format"])
     lut = [None] * (n * n * n)
     layout = int(p["lut_layout"])
@@ -536,8 +534,13 @@ def main():
         if (bw, bh) != (iw, ih):
             return decline(77, f"bloom {bw}x{bh} of another size than the input: not implemented")
         bloom = bp
+    dirt = None
     if "bloom_dirt" in pj["images"] and pj["images"]["bloom_dirt"]:
-        return decline(77, "bloom dirt mask is not implemented by this port")
+        di = pj["images"]["bloom_dirt"]
+        dw, dh, dirt = read_exr(os.path.join(base, di["file"] if isinstance(di, dict) else di))
+        if (dw, dh) != (iw, ih):
+            return decline(77, f"bloom dirt {dw}x{dh} of another size than the input: not implemented")
+    dirt_tint = p.get("bloom_dirt_tint", [0.0, 0.0, 0.0, 0.0])
     exposure = p["exposure"]
     tint = p["scene_color_tint"]
     vig = p["vignette_intensity"]
@@ -548,6 +551,18 @@ def main():
         for x in range(iw):
             i = y * iw + x
             s = [src["R"][i], src["G"][i], src["B"][i]]
+            # pixel centre in [-1, 1], y up (§6.1 steps 1 and 3)
+            px = (x + 0.5) / iw * 2.0 - 1.0
+            py = 1.0 - (y + 0.5) / ih * 2.0
+            if fringe[3]:  # §6.1 step 1: R from a sample scaled by CAScaleR, G by CAScaleG
+                def ca_sample(scale, ch):
+                    def comp(l):
+                        sg = float(l > 0.0) - float(l < 0.0)
+                        return l - sg * sat(abs(l) - fringe[2]) * scale
+                    u = comp(px) * 0.5 + 0.5
+                    v = 0.5 - comp(py) * 0.5
+                    return bilinear(src[ch], iw, ih, u * iw - 0.5, v * ih - 0.5)
+                s = [ca_sample(fringe[0], "R"), ca_sample(fringe[1], "G"), s[2]]
             if sharpen > 0.0:  # §6.1 step 2; neighbours clamped to the image
                 a0 = luminance(s)
                 nb = [(min(x + 1, iw - 1), y), (max(x - 1, 0), y), (x, min(y + 1, ih - 1)),
@@ -559,20 +574,33 @@ def main():
                      * (-edge_mask * sharpen) for c in range(3)]
             mask = 1.0
             if vig > 0.0:
-                px = (x + 0.5) / iw * 2.0 - 1.0
-                py = 1.0 - (y + 0.5) / ih * 2.0
                 k = math.sqrt(2.0) / math.sqrt(1.0 + ar * ar)
                 vx, vy = px * k * vig, py * ar * k * vig
                 mask = (1.0 / (vx * vx + vy * vy + 1.0)) ** 2
             fl = [s[c] * tint[c] * (exposure * mask) for c in range(3)]
             if bloom is not None:
-                fl = [fl[c] + bloom["RGB"[c]][i] * (exposure * mask) for c in range(3)]
+                raw = [bloom["RGB"[c]][i] for c in range(3)]
+                if dirt is not None:  # §6.1 step 5: dirt at the pixel's own UV
+                    raw = [raw[c] * (1.0 + dirt["RGB"[c]][i] * dirt_tint[c]) for c in range(3)]
+                fl = [fl[c] + raw[c] * (exposure * mask) for c in range(3)]
             enc = [linear_to_st2084(v * 100.0) for v in fl]
             dev = [v * 1.05 for v in sample(lut, n, enc)]
             planes["R"][i], planes["G"][i], planes["B"][i] = dev
             planes["A"][i] = 0.299 * dev[0] + 0.587 * dev[1] + 0.114 * dev[2]
     write_exr(args.output, iw, ih, planes)
     return 0
+
+
+def bilinear(plane, w, h, fx, fy):
+    """Bilinear sample at texel coordinate (fx, fy), clamped to the image (clamp addressing)."""
+    fx = min(max(fx, 0.0), w - 1.0)
+    fy = min(max(fy, 0.0), h - 1.0)
+    x0, y0 = int(math.floor(fx)), int(math.floor(fy))
+    x1, y1 = min(x0 + 1, w - 1), min(y0 + 1, h - 1)
+    tx, ty = fx - x0, fy - y0
+    a = lerp(plane[y0 * w + x0], plane[y0 * w + x1], tx)
+    b = lerp(plane[y1 * w + x0], plane[y1 * w + x1], tx)
+    return lerp(a, b, ty)
 
 
 def luminance(c):  # §6.1 step 2: the sharpen's luminance
