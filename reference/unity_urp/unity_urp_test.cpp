@@ -778,8 +778,8 @@ TEST(UnityUrpDevice, SnappedWeightsByHand) {
   const hdrc::ref::Range3 axis = hdrc::ref::strip_lookup_device_range({&lo, &hi, 2}, t, 8, 0.0);
   EXPECT_NEAR(axis.lo[0], 153.0 * 243 / 65536, 2e-7);
   EXPECT_NEAR(axis.hi[0], 154.0 * 244 / 65536, 2e-7);
-  const hdrc::ref::Range3 snapped =
-      hdrc::ref::strip_lookup_device_range({&lo, &hi, 2}, t, 8, 0.0, true);
+  const hdrc::ref::Range3 snapped = hdrc::ref::strip_lookup_device_range(
+      {&lo, &hi, 2}, t, 8, 0.0, hdrc::ref::FilterArithmetic::exact(), true);
   EXPECT_NEAR(snapped.lo[0], 145.0 / 256, 2e-7);
   EXPECT_NEAR(snapped.hi[0], 147.0 / 256, 2e-7);
 }
