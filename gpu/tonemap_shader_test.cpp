@@ -15,17 +15,17 @@
 #include <string>
 #include <vector>
 
+#include "color/gamma_correction.h"
+#include "color/st2084.h"
 #include "core/shader_interface.h"
 #include "gpu/device_bounds_test.h"
 #include "gpu/shader_probe.h"
 #include "gpu/vulkan_engine.h"
-#include "color/gamma_correction.h"
-#include "color/st2084.h"
 #include "reference/color/ue_matrices.h"
-#include "reference/ue/combine_luts.h"
 #include "reference/reference_engine.h"
-#include "reference/ue/tonemap.h"
+#include "reference/ue/combine_luts.h"
 #include "reference/ue/cpp/resolve.h"
+#include "reference/ue/tonemap.h"
 
 namespace {
 
@@ -574,9 +574,13 @@ TEST_P(TonemapEndToEnd, StageMatchesReference) {
 // The derived bounds still see a defect: with the device ranges of a device with 8 sub-texel bits
 // and float16 rounding either way (the branch a device that is not float32-exact takes), the
 // stage of this device is within the stage bound, and the same stage with PQ's m2 made 1.005·m2
-// in the shaper and the LUT's encode (lib/st2084.glsl pq_from_nits) is not.
+// in the shaper and the LUT's encode (lib/st2084.glsl pq_from_nits) is not. The LUT is RGBA32F:
+// in a 10-bit UNORM LUT the filter's arithmetic at VK-GL-CTS's precision (1/1023 steps in each
+// product weight and partial sum, device_allowance.h filter_taps) admits up to about 8 LUT codes
+// per lookup, and this defect (4.7 codes outside the ranges without it) then lies 0.26 codes
+// outside, within the bound 2.2 (docs/precision.md, "Filter arithmetic").
 TEST(TonemapShader, DerivedBoundsStillRejectAPlantedDefect) {
-  const EndToEnd e{3, 2, 0, 0, 32};
+  const EndToEnd e{3, 2, 0, 2, 32};
   const hdrc::ResolvedCase rc = tonemap_case(e, scene_colours(128, 32, 5));
   hdrc::gpu::testing::ShaderDirCopy dir("tonemap_planted_pq");
   {

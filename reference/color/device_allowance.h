@@ -19,10 +19,10 @@
 #include <cmath>
 #include <vector>
 
+#include "color/st2084.h"
 #include "reference/color/linear_tap.h"
 #include "reference/color/noise_range.h"
 #include "reference/color/spirv_precision.h"
-#include "color/st2084.h"
 
 namespace hdrc::ref {
 
@@ -84,6 +84,75 @@ inline std::vector<TapBox> linear_tap_boxes(double t, int size, int bits, double
     boxes.push_back(linear_tap_box(k, size, bits, 0.0));
   if (b > a) boxes.push_back(linear_tap_box(b, size, bits, 0.0));
   return boxes;
+}
+
+// The arithmetic of the filter itself: the precision in which a conformant device may form the
+// products of the axis weights and sum the weighted texels. The specification gives the formula
+// (textures-texel-linear-filtering: tau_2D = sum (w_i)(w_j) tau_ij, w from the snapped fractions)
+// and no precision for it beyond fundamentals-numerics ("Floating-Point Computation" applies to
+// texture sampling: "accurate to about 1 part in 10^5"; "the representation and/or precision of
+// operations is implicitly limited by the specified format of ... texel data"). VK-GL-CTS makes
+// that concrete (vktTextureFilteringExplicitLodTests.cpp getPrecision(format, 0), passed to
+// vktSampleVerifier.cpp SampleVerifier as the filtering precision): every product weight and
+// every partial sum is rounded outward in the texel format's own precision, a UNORM channel of b
+// bits on the grid 1/(2^b − 1) (tcuFloatFormat.cpp NormalizedFormat::round), RGBA16F in a float of
+// 10 fraction bits (FloatFormat(-14, 15, 10)), RGBA32F in float32 (FloatFormat(-126, 127, 23)).
+// Its relaxed retry (fp16 with 4 fraction bits, SNORM8 with 6) reports a quality warning, not a
+// pass, and is not admitted here. docs/precision.md, "Filter arithmetic".
+struct FilterArithmetic {
+  enum class Kind { kExact, kUnorm, kFloat };
+  Kind kind = Kind::kExact;
+  int bits = 0;     // kUnorm: the channel's bits b; kFloat: fraction bits
+  int min_exp = 0;  // kFloat: the least exponent (below it the quantum stays 2^(min_exp − bits))
+  static FilterArithmetic exact() { return {}; }
+  static FilterArithmetic unorm(int b) { return {Kind::kUnorm, b, 0}; }
+  static FilterArithmetic float16() { return {Kind::kFloat, 10, -14}; }
+  static FilterArithmetic float32() { return {Kind::kFloat, 23, -126}; }
+};
+
+// `d` rounded down (upward false) or up onto the format's grid: tcuFloatFormat.cpp
+// NormalizedFormat::round (floor or ceil of d·(2^b − 1), over 2^b − 1) and FloatFormat::round (the
+// significand of d cut to `bits` fraction bits toward −inf or +inf, the exponent at least
+// min_exp). Exact for kExact, 0 and non-finite values.
+inline double filter_round(double d, bool upward, const FilterArithmetic& fa) {
+  if (fa.kind == FilterArithmetic::Kind::kExact || d == 0 || !std::isfinite(d)) return d;
+  if (fa.kind == FilterArithmetic::Kind::kUnorm) {
+    const double levels = std::ldexp(1.0, fa.bits) - 1;
+    return (upward ? std::ceil(d * levels) : std::floor(d * levels)) / levels;
+  }
+  int e = 0;
+  std::frexp(d, &e);  // |d| in [2^(e−1), 2^e)
+  const int quantum = std::max(e - 1, fa.min_exp) - fa.bits;
+  const double scaled = std::ldexp(d, -quantum);
+  return std::ldexp(upward ? std::ceil(scaled) : std::floor(scaled), quantum);
+}
+
+// One filtered sample as VK-GL-CTS's SampleVerifier::getFilteredSample1D/2D/3D bounds it: `axes`
+// (1–3) fractions alpha[a] (the weight of axis a's upper texel, already on the sub-texel grid),
+// 2^axes taps whose index has bit a set where the tap is axis a's upper texel, each tap's value
+// within [t_lo, t_hi]. Per tap the weight is the product of the axis weights taken from the last
+// axis to the first, rounded outward after every factor; the sum adds the taps in index order,
+// rounded outward after every addition (interval arithmetic throughout). With kExact it is the
+// exact weighted sum of the lower and of the upper bounds.
+struct FilteredRange {
+  double lo = 0, hi = 0;
+};
+inline FilteredRange filter_taps(int axes, const double* alpha, const double* t_lo,
+                                 const double* t_hi, const FilterArithmetic& fa) {
+  FilteredRange r;
+  for (int k = 0; k < (1 << axes); ++k) {
+    double w_lo = 1, w_hi = 1;
+    for (int a = axes - 1; a >= 0; --a) {
+      const double f = (k >> a) & 1 ? alpha[a] : 1 - alpha[a];
+      w_lo = filter_round(w_lo * f, false, fa);  // weights are non-negative
+      w_hi = filter_round(w_hi * f, true, fa);
+    }
+    if (w_hi == 0) continue;  // 0·t = 0 for any finite texel; a NaN texel is the caller's flag
+    const double p[4] = {w_lo * t_lo[k], w_lo * t_hi[k], w_hi * t_lo[k], w_hi * t_hi[k]};
+    r.lo = filter_round(r.lo + std::min({p[0], p[1], p[2], p[3]}), false, fa);
+    r.hi = filter_round(r.hi + std::max({p[0], p[1], p[2], p[3]}), true, fa);
+  }
+  return r;
 }
 
 // UE's LinearToST2084 (GammaCorrectionCommon.ush) of `nits` as a conformant device may evaluate

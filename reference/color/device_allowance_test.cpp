@@ -37,6 +37,83 @@ TEST(DeviceAllowance, TwoTexelLookupAtFourAndEightBits) {
   EXPECT_EQ(edge.i1, 1);
 }
 
+// The filter's arithmetic at VK-GL-CTS's precision (FilterArithmetic, filter_taps), by hand.
+// 2-texel row, 8-bit UNORM (grid 1/255): texels 51/255 = 0.2 and 153/255 = 0.6 at α = 1/2 (on the
+// sub-texel grid). Each weight 1/2 rounds outward to [127, 128]/255 (127.5). Tap 0: [127, 128] ·
+// 51/255 / 255 = [25.4, 25.6]/255, rounded outward [25, 26]/255. Tap 1 adds [127, 128] · 153/255
+// = [76.2, 76.8]/255: [101.2, 102.8]/255, rounded outward [101, 103]/255. Exact: 0.4 = 102/255.
+// RGBA16F (10 fraction bits): 1/2, 0.2·1/2 and the sum are within a float16 ulp of the exact ones;
+// float32 likewise; exact arithmetic gives 0.4 exactly.
+TEST(DeviceAllowance, TwoTexelFilterAtTheCtsPrecision) {
+  const double alpha[1] = {0.5};
+  const double t[2] = {51.0 / 255, 153.0 / 255};
+  const FilteredRange u8 = filter_taps(1, alpha, t, t, FilterArithmetic::unorm(8));
+  EXPECT_DOUBLE_EQ(u8.lo, 101.0 / 255);
+  EXPECT_DOUBLE_EQ(u8.hi, 103.0 / 255);
+  const FilteredRange exact = filter_taps(1, alpha, t, t, FilterArithmetic::exact());
+  EXPECT_DOUBLE_EQ(exact.lo, 0.5 * t[0] + 0.5 * t[1]);
+  EXPECT_DOUBLE_EQ(exact.hi, exact.lo);
+  // float16: 0.5·0.2 = 0.1 lies in [2^-4, 2^-3): quantum 2^-14; the sum 0.4 in [2^-2, 2^-1):
+  // quantum 2^-12. Lower end: floor(0.1·2^14)/2^14 = 1638/16384, then 1638/16384 + 0.3 =
+  // 0.39998 → floor(·4096)/4096 = 1638/4096; upper: ceil(0.1·2^14) = 1639, 1639/16384 + 0.3 →
+  // ceil(·4096) = 1639/4096.
+  const FilteredRange f16 = filter_taps(1, alpha, t, t, FilterArithmetic::float16());
+  EXPECT_DOUBLE_EQ(f16.lo, 1638.0 / 4096);
+  EXPECT_DOUBLE_EQ(f16.hi, 1639.0 / 4096);
+  const FilteredRange f32 = filter_taps(1, alpha, t, t, FilterArithmetic::float32());
+  EXPECT_LE(f32.lo, 0.4);
+  EXPECT_GE(f32.hi, 0.4);
+  EXPECT_LE(f32.hi - f32.lo, 2 * 0x1p-25);
+}
+
+// A 2×2 lookup at α = β = 1/2, texel (1, 0) = 1 and the others 0 (tap 1: bit 0 the upper x). The
+// weight of tap 1 is (1 − β)·α, formed as the CTS does: 1 − β rounded outward, [127, 128]/255,
+// times α = 1/2: [63.5, 64]/255, rounded outward [63, 64]/255. So a UNORM8 texture's filter may
+// weigh the texel by 63/255 = 0.24706 where the exact product is 0.25 (and the sub-texel weights
+// are exact): per-product rounding, on the format's grid. With 10 bits (A2B10G10R10) the grid
+// is 1/1023: [511.5 → 511, 512]/1023 · 1/2 = [255.5, 256]/1023 → [255, 256]/1023. Float32: exact.
+TEST(DeviceAllowance, TwoByTwoFilterRoundsEachProductWeightInTheFormat) {
+  const double alpha[2] = {0.5, 0.5};
+  const double t[4] = {0, 1, 0, 0};
+  const FilteredRange u8 = filter_taps(2, alpha, t, t, FilterArithmetic::unorm(8));
+  EXPECT_DOUBLE_EQ(u8.lo, 63.0 / 255);
+  EXPECT_DOUBLE_EQ(u8.hi, 64.0 / 255);
+  const FilteredRange u10 = filter_taps(2, alpha, t, t, FilterArithmetic::unorm(10));
+  EXPECT_DOUBLE_EQ(u10.lo, 255.0 / 1023);
+  EXPECT_DOUBLE_EQ(u10.hi, 256.0 / 1023);
+  const FilteredRange f32 = filter_taps(2, alpha, t, t, FilterArithmetic::float32());
+  EXPECT_DOUBLE_EQ(f32.lo, 0.25);
+  EXPECT_DOUBLE_EQ(f32.hi, 0.25);
+  // The H200's graded-look weight (docs/precision.md, unity_urp): the box corner α = 163/256,
+  // 1 − β = 12/256 gives the product 1956/65536 = 0.029846, a float16 value (quantum 2^-16 in
+  // [2^-6, 2^-5)): an RGBA16F texture's filter may not round it to 8/256 = 0.03125.
+  const double h200[2] = {163.0 / 256, 244.0 / 256};
+  const double one[4] = {0, 1, 0, 0};
+  const FilteredRange w = filter_taps(2, h200, one, one, FilterArithmetic::float16());
+  EXPECT_DOUBLE_EQ(w.lo, 1956.0 / 65536);
+  EXPECT_DOUBLE_EQ(w.hi, 1956.0 / 65536);
+  EXPECT_LT(w.hi, 8.0 / 256);
+}
+
+// filter_round by hand: UNORM b on the grid 1/(2^b − 1), floats on their significand, the
+// exponent's floor keeping subnormal quanta (float16: 2^-24).
+TEST(DeviceAllowance, FilterRoundOnTheFormatsGrid) {
+  EXPECT_DOUBLE_EQ(filter_round(0.5, false, FilterArithmetic::unorm(8)), 127.0 / 255);
+  EXPECT_DOUBLE_EQ(filter_round(0.5, true, FilterArithmetic::unorm(8)), 128.0 / 255);
+  EXPECT_DOUBLE_EQ(filter_round(1.0 / 3, false, FilterArithmetic::float16()), 1365.0 / 4096);
+  EXPECT_DOUBLE_EQ(filter_round(1.0 / 3, true, FilterArithmetic::float16()), 1366.0 / 4096);
+  EXPECT_DOUBLE_EQ(filter_round(3e-8, true, FilterArithmetic::float16()), 0x1p-24);
+  EXPECT_DOUBLE_EQ(filter_round(-1.0 / 3, false, FilterArithmetic::float16()), -1366.0 / 4096);
+  // float32: 1/3 lies between 0x3eaaaaaa and 0x3eaaaaab, one ulp (2^-25) apart.
+  const double f_lo = filter_round(1.0 / 3, false, FilterArithmetic::float32());
+  const double f_hi = filter_round(1.0 / 3, true, FilterArithmetic::float32());
+  EXPECT_LT(f_lo, 1.0 / 3);
+  EXPECT_GT(f_hi, 1.0 / 3);
+  EXPECT_DOUBLE_EQ(f_hi - f_lo, 0x1p-25);
+  EXPECT_EQ(static_cast<double>(static_cast<float>(f_lo)), f_lo);
+  EXPECT_EQ(filter_round(0.7, true, FilterArithmetic::exact()), 0.7);
+}
+
 // A coordinate at a texel centre with noise: t = 3 ± 0.001 in a row of 8 at 8 bits. Below the
 // centre (t = 2.999) the taps are (2, 3) with fraction 0.999: 0.999·256 = 255.744, box
 // [255/256, 1]; at the plane t = 3, taps (3, 4) with weight exactly 0; above (t = 3.001), taps

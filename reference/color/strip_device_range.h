@@ -52,8 +52,14 @@ struct StripBounds {
 // locations when generating the filtered results" (VkPhysicalDeviceLimits::subTexelPrecisionBits)
 // read for every sub-texel value of the filter, the weights included, not only the fractions α and
 // β.
+//
+// `fa`: the precision of the filter's own arithmetic (device_allowance.h filter_taps, VK-GL-CTS's
+// filtering precision of the strip's storage format): each product weight and partial sum rounded
+// outward in it. Exact by default.
 inline Range3 strip_lookup_device_range(const StripBounds& s, const Range3& t, int bits,
-                                        double coord_noise, bool snap_weights = false) {
+                                        double coord_noise,
+                                        const FilterArithmetic& fa = FilterArithmetic::exact(),
+                                        bool snap_weights = false) {
   const int n = s.size;
   const int width = n * n;
   // The candidate coordinates per axis, in texel units: both ends of the coordinate's range
@@ -103,14 +109,19 @@ inline Range3 strip_lookup_device_range(const StripBounds& s, const Range3& t, i
             for (const double fy : {ty.f_lo, ty.f_hi}) {
               const double w00 = (1 - fx) * (1 - fy), w10 = fx * (1 - fy), w01 = (1 - fx) * fy,
                            w11 = fx * fy;
+              const double alpha[2] = {fx, fy};
               for (int c = 0; c < 3; ++c) {
                 double lo = 0, hi = 0;
+                // Tap j: bit 0 the upper x texel, bit 1 the upper y texel (filter_taps' order).
                 const int xs[4] = {tx.i0, tx.i1, tx.i0, tx.i1},
                           ys[4] = {ty.i0, ty.i0, ty.i1, ty.i1};
                 const double ws[4] = {w00, w10, w01, w11};
+                double tls[4], ths[4];
                 for (int j = 0; j < 4; ++j) {
+                  tls[j] = at(*s.lo, xs[j], ys[j], c);
+                  ths[j] = at(*s.hi, xs[j], ys[j], c);
                   if (ws[j] == 0) continue;
-                  const double tl = at(*s.lo, xs[j], ys[j], c), th = at(*s.hi, xs[j], ys[j], c);
+                  const double tl = tls[j], th = ths[j];
                   if (std::isnan(tl) || std::isnan(th)) nan[c] = true;
                   least[c] = std::fmin(least[c], tl);
                   if (snap_weights) {
@@ -118,10 +129,12 @@ inline Range3 strip_lookup_device_range(const StripBounds& s, const Range3& t, i
                     const double wl = std::floor(ws[j] * g) / g, wh = std::ceil(ws[j] * g) / g;
                     lo += std::fmin(wl * tl, wh * tl);
                     hi += std::fmax(wl * th, wh * th);
-                  } else {
-                    lo += ws[j] * tl;
-                    hi += ws[j] * th;
                   }
+                }
+                if (!snap_weights) {
+                  const FilteredRange f = filter_taps(2, alpha, tls, ths, fa);
+                  lo = f.lo;
+                  hi = f.hi;
                 }
                 s_lo[k][c] = std::fmin(s_lo[k][c], lo);
                 s_hi[k][c] = std::fmax(s_hi[k][c], hi);

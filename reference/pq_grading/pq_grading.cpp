@@ -5,14 +5,14 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/cube/cube.h"
 #include "color/d3d_math.h"
+#include "color/st2084.h"
+#include "core/cube/cube.h"
 #include "reference/color/device_allowance.h"
 #include "reference/color/linear_tap.h"
-#include "color/st2084.h"
 #include "reference/color/strip_device_range.h"
-#include "reference/ue/grading/film_tonemap.h"
 #include "reference/operators/operators.h"
+#include "reference/ue/grading/film_tonemap.h"
 
 namespace hdrc::ref::pq_grading {
 
@@ -284,8 +284,11 @@ Range3 grade_device_range(const ParamBlock& p, const StripLut& lut, const Vec3& 
   // 1)/N + 0.5/N, w = uvw.b·N − 0.5, u = (uvw.r + floor(w))/N: correctly rounded steps and one
   // division, 2.5 ULP) errs by under 3·10^-7 in u and uvw, within kFloat32Noise (2^-20, 16 ULP of
   // 1), which is the coordinate noise used (in texels: N² · 2^-20 along the strip's x).
-  const Range3 g = strip_lookup_device_range({lut.strip, lut.strip, lut.size}, pq_t,
-                                             d.sub_texel_bits, kFloat32Noise);
+  // The filter's own arithmetic in float32, the RGBA32F strip's precision (VK-GL-CTS's filtering
+  // precision; device_allowance.h FilterArithmetic).
+  const Range3 g =
+      strip_lookup_device_range({lut.strip, lut.strip, lut.size}, pq_t, d.sub_texel_bits,
+                                kFloat32Noise, FilterArithmetic::float32());
   // 5. PQ decode (nits_from_pq, increasing), / 10000 / ExposureFract · Amplify. A negative graded
   // signal is NaN on the device (pow_d3d): no allowance is derived for such a pixel.
   Range3 graded;

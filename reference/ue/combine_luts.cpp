@@ -430,6 +430,7 @@ BakedLut bake_lut(const ParamBlock& p, const UeLutSet* luts) {
   BakedLut lut;
   lut.size = p.lut_size;
   lut.layout = p.lut_layout;
+  lut.lut_format = p.lut_format;
   const int n = p.lut_size;
   lut.texels.resize(static_cast<size_t>(n) * n * n);
   const TexelEvaluator texel(p, luts);
@@ -667,6 +668,7 @@ LazyBakedLut::LazyBakedLut(const ParamBlock& p) : p_(p), texel_(p_) {
   const size_t n = static_cast<size_t>(p.lut_size);
   lut_.size = p.lut_size;
   lut_.layout = p.lut_layout;
+  lut_.lut_format = p.lut_format;
   lut_.texels.resize(n * n * n);
   done_.assign(lut_.texels.size(), 0);
 }
@@ -776,6 +778,11 @@ bool sample_lut_device_range(const BakedLut& lut, const Vec3& encoded, int bits,
   // The shader's coordinate (its encode and the scale/offset) carries its own float32 error: the
   // derived arithmetic noise of the encode, kShaderNoise of the coordinate, in texel units.
   const double coord_noise = kShaderNoise * n;
+  // The filter's own arithmetic in the storage format's precision (device_allowance.h
+  // FilterArithmetic, VK-GL-CTS's filtering precision): 10-bit UNORM, RGBA16F or float32.
+  const FilterArithmetic fa = lut.lut_format == 0   ? FilterArithmetic::unorm(10)
+                              : lut.lut_format == 1 ? FilterArithmetic::float16()
+                                                    : FilterArithmetic::float32();
   Range3 r;
   for (int c = 0; c < 3; ++c) {
     r.lo[c] = HUGE_VAL;
@@ -802,27 +809,29 @@ bool sample_lut_device_range(const BakedLut& lut, const Vec3& encoded, int bits,
         rest /= taps[a].size();
       }
       for (int corner = 0; corner < (1 << axes); ++corner) {
-        Vec3 slo{}, shi{};
+        double alpha[3] = {0, 0, 0};
+        for (int a = 0; a < axes; ++a) alpha[a] = (corner >> a) & 1 ? box[a]->f_hi : box[a]->f_lo;
+        // Tap k: bit a set for axis a's upper texel (filter_taps' order).
+        double t_lo[3][8], t_hi[3][8];
         for (int k = 0; k < (1 << axes); ++k) {
           double w = 1;
           int idx[3] = {0, 0, 0};
           for (int a = 0; a < axes; ++a) {
-            const double f = (corner >> a) & 1 ? box[a]->f_hi : box[a]->f_lo;
             const bool second = (k >> a) & 1;
-            w *= second ? f : 1 - f;
+            w *= second ? alpha[a] : 1 - alpha[a];
             idx[a] = second ? box[a]->i1 : box[a]->i0;
           }
-          if (w == 0) continue;
           const size_t i = index_of(idx);
-          nan |= lut.flags[i] & 0x7;
+          if (w != 0) nan |= lut.flags[i] & 0x7;
           for (int c = 0; c < 3; ++c) {
-            slo[c] += w * lo_at(i)[c];
-            shi[c] += w * hi_at(i)[c];
+            t_lo[c][k] = lo_at(i)[c];
+            t_hi[c][k] = hi_at(i)[c];
           }
         }
         for (int c = 0; c < 3; ++c) {
-          (*mins)[c] = std::fmin((*mins)[c], slo[c]);
-          (*maxs)[c] = std::fmax((*maxs)[c], shi[c]);
+          const FilteredRange f = filter_taps(axes, alpha, t_lo[c], t_hi[c], fa);
+          (*mins)[c] = std::fmin((*mins)[c], f.lo);
+          (*maxs)[c] = std::fmax((*maxs)[c], f.hi);
         }
       }
     }

@@ -97,7 +97,8 @@ double quantize_lut_value(int lut_format, double v);
 // The baked LUT: N³ texels (r fastest, then g, then b), stored values after quantisation.
 struct BakedLut {
   int size = 0;
-  int layout = 0;  // 0 volume, 1 2-D unwrapped
+  int layout = 0;      // 0 volume, 1 2-D unwrapped
+  int lut_format = 2;  // the storage format (p.lut_format): 0 10-bit UNORM, 1 RGBA16F, 2 RGBA32F
   std::vector<Vec3> texels;
   // The texels float32 cannot decide (TexelRange), after quantisation: per texel the bounds of the
   // stored value and a flags byte (bit c: NaN may be stored in channel c; kAmbiguous: the texel is
@@ -128,8 +129,10 @@ BakedLut bake_lut_device(const ParamBlock& p, const DevicePrecision& device,
 // The range a conformant device's hardware filter may return for a lookup of a device LUT: the
 // weight box of `sub_texel_bits` around each axis's weight (device_allowance.h linear_tap_box),
 // the lower texel bounds at the box corner that minimises, the upper at the one that maximises,
-// per channel; the 2-D layout's shader lerp between its two bilinear samples is exact. Output
-// scaled by 1.05 as sample_lut's. False for a NaN coordinate.
+// per channel, the filter's products and sums rounded outward in the storage format's precision
+// (device_allowance.h filter_taps: VK-GL-CTS's filtering precision of lut_format); the 2-D layout's
+// shader lerp between its two bilinear samples is exact. Output scaled by 1.05 as sample_lut's.
+// False for a NaN coordinate.
 bool sample_lut_device_range(const BakedLut& device_lut, const Vec3& encoded, int sub_texel_bits,
                              Range3* out);
 

@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "color/gamma_correction.h"
 #include "core/case.h"
 #include "reference/color/device_allowance.h"
-#include "color/gamma_correction.h"
 #include "reference/color/linear_tap.h"
 
 namespace hdrc::ref {
@@ -148,11 +148,16 @@ void bilinear_extremes(const UeLutTexture& lut, Interval u, Interval v, int bits
       const TapBox& y = ys[iy];
       for (const double fx : {x.f_lo, x.f_hi})
         for (const double fy : {y.f_lo, y.f_hi}) {
-          const Vec3 s = lerp(lerp(lut.at(x.i0, y.i0), lut.at(x.i1, y.i0), fx),
-                              lerp(lut.at(x.i0, y.i1), lut.at(x.i1, y.i1), fx), fy);
+          // The filter's own arithmetic in float32, the precision of the RGBA32F strip the engine
+          // binds (device_allowance.h filter_taps; tap k: bit 0 the upper x, bit 1 the upper y).
+          const double alpha[2] = {fx, fy};
+          const Vec3* t[4] = {&lut.at(x.i0, y.i0), &lut.at(x.i1, y.i0), &lut.at(x.i0, y.i1),
+                              &lut.at(x.i1, y.i1)};
           for (int c = 0; c < 3; ++c) {
-            (*lo)[c] = std::fmin((*lo)[c], s[c]);
-            (*hi)[c] = std::fmax((*hi)[c], s[c]);
+            const double tc[4] = {(*t[0])[c], (*t[1])[c], (*t[2])[c], (*t[3])[c]};
+            const FilteredRange f = filter_taps(2, alpha, tc, tc, FilterArithmetic::float32());
+            (*lo)[c] = std::fmin((*lo)[c], f.lo);
+            (*hi)[c] = std::fmax((*hi)[c], f.hi);
           }
         }
     }

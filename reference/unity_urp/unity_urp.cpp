@@ -1074,8 +1074,13 @@ Range3 apply_color_grading_device_range(const StripRange& bounds, const ParamBlo
                          : uber_tonemap(x, tonemap_mode(p));
   // ApplyLut2D's sampling is strip_lookup_device_range's: with scaleOffset = (1/W, 1/H, H − 1),
   // u·W − 0.5 = uvw.x·(H − 1) + H·floor(uvw.z·(H − 1)), v·H − 0.5 = uvw.y·(H − 1).
+  // The filter's own arithmetic in the strip's storage precision (device_allowance.h
+  // FilterArithmetic, VK-GL-CTS's filtering precision): RGBA16F, RGBA8 UNORM, else RGBA32F.
+  const FilterArithmetic fa = p.lut_format == 1   ? FilterArithmetic::float16()
+                              : p.lut_format == 3 ? FilterArithmetic::unorm(8)
+                                                  : FilterArithmetic::float32();
   return strip_lookup_device_range({&bounds.lo, &bounds.hi, p.lut_size}, Range3::point(coord),
-                                   sub_texel_bits, kFloat32Noise, snap_weights);
+                                   sub_texel_bits, kFloat32Noise, fa, snap_weights);
 }
 
 }  // namespace hdrc::ref::unity_urp

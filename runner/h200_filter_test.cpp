@@ -1,0 +1,143 @@
+// The H200's FAILs of 2026-11-27 in the Tonemap pass, Unity's grading and pq_grading (NVIDIA H200,
+// driver 580.159.04; device precision: subTexelPrecisionBits 8, float16 RTE; `hdrconform run
+// --device nvidia`, tree 6e180a7; its results.json): per case the worst value of every metric that
+// failed, as the results named it (pixel, channel, the H200's value, the reference's), against the
+// reference's device ranges asked for with the H200's precision. Those ranges hold the filter's
+// arithmetic in the texture format's precision (reference/color/device_allowance.h filter_taps:
+// VK-GL-CTS's filtering precision), so this is the count of docs/precision.md, "Filter arithmetic":
+// which of the H200's lookups a device filtering at the CTS's precision can produce.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "core/pipeline.h"
+#include "runner/case_loader.h"
+
+namespace {
+
+const std::string kCasesDir = std::string(HDRC_SOURCE_DIR) + "/cases";
+
+struct H200Value {
+  const char* id;
+  int x, y, channel;
+  double candidate, reference;
+  // Inside the reference's device ranges with the filter at the CTS's precision (measured
+  // 2026-11-27; docs/precision.md, "Filter arithmetic"). Outside: Unity's RGBA16F lookups whose
+  // product weights the H200 rounds to 1/256, beyond float16's quantum.
+  bool admitted;
+};
+
+// From the H200's results.json (cases[].stats.overall.<metric>.worst of every metric with values
+// over its bound), one row per distinct pixel and channel; VisualizeHDR's cases are
+// runner/visualize_device_test.cpp's (their references take minutes here).
+const std::vector<H200Value>& h200_values() {
+  static const std::vector<H200Value> rows = {
+      {"pq_grading/amplify/amplify10_display1_backbuffer1_peaknits4000_lutpq_hue_33_log_ramp", 453,
+       2, 0, 0.56161052, 0.552157942, true},  // linear_rel
+      {"pq_grading/amplify/amplify10_display1_backbuffer1_peaknits4000_lutpq_hue_33_log_ramp", 451,
+       2, 0, 0.182729423, 0.188698796, true},  // pq_code10
+      {"pq_grading/amplify/amplify10_display1_backbuffer1_peaknits4000_lutpq_hue_33_log_ramp", 165,
+       0, 1, 0.00117669278, 0.00122172208, true},  // delta_e_itp
+      {"tonemap/cvars/"
+       "dev2_gamut0_hdr1_max5000_minlog0_mid1_scm0_gc1_cmin-10_cmid0_cmax10_gamma0_sharpen-1_"
+       "colorchecker",
+       13, 2, 1, 0.168166623, 0.171523944, true},  // pq_code10
+      {"tonemap/display/hdr0_dev9_gamut1_lut16_fmt0_layout0_log_ramp", 41, 1, 2, 0.00105745019,
+       0.00206616199, true},  // pq_code10
+      {"tonemap/display/hdr0_dev9_gamut2_lut16_fmt0_layout0_log_ramp", 34, 1, 1, 0, 0.000875865321,
+       true},  // pq_code10
+      {"unity_urp/graded_look/gradingmode1_mode0_postexposure-2_colorchecker", 44, 16, 2,
+       0.0858362913, 0.0870662801, false},  // linear_rel
+      {"unity_urp/graded_look/gradingmode1_mode0_postexposure-2_colorchecker", 24, 16, 1,
+       0.00111789256, 0.00164685032, false},  // pq_code10
+      {"unity_urp/graded_look/gradingmode1_mode0_postexposure-2_hue_sweep", 13, 3, 1, 0.109558105,
+       0.107996821, true},  // linear_rel
+      {"unity_urp/graded_look/gradingmode1_mode0_postexposure0_colorchecker", 44, 16, 1,
+       0.563015461, 0.554145666, true},  // linear_rel
+      {"unity_urp/graded_look/gradingmode1_mode0_postexposure0_colorchecker", 24, 12, 1,
+       0.00111789256, 0.00164685032, false},  // pq_code10
+      {"unity_urp/graded_look/gradingmode1_mode0_postexposure0_hue_sweep", 18, 3, 2, 0.193969727,
+       0.176768041, false},  // linear_rel
+      {"unity_urp/graded_look/gradingmode1_mode0_postexposure1.5_colorchecker", 60, 16, 1,
+       7.67578125, 7.61706251, true},  // linear_rel
+      {"unity_urp/graded_look/gradingmode1_mode0_postexposure1.5_hue_sweep", 28, 3, 2, 0.0312194824,
+       0.019502168, false},  // linear_rel
+      {"unity_urp/graded_look/gradingmode1_mode1_postexposure-2_colorchecker", 44, 16, 2,
+       0.0760378465, 0.0767448293, true},  // linear_rel
+      {"unity_urp/graded_look/gradingmode1_mode1_postexposure-2_colorchecker", 24, 16, 1,
+       0.00106070179, 0.00156259825, false},  // pq_code10
+      {"unity_urp/graded_look/gradingmode1_mode1_postexposure0_colorchecker", 44, 16, 1, 0.164003,
+       0.162504972, true},  // linear_rel
+      {"unity_urp/graded_look/gradingmode1_mode1_postexposure0_colorchecker", 24, 12, 1,
+       0.00106070179, 0.00156259825, false},  // pq_code10
+      {"unity_urp/graded_look/gradingmode1_mode1_postexposure0_hue_sweep", 18, 3, 2, 0.033416748,
+       0.0304532733, false},  // linear_rel
+      {"unity_urp/graded_look/gradingmode1_mode1_postexposure1.5_hue_sweep", 28, 3, 2,
+       0.00430297852, 0.0026879821, false},  // linear_rel
+      {"unity_urp/grading_modes/gradingmode1_mode2_lutsize32_random", 25, 11, 0, 0.000807234494,
+       0.000812091955, true},  // delta_e_itp
+      {"unity_urp/grading_modes/gradingmode1_mode2_lutsize64_log_ramp", 246, 1, 0, 0,
+       2.09028646e-06, false},  // delta_e_itp
+  };
+  return rows;
+}
+
+std::string pipeline_of(const std::string& id) {
+  if (id.rfind("unity_urp/", 0) == 0) return "unity_urp";
+  if (id.rfind("pq_grading/", 0) == 0) return "pq_grading";
+  return "ue55";
+}
+
+TEST(H200Filter, ValuesAgainstTheDeviceRangesAtTheCtsFilterPrecision) {
+  const hdrc::LoadedCases loaded = hdrc::load_cases(kCasesDir);
+  std::map<std::string, hdrc::Image> refs;
+  std::map<std::string, std::pair<int, int>> per_case;  // admitted, outside
+  int in = 0, out = 0;
+  for (const H200Value& row : h200_values()) {
+    auto it = refs.find(row.id);
+    if (it == refs.end()) {
+      const hdrc::Case* found = nullptr;
+      for (const hdrc::Case& c : loaded.cases)
+        if (c.id == row.id) found = &c;
+      ASSERT_NE(found, nullptr) << row.id;
+      auto rc = hdrc::resolve_case(*found);
+      ASSERT_TRUE(rc) << rc.error().to_string();
+      rc->device_allowances = true;
+      rc->device.sub_texel_bits = 8;
+      rc->device.mipmap_bits = 8;
+      rc->device.fp16_rte = true;
+      const hdrc::Pipeline* pipeline = hdrc::find_pipeline(pipeline_of(row.id));
+      ASSERT_NE(pipeline, nullptr) << row.id;
+      auto img = pipeline->reference(*rc, false);
+      ASSERT_TRUE(img) << img.error().to_string();
+      it = refs.emplace(row.id, std::move(*img)).first;
+    }
+    const hdrc::Image& ref = it->second;
+    const double r = ref.px(row.x, row.y)[row.channel];
+    // The same case and pixel as the H200's run: the tight reference it was compared with.
+    EXPECT_NEAR(r, row.reference, 1e-6 * std::fmax(1.0, std::fabs(r))) << row.id;
+    const size_t i = static_cast<size_t>(row.y) * ref.width + row.x;
+    double lo = r, hi = r;
+    for (const hdrc::AdmissibleRange& a : ref.device_admissible)
+      if (a.pixel == i) {
+        lo = a.lo[row.channel];
+        hi = a.hi[row.channel];
+      }
+    const bool ok = row.candidate >= lo && row.candidate <= hi;
+    EXPECT_EQ(ok, row.admitted) << row.id << " (" << row.x << ", " << row.y << ")";
+    (ok ? in : out)++;
+    (ok ? per_case[row.id].first : per_case[row.id].second)++;
+    std::printf("%s (%d, %d) %c: %s [%.9g, %.9g] %.9g (reference %.9g)\n", row.id, row.x, row.y,
+                "RGB"[row.channel], ok ? "ADMITTED" : "OUTSIDE", lo, hi, row.candidate, r);
+  }
+  int cases_in = 0;
+  for (const auto& [id, n] : per_case) cases_in += n.second == 0;
+  std::printf("values admitted %d, outside %d; cases with every value admitted %d of %zu\n", in,
+              out, cases_in, per_case.size());
+}
+
+}  // namespace
