@@ -84,7 +84,8 @@ json statistic(double v) {
 
 // A metric's statistics; where its values are all equal on both sides (count > 0, max 0) only
 // count and max: every other statistic is 0 and no pixel is worse than another
-// (docs/results-schema.md).
+// (docs/results-schema.md). The fraction over is written only where a value is over (it is
+// over / count, 0 where none is: issue 27 item 8).
 // A band's have no worst pixel: the case's worst pixels are the overall ones (the report's
 // worst-pixel table).
 json metric_stats(const MetricStats& m, bool band) {
@@ -95,8 +96,8 @@ json metric_stats(const MetricStats& m, bool band) {
             {"rms", statistic(m.rms)},
             {"p99", statistic(m.p99)},
             {"p99_9", statistic(m.p999)},
-            {"over", m.over},
-            {"fraction_over", statistic(m.fraction_over)}};
+            {"over", m.over}};
+  if (m.over > 0) j["fraction_over"] = statistic(m.fraction_over);
   if (!band) j["worst"] = pixel(m.worst);
   return j;
 }
