@@ -658,13 +658,14 @@ async function fixtureTest(dir, artifacts) {
 
   // ---- A ue58 case page (issue 27: the browser test's sample holds the heaviest kinds of case
   // page; bench/report_page_times.mjs times every page of a run): interactive within the limit,
-  // its LUT slices drawn, its resolved parameters listed.
+  // its 16³ LUT's heatmap drawn (256 × 16), its resolved parameters listed.
   console.log('ue58 case page');
   {
     const slug = await caseSlug(context, url('cases.html'), expect.ue58);
     const { page, dialogs: d, tti } = await openPage(context, url('c/' + slug), 'ue58 case page');
     console.log(`  ue58 case page: interactive in ${tti.toFixed(0)} ms`);
-    check((await page.$$('#lut-panels canvas')).length === 3 && (await page.getAttribute('#lut-slice', 'max')) === '15', 'ue58: 16 blue slices; reference, candidate and error slices');
+    const heat = await page.$eval('figure.panel[data-key="heat"] canvas', (c) => [c.width, c.height]);
+    check(heat[0] === 256 && heat[1] === 16, 'ue58: heatmap drawn at 256 × 16', heat);
     const resolved = await page.$$eval('#resolved tr', (rs) => rs.map((r) => r.children[0].textContent));
     check(resolved.length > 10, 'ue58: the resolved parameters are listed', resolved.length);
     const settings = await page.$$eval('#settings tr', (rs) => rs.map((r) => r.children[0].textContent));
