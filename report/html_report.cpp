@@ -1379,9 +1379,11 @@ struct Builder {
     if (const json* rv = get(j, {"reference_values"}); rv && !rv->empty())
       h += "<h3>Named values (reference)</h3>" + kv_table(rv, "named-values", "—");
     // The device every case of a run shares (the run's candidate) is in the summary's run table,
-    // once; a case page names it and links there.
-    const json* dev = get(j, {"device"});
+    // once; a case page names it and links there. results.json names it per case no more
+    // (runner/results.cpp case_json); older files do.
     const json* run_dev = get(doc, {"candidate"});
+    const json* dev = get(j, {"device"});
+    if (!dev) dev = run_dev;
     h += "<h3>Timings and device</h3>" + kv_table(get(j, {"seconds"}), "timings", "—") +
          (dev && run_dev && *dev == *run_dev
               ? "<p id=\"device\">" + esc_text(get(*dev, {"device"})) +

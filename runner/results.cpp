@@ -166,7 +166,7 @@ json dither_json(const CaseResult& c) {
           {"channels", channels}};
 }
 
-json case_json(const CaseResult& c, const RunReport& r) {
+json case_json(const CaseResult& c) {
   json cvars = json::object();
   for (const auto& [k, v] : c.spec.cvars.explicit_values()) cvars[k] = v;
   json settings = json::object();
@@ -235,7 +235,9 @@ json case_json(const CaseResult& c, const RunReport& r) {
         {"candidate", c.candidate_seconds},
         {"diff", c.diff_seconds},
         {"total", c.seconds()}}},
-      {"device", device(r.candidate_device)},
+      // No "device": every case of a run has the run's candidate device, its top-level
+      // "candidate" (and merge takes shards of one device only): 310 bytes a case written once
+      // (issue 27 item 8). Results from before 2026-11-27 carry it in each case.
       {"reference_values", c.reference_values},
       {"params", c.has_params
                      ? params_json(c.params, c.spec.stage ? c.spec.stage->pipeline : "ue55")
@@ -278,7 +280,7 @@ void add_candidate_protocol(json& doc, const RunReport& r) {
 std::string results_json(const RunReport& r) {
   json cases = json::array();
   for (const auto& c : r.cases) {
-    cases.push_back(case_json(c, r));
+    cases.push_back(case_json(c));
     // A failing case carries the command that reruns it alone (junit and the console print it).
     if (c.verdict == CaseVerdict::kFail || c.verdict == CaseVerdict::kError ||
         c.verdict == CaseVerdict::kMissing)
