@@ -412,12 +412,18 @@ std::string markers(const CaseView& c) {
   return h;
 }
 
+// The case pages' table rows leave out the end tags of their cells and rows, and put no line
+// break between rows (a break would end up in the last cell's text): HTML's optional tags
+// (WHATWG HTML, 13.1.2.4 "Optional tags": a td's or th's end tag may be omitted when a td or
+// th follows or the row ends; a tr's when a tr follows or the table section ends), which parse
+// to the same tables. These tables are most of a case page's bytes: 5 bytes a cell, 2.3 MB of
+// the 1655 case pages of the default run (issue 27 item 8).
+
 // A key → value table of a JSON object (values shown as text; nested values as JSON).
 std::string kv_table(const json* obj, const std::string& id, const std::string& empty) {
   if (!obj || !obj->is_object() || obj->empty()) return "<p class=\"muted\">" + empty + "</p>\n";
-  std::string h = "<table class=\"kv\" id=\"" + id + "\"><tbody>\n";
-  for (const auto& [k, v] : obj->items())
-    h += "<tr><th>" + html_escape(k) + "</th><td>" + esc_text(&v) + "</td></tr>\n";
+  std::string h = "<table class=\"kv\" id=\"" + id + "\"><tbody>";
+  for (const auto& [k, v] : obj->items()) h += "<tr><th>" + html_escape(k) + "<td>" + esc_text(&v);
   return h + "</tbody></table>\n";
 }
 
@@ -435,12 +441,19 @@ void flatten(const json& j, const std::string& prefix,
   }
 }
 
-// A metric's statistics with what results.json leaves out where every value is equal on both
-// sides (count and max 0 only, runner/results.cpp) filled in: each statistic 0.
+// A metric's statistics with what results.json leaves out (runner/results.cpp) filled in: where
+// every value is equal on both sides (count and max 0 only) each statistic 0; the fraction over
+// where no value is over (over 0) 0.
 json full_metric_stats(const json& m) {
   const json* max = get(m, {"max"});
-  if (!m.is_object() || m.contains("mean") || !max || !max->is_number() || max->get<double>() != 0)
-    return m;
+  if (!m.is_object()) return m;
+  if (m.contains("mean") || !max || !max->is_number() || max->get<double>() != 0) {
+    const auto over = num(get(m, {"over"}));
+    if (m.contains("fraction_over") || !over || *over != 0) return m;
+    json out = m;
+    out["fraction_over"] = 0;
+    return out;
+  }
   json out = m;
   for (const char* k : {"mean", "rms", "p99", "p99_9", "over", "fraction_over"}) out[k] = 0;
   return out;
@@ -479,19 +492,18 @@ std::string stats_table(const json* obj, const std::string& id, const std::strin
   std::string h = "<div class=\"scroll\"><table class=\"stats\" id=\"" + id + "\"><thead><tr><th>" +
                   row_head + "</th>";
   for (const auto& c : cols) h += "<th>" + html_escape(c) + "</th>";
-  h += "</tr></thead><tbody>\n";
+  h += "</tr></thead><tbody>";
   for (const auto& [name, cells] : rows) {
-    h += "<tr><th>" + html_escape(name) + "</th>";
+    h += "<tr><th>" + html_escape(name);
     for (const auto& c : cols) {
       const json* v = nullptr;
       for (const auto& [k, p] : cells)
         if (k == c) v = p;
       const auto n = num(v);
       // Numbers right-aligned by the stylesheet (table.stats td): no class per cell, as these
-      // tables are most of a case page's bytes.
-      h += "<td>" + (n ? fmt(n) : esc_text(v)) + "</td>";
+      // tables are most of a case page's bytes (and no end tags: kv_table).
+      h += "<td>" + (n ? fmt(n) : esc_text(v));
     }
-    h += "</tr>\n";
   }
   return h + "</tbody></table></div>\n";
 }
@@ -531,24 +543,24 @@ std::string band_table(const json& bands, std::optional<double> case_pixels) {
     h = "<div class=\"scroll\"><table class=\"stats\" id=\"stats-bands\"><thead><tr><th>band"
         "</th><th>metric</th>";
     for (const auto& c : cols) h += "<th>" + html_escape(c) + "</th>";
-    h += "</tr></thead><tbody>\n";
+    h += "</tr></thead><tbody>";
     for (const auto& [band, metric, cells] : rows) {
-      h += "<tr><th>" + html_escape(band) + "</th><th>" + html_escape(metric) + "</th>";
+      h += "<tr><th>" + html_escape(band) + "<th>" + html_escape(metric);
       for (const auto& c : cols) {
         const json* v = nullptr;
         for (const auto& [k, p] : cells)
           if (k == c) v = p;
         const auto n = num(v);
-        h += "<td>" + (n ? fmt(n) : esc_text(v)) + "</td>";
+        h += "<td>" + (n ? fmt(n) : esc_text(v));
       }
-      h += "</tr>\n";
     }
     h += "</tbody></table></div>\n";
   }
   return h + "<p>Pixels per band: " + counts + notes + ".</p>\n";
 }
 
-std::string pixel_rows(const json& c) {
+// `probe`: the page has float data, so each row gets a button that shows its pixel in the probe.
+std::string pixel_rows(const json& c, bool probe) {
   // Every worst/first pixel object the case has: worst, worst_rel, worst_pq, per-metric worst,
   // nonfinite.first_mismatch.
   std::vector<std::pair<std::string, const json*>> px;
@@ -572,17 +584,31 @@ std::string pixel_rows(const json& c) {
         px.push_back({std::string(k) + " max", w});
   if (const json* p = get(c, {"nonfinite", "first_mismatch"}); p && p->is_object())
     px.push_back({"first non-finite mismatch", p});
-  std::string h;
+  // Entries of one pixel and channel (most metrics' worst values are the same pixel) are one row
+  // that names them all, in this order.
+  std::vector<std::pair<std::string, const json*>> rows;
   for (const auto& [label, p] : px) {
+    auto same_pixel = [&](const auto& row) {
+      for (const char* f : {"x", "y", "channel", "input", "reference", "candidate"})
+        if (text(get(*row.second, {f})) != text(get(*p, {f}))) return false;
+      return true;
+    };
+    if (auto it = std::find_if(rows.begin(), rows.end(), same_pixel); it != rows.end())
+      it->first += "; " + label;
+    else
+      rows.push_back({label, p});
+  }
+  std::string h;  // no end tags (kv_table)
+  for (const auto& [label, p] : rows) {
     h += "<tr data-x=\"" + esc_text(get(*p, {"x"})) + "\" data-y=\"" + esc_text(get(*p, {"y"})) +
-         "\"><th>" + html_escape(label) + "</th>";
-    for (const char* f : {"x", "y", "channel", "band"})
-      h += "<td>" + esc_text(get(*p, {f})) + "</td>";
+         "\"><th>" + html_escape(label);
+    for (const char* f : {"x", "y", "channel", "band"}) h += "<td>" + esc_text(get(*p, {f}));
+    // The values in the monospace font of the stylesheet's #worst-pixel rule.
     for (const char* f : {"input", "reference", "candidate"}) {
       const auto v = num(get(*p, {f}));
-      h += "<td class=\"num mono\">" + (v ? fmt(v, "%.9g") : esc_text(get(*p, {f}))) + "</td>";
+      h += "<td>" + (v ? fmt(v, "%.9g") : esc_text(get(*p, {f})));
     }
-    h += "<td><button type=\"button\" class=\"goto\">probe</button></td></tr>\n";
+    if (probe) h += "<td><button type=\"button\" class=\"goto\">probe</button>";
   }
   return h;
 }
@@ -635,6 +661,19 @@ std::string reason_lead(const std::string& r) {
     }
   }
   return end < r.size() ? r.substr(0, end) + " …" : r;
+}
+
+// A tolerance reason's parts: the tolerance's own and each overlay's, which
+// runner/tolerance.cpp apply_overlays joins with "; overlay: " (an overlay measured per case
+// makes each case's whole reason its own, while its parts are shared).
+std::vector<std::string> reason_parts(const std::string& r) {
+  static const std::string kJoin = "; overlay: ";
+  std::vector<std::string> out;
+  size_t from = 0;
+  for (size_t at; (at = r.find(kJoin, from)) != std::string::npos; from = at + kJoin.size())
+    out.push_back(r.substr(from, at - from));
+  out.push_back(r.substr(from));
+  return out;
 }
 
 std::string metadata_table(const json& doc) {
@@ -1222,37 +1261,60 @@ struct Builder {
            "<div id=\"lut-worst\"></div></section>\n";
 
     h += "<section id=\"worst\"><h2>Worst pixels</h2>";
-    const std::string rows = pixel_rows(j);
+    const std::string rows = pixel_rows(j, c.px);
     if (rows.empty())
       h += "<p class=\"muted\">—</p>";
     else
       h += "<table class=\"stats\" id=\"worst-pixel\"><thead><tr><th></th><th>x</th><th>y</th><th>"
-           "channel</th><th>band</th><th>input</th><th>reference</th><th>candidate</th><th></th>"
-           "</tr></thead><tbody>\n" +
-           rows + "</tbody></table>\n";
+           "channel</th><th>band</th><th>input</th><th>reference</th><th>candidate</th>" +
+           std::string(c.px ? "<th></th>" : "") + "</tr></thead><tbody>" + rows +
+           "</tbody></table>\n";
     h += "</section>\n";
 
     h += "<section id=\"tolerance\"><h2>Tolerance</h2>";
     const json* tj = get(j, {"tolerance"});
-    std::string tol_rows;
+    std::string tol_rows, not_judged;
     if (tj && tj->is_object()) {
       for (const auto& [k, v] : tj->items()) {
         if (k == "reason" || k == "source") continue;
-        tol_rows += "<tr><th>" + html_escape(k) + "</th><td class=\"mono\">" + esc_text(&v) +
-                    "</td></tr>\n";
+        // The metrics the tolerance does not judge (null) are one row, not a row of "—" each;
+        // a metric's limits as "max 0.00033, allowed_fraction 0, hard —, warn —".
+        if (v.is_null()) {
+          not_judged += (not_judged.empty() ? "" : ", ") + html_escape(k);
+          continue;
+        }
+        std::string limits;
+        if (v.is_object())
+          for (const auto& [f, x] : v.items())
+            limits += (limits.empty() ? "" : ", ") + html_escape(f) + " " + esc_text(&x);
+        tol_rows += "<tr><th>" + html_escape(k) + "<td class=\"mono\">" +
+                    (v.is_object() ? limits : esc_text(&v));
       }
+      if (!not_judged.empty()) tol_rows += "<tr><th>not judged<td>" + not_judged;
     }
     h += tol_rows.empty()
              ? "<p class=\"muted\">—</p>"
              : "<table class=\"kv\" id=\"tolerance-table\"><tbody>" + tol_rows + "</tbody></table>";
+    // The reason and each overlay's (runner/tolerance.cpp apply_overlays joins them with
+    // "; overlay: "): a part several cases give as its first sentence and a link to it in
+    // tolerances.html, any other as it is.
     const std::string tol_reason = text(tj ? get(*tj, {"reason"}) : nullptr);
-    if (const auto it = reasons.find(tol_reason); it != reasons.end())
-      h += "<p><b>Reason:</b> " + html_escape(reason_lead(tol_reason)) + " <a href=\"" + root +
-           "tolerances.html#r" + std::to_string(it->second.id) +
-           "\" id=\"tolerance-reason\">(the whole reason; " + std::to_string(it->second.cases) +
-           " cases share it)</a></p>";
-    else
-      h += "<p><b>Reason:</b> " + html_escape(tol_reason) + "</p>";
+    h += "<p><b>Reason:</b> ";
+    bool linked = false;
+    const std::vector<std::string> parts = reason_parts(tol_reason);
+    for (size_t i = 0; i < parts.size(); ++i) {
+      const std::string& part = parts[i];
+      if (i > 0) h += "; overlay: ";
+      if (const auto it = reasons.find(part); it != reasons.end()) {
+        h += html_escape(reason_lead(part)) + " <a href=\"" + root + "tolerances.html#r" +
+             std::to_string(it->second.id) + "\"" + (linked ? "" : " id=\"tolerance-reason\"") +
+             ">(the whole reason; " + std::to_string(it->second.cases) + " cases share it)</a>";
+        linked = true;
+      } else {
+        h += html_escape(part);
+      }
+    }
+    h += "</p>";
     h += "<p><b>Source:</b> <span id=\"tolerance-source\">" +
          esc_text(tj ? get(*tj, {"source"}) : nullptr) + "</span></p></section>\n";
 
@@ -1301,13 +1363,12 @@ struct Builder {
 
     h += "<section id=\"params\"><h2>Parameters</h2><table class=\"kv\" id=\"case-info\"><tbody>";
     for (const char* k : {"stage", "input", "file", "verdict", "encoding"})
-      h += "<tr><th>" + std::string(k) + "</th><td>" + esc_text(get(j, {k})) + "</td></tr>";
-    h += "<tr><th>output encoding</th><td>" +
-         html_escape(c.meta.value("encoding", std::string("—"))) + ", " +
-         html_escape(c.meta.value("gamut", std::string("—"))) + "</td></tr>";
-    h += "<tr><th>size</th><td>" +
+      h += "<tr><th>" + std::string(k) + "<td>" + esc_text(get(j, {k}));
+    h += "<tr><th>output encoding<td>" + html_escape(c.meta.value("encoding", std::string("—"))) +
+         ", " + html_escape(c.meta.value("gamut", std::string("—")));
+    h += "<tr><th>size<td>" +
          (c.width ? std::to_string(c.width) + " × " + std::to_string(c.height) : "—") +
-         "</td></tr></tbody></table>\n";
+         "</tbody></table>\n";
     const json named = named_cvars(get(j, {"cvars"}));
     h += "<h3>Cvars</h3>" + kv_table(&named, "cvars", "none set (UE defaults)");
     h += "<h3>Settings</h3>" + kv_table(get(j, {"settings"}), "settings", "none set (UE defaults)");
@@ -1318,9 +1379,11 @@ struct Builder {
     if (const json* rv = get(j, {"reference_values"}); rv && !rv->empty())
       h += "<h3>Named values (reference)</h3>" + kv_table(rv, "named-values", "—");
     // The device every case of a run shares (the run's candidate) is in the summary's run table,
-    // once; a case page names it and links there.
-    const json* dev = get(j, {"device"});
+    // once; a case page names it and links there. results.json names it per case no more
+    // (runner/results.cpp case_json); older files do.
     const json* run_dev = get(doc, {"candidate"});
+    const json* dev = get(j, {"device"});
+    if (!dev) dev = run_dev;
     h += "<h3>Timings and device</h3>" + kv_table(get(j, {"seconds"}), "timings", "—") +
          (dev && run_dev && *dev == *run_dev
               ? "<p id=\"device\">" + esc_text(get(*dev, {"device"})) +
@@ -1329,7 +1392,12 @@ struct Builder {
               : kv_table(dev, "device", "—"));
     h += "</section>\n";
 
-    h += "<script type=\"application/json\" id=\"case-meta\">" + script_safe_json(c.meta.dump()) +
+    // What the page's script reads (report.js initCase): everything for the image views; the
+    // id and verdict alone where the case has no images (a passing case of a run that keeps
+    // failing cases' images: CI's artifact, issue 27 item 8).
+    const bool images = c.has[0] || c.has[1] || c.has[2];
+    const json meta = images ? c.meta : json{{"id", c.id}, {"verdict", c.verdict}};
+    h += "<script type=\"application/json\" id=\"case-meta\">" + script_safe_json(meta.dump()) +
          "</script>\n";
     if (c.px) h += "<script type=\"application/json\" id=\"case-px\">" + c.px_json + "</script>\n";
     return h + page_tail(root, {});
@@ -1521,14 +1589,16 @@ struct Builder {
 
   // Which tolerance reasons are shared: a reason longer than its lead (reason_lead) that more
   // than one case gives, numbered in the order of the cases.
+  // A reason's parts count each (reason_parts): the tolerance's own and each overlay's.
   void share_reasons() {
     std::map<std::string, int> count;
-    for (const CaseView& c : cases) ++count[text(get(*c.j, {"tolerance", "reason"}))];
-    for (const CaseView& c : cases) {
-      const std::string r = text(get(*c.j, {"tolerance", "reason"}));
-      if (count[r] > 1 && reason_lead(r).size() < r.size() && !reasons.count(r))
-        reasons[r] = {static_cast<int>(reasons.size()) + 1, count[r]};
-    }
+    for (const CaseView& c : cases)
+      for (const std::string& r : reason_parts(text(get(*c.j, {"tolerance", "reason"}))))
+        ++count[r];
+    for (const CaseView& c : cases)
+      for (const std::string& r : reason_parts(text(get(*c.j, {"tolerance", "reason"}))))
+        if (count[r] > 1 && reason_lead(r).size() < r.size() && !reasons.count(r))
+          reasons[r] = {static_cast<int>(reasons.size()) + 1, count[r]};
   }
 
   std::string tolerances_page() const {
@@ -1537,7 +1607,7 @@ struct Builder {
     std::sort(order.begin(), order.end());
     std::string h = page_head("Tolerance reasons — hdrconform", "", "tolerances");
     h += "<h1>Tolerance reasons</h1>\n<p>The reasons several cases' tolerances give, once each "
-         "(each case page links to its own).</p>\n";
+         "(each case page links to its own), a tolerance's and each overlay's apart.</p>\n";
     for (const auto& [id, r] : order)
       h += "<section id=\"r" + std::to_string(id) + "\"><h2>Reason " + std::to_string(id) + " (" +
            std::to_string(reasons.at(*r).cases) + " cases)</h2><p>" + html_escape(*r) +
@@ -1560,9 +1630,15 @@ struct Builder {
     return h + page_tail("", {"data.js"});
   }
 
-  // The case table the matrix and list scripts read.
+  // The case table the matrix and list scripts read. A case's overall statistics are one array
+  // in the order of the run's "metric_keys" (each key written once, not once a case: 1.8 KB a
+  // case of 5 metrics x 8 statistics, issue 27 item 8), null where the case has none; numbers
+  // to the 9 significant digits the case pages show (dump_9g). report.js HDRC.data turns them
+  // back into each case's `metrics` object.
   std::string data_js() {
     json list = json::array();
+    std::vector<json> case_metrics;
+    std::set<std::string> metric_keys;
     for (const auto& c : cases) {
       json metrics = json::object();
       std::vector<std::pair<std::string, const json*>> cells;
@@ -1599,13 +1675,24 @@ struct Builder {
                       {"reason", c.reason},
                       {"cvars", cv},
                       {"settings", st},
-                      {"metrics", metrics},
                       // The metrics the case's tolerance judges: the matrix shows a metric's
                       // value only for these (a metric of stats.overall that is not judged).
                       {"judged", judged_metrics(*c.j)},
                       {"heat", c.heat}});
+      for (const auto& [k, _] : metrics.items()) metric_keys.insert(k);
+      case_metrics.push_back(std::move(metrics));
     }
-    return "HDRC.data(" + script_safe_json(json{{"cases", list}}.dump()) + ");\n";
+    const json keys(metric_keys);
+    for (size_t i = 0; i < list.size(); ++i) {
+      json m = json::array();
+      for (const auto& k : metric_keys) {
+        const auto it = case_metrics[i].find(k);
+        m.push_back(it == case_metrics[i].end() ? json(nullptr) : *it);
+      }
+      list[i]["m"] = std::move(m);
+    }
+    return "HDRC.data(" + script_safe_json(dump_9g(json{{"metric_keys", keys}, {"cases", list}})) +
+           ");\n";
   }
 };
 

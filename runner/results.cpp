@@ -84,7 +84,8 @@ json statistic(double v) {
 
 // A metric's statistics; where its values are all equal on both sides (count > 0, max 0) only
 // count and max: every other statistic is 0 and no pixel is worse than another
-// (docs/results-schema.md).
+// (docs/results-schema.md). The fraction over is written only where a value is over (it is
+// over / count, 0 where none is: issue 27 item 8).
 // A band's have no worst pixel: the case's worst pixels are the overall ones (the report's
 // worst-pixel table).
 json metric_stats(const MetricStats& m, bool band) {
@@ -95,8 +96,8 @@ json metric_stats(const MetricStats& m, bool band) {
             {"rms", statistic(m.rms)},
             {"p99", statistic(m.p99)},
             {"p99_9", statistic(m.p999)},
-            {"over", m.over},
-            {"fraction_over", statistic(m.fraction_over)}};
+            {"over", m.over}};
+  if (m.over > 0) j["fraction_over"] = statistic(m.fraction_over);
   if (!band) j["worst"] = pixel(m.worst);
   return j;
 }
@@ -165,7 +166,7 @@ json dither_json(const CaseResult& c) {
           {"channels", channels}};
 }
 
-json case_json(const CaseResult& c, const RunReport& r) {
+json case_json(const CaseResult& c) {
   json cvars = json::object();
   for (const auto& [k, v] : c.spec.cvars.explicit_values()) cvars[k] = v;
   json settings = json::object();
@@ -234,7 +235,9 @@ json case_json(const CaseResult& c, const RunReport& r) {
         {"candidate", c.candidate_seconds},
         {"diff", c.diff_seconds},
         {"total", c.seconds()}}},
-      {"device", device(r.candidate_device)},
+      // No "device": every case of a run has the run's candidate device, its top-level
+      // "candidate" (and merge takes shards of one device only): 310 bytes a case written once
+      // (issue 27 item 8). Results from before 2026-11-27 carry it in each case.
       {"reference_values", c.reference_values},
       {"params", c.has_params
                      ? params_json(c.params, c.spec.stage ? c.spec.stage->pipeline : "ue55")
@@ -277,7 +280,7 @@ void add_candidate_protocol(json& doc, const RunReport& r) {
 std::string results_json(const RunReport& r) {
   json cases = json::array();
   for (const auto& c : r.cases) {
-    cases.push_back(case_json(c, r));
+    cases.push_back(case_json(c));
     // A failing case carries the command that reruns it alone (junit and the console print it).
     if (c.verdict == CaseVerdict::kFail || c.verdict == CaseVerdict::kError ||
         c.verdict == CaseVerdict::kMissing)

@@ -58,7 +58,9 @@ def main():
     if not a.results:
         sys.exit("usage: measured_tolerances.py RESULTS_JSON [CASES_DIR] [--margin M] | --strip")
     results = json.load(open(a.results))
-    device = results["cases"][0]["device"]["device"] if results["cases"] else ""
+    # The run's candidate device (results.json "candidate"; older files also named it per case).
+    device = results.get("candidate", {}).get("device", "") or (
+        results["cases"][0].get("device", {}).get("device", "") if results["cases"] else "")
     if "llvmpipe" not in device:
         sys.exit(f"{a.results}: measured on '{device}', not lavapipe (llvmpipe)")
     path = os.path.join(a.cases, "tolerance_overlays.json")

@@ -12,7 +12,20 @@
 
 const HDRC = (window.HDRC = window.HDRC || {});
 
+// data.js writes each case's overall statistics as one array `m` in the order of `metric_keys`
+// (the keys once, not once a case; null: the case has no such statistic); here each case gets
+// them back as its `metrics` object ("pq_code10.max": value).
 HDRC.data = (d) => {
+  const keys = d.metric_keys || [];
+  for (const c of d.cases) {
+    if (!c.metrics) {
+      c.metrics = {};
+      (c.m || []).forEach((v, i) => {
+        if (v !== null && i < keys.length) c.metrics[keys[i]] = v;
+      });
+    }
+    delete c.m;
+  }
   HDRC.cases = d.cases;
 };
 HDRC.pixels = (p) => {

@@ -20,6 +20,9 @@
 //   fixture/lut64                          a 64³ CombineLUTs LUT (4096 × 64), passing, every value
 //                                          off by up to 2 float32 ulps (a GPU's rounding): the
 //                                          heaviest case page of the default suite
+//   fixture/ue58                           a UE 5.8 CombineLUTs LUT (16³, inner 17³, ACES 2.0 on
+//                                          device 3), passing: a ue58 case page, its resolved
+//                                          parameters with the ACES 2.0 tables
 //   fixture/long-ids/<long family>/...     failing cases with ids and reasons longer than a list
 //                                          row's line, from two pipelines (ue55 shaper,
 //                                          operators tone_curve): every value × 1.002
@@ -68,6 +71,7 @@ const std::map<std::string, Plant>& plants() {
 const std::string kAcesId = "fixture/aces/log_ramp";
 const std::string kLongIds = "fixture/long-ids/";
 const std::string kLut64 = "fixture/lut64";
+const std::string kUe58 = "fixture/ue58";
 
 // Writes the first `channels` channels of `img` (R, G, B[, A]) as an EXR with `compression`
 // (OpenImageIO's name) in `type`.
@@ -176,6 +180,18 @@ const char* kLut64Case = R"({
                 "reason": "report fixture: every value off by up to 2 float32 ulps"}
 })";
 
+// A ue58 case as the default suite's cases/ue58/devices.json has them (16³ outer LUT, 17³ inner
+// LUT), ACES 2.0 on the 1000-nit PQ device.
+const char* kUe58Case = R"({
+  "pipeline": "ue58",
+  "stage": "ue58_combine_luts",
+  "cvars": {"r.LUT.Size": 16, "r.HDR.Display.OutputDevice": 3, "r.HDR.Display.ColorGamut": 2},
+  "settings": {"r.LUT.Inner.Size": 17, "TonemappingMethod": "StandardACES",
+               "r.HDR.Aces.Version": 2},
+  "tolerance": {"linear_rel": 1e-5, "rel_floor": 1e-4, "pq_code10": 0.05,
+                "reason": "report fixture: the reference rounded to float32"}
+})";
+
 // Failing cases whose ids and reasons are longer than a list row (issue 27: at 1400 px a row of
 // the failing-case list was ~842 px tall): every value × 1.002, over a tolerance with an
 // allowed fraction (the longest form of the judge's reason).
@@ -262,6 +278,7 @@ int main(int argc, char** argv) {
   add(&main_cases, kAces, "fixture/aces");
   add(&main_cases, kHue, "fixture/hue");
   add(&main_cases, kLut64Case, kLut64);
+  add(&main_cases, kUe58Case, kUe58);
   add(&main_cases, kLongUe,
       kLongIds + "ue55_shaper_of_the_log_ramp_with_a_case_family_name_far_longer_than_a_line");
   add(&main_cases, kLongOps,
@@ -302,7 +319,7 @@ int main(int argc, char** argv) {
 
   // What the browser test checks, from the fixture's own design and the images it ran.
   nlohmann::json expect = {
-      {"verdicts", {{"PASS", 9}, {"FAIL", 4}, {"KNOWN_LIMIT", 1}, {"DEGENERATE", 1}, {"SKIP", 1}}},
+      {"verdicts", {{"PASS", 10}, {"FAIL", 4}, {"KNOWN_LIMIT", 1}, {"DEGENERATE", 1}, {"SKIP", 1}}},
       {"aces", kAcesId},
       {"hue", "fixture/hue/hue_sweep"},
       {"golden_regression", "fixture/lut"},
@@ -312,6 +329,7 @@ int main(int argc, char** argv) {
       {"hostile", "<script>alert(1)</script>/log_ramp"},
       {"lut", "fixture/lut"},
       {"lut64", kLut64},
+      {"ue58", kUe58},
       {"long_ids", kLongIds},
       {"matrix",
        {{"rows", "r.HDR.Display.OutputDevice"},
