@@ -517,6 +517,32 @@ Range3 device_texel_range(const ParamBlock& p, const grading::InverseGamma& inve
     before = device == 7 ? apply_matrix(to_output, apply_matrix(p.wcs_to_ap1, before))
                          : apply_matrix(to_output, before);
   }
+  // The same noise where the ACES output transform's cross-channel arithmetic ends (devices 3-6):
+  // on rrt_sweeteners' result (the working colour space → AP0 matrix, the glow, the red modifier,
+  // AP0 → AP1 and the global desaturation), carried through the tone scale and the matrices after
+  // it in exact arithmetic (aces::output_transform_tail_range). A saturated input's dark AP1
+  // channel is a small fraction of the largest: the largest channel's noise is a large relative
+  // error of it, which the tone scale keeps (its log-log slope near 1 and above), while the noise
+  // taken after the transform is relative to the tone-mapped largest channel, compressed by the
+  // shoulder. docs/precision.md, "The ACES output transform's tone scale on a device".
+  Range3 through_aces{};
+  const bool aces_path = device >= 3 && device <= 6;
+  if (aces_path) {
+    const aces::AcesShaderParams ap = aces_params(p);
+    const Vec3 rgb_pre = aces::aces_rgb_pre(t.graded, p.wcs_to_ap0, ap);
+    Range3 pre = Range3::point(rgb_pre);
+    widen_noise(rgb_pre, kShaderNoise, &pre);
+    through_aces = aces::output_transform_tail_range(pre, ap);
+    // The arithmetic after the tone scale (the matrices, the clamps, linCV_2_Y) as the noise of
+    // its result, kShaderNoise of the largest channel around each end.
+    double top = 0;
+    for (int c = 0; c < 3; ++c) top = std::fmax(top, std::fabs(through_aces.hi[c]));
+    for (int c = 0; c < 3; ++c) {
+      through_aces.lo[c] -= kShaderNoise * top;
+      through_aces.hi[c] += kShaderNoise * top;
+    }
+    if (device <= 4) through_aces = apply_matrix(to_output, through_aces);
+  }
   for (int c = 0; c < 3; ++c) {
     if (!std::isfinite(pq_in[c])) {
       r.lo[c] = r.hi[c] = st2084::pq_from_nits(pq_in[c]);
@@ -527,6 +553,10 @@ Range3 device_texel_range(const ParamBlock& p, const grading::InverseGamma& inve
     if (matrices && std::isfinite(before.lo[c]) && std::isfinite(before.hi[c])) {
       lo = std::fmin(lo, before.lo[c]);
       hi = std::fmax(hi, before.hi[c]);
+    }
+    if (aces_path && std::isfinite(through_aces.lo[c]) && std::isfinite(through_aces.hi[c])) {
+      lo = std::fmin(lo, through_aces.lo[c]);
+      hi = std::fmax(hi, through_aces.hi[c]);
     }
     if (lo < 0) r.nan[c] = true;  // PQ (pow) of a negative value: NaN
     if (hi < 0) {
