@@ -469,8 +469,10 @@ Range3 widen_relative(Range3 r, double k) {
 // (pq_encode_on_device), the SDR encodes as nondecreasing maps plus their pow's own error.
 // `blend_film`: FilmColorNoGamma's range from the user-LUT blend's device range (film devices with
 // BLENDCOUNT > 1), admitted besides the widened point.
+// `aces_shader`: aces_params(p), computed once per bake by the caller (devices 3-6).
 Range3 device_texel_range(const ParamBlock& p, const grading::InverseGamma& inverse_gamma,
-                          const CombineLutsTrace& t, const Range3* blend_film = nullptr) {
+                          const aces::AcesShaderParams& aces_shader, const CombineLutsTrace& t,
+                          const Range3* blend_film = nullptr) {
   const int device = p.output_device;
   const Mat3& to_output = p.ap1_to_output;
   Range3 r;
@@ -528,11 +530,10 @@ Range3 device_texel_range(const ParamBlock& p, const grading::InverseGamma& inve
   Range3 through_aces{};
   const bool aces_path = device >= 3 && device <= 6;
   if (aces_path) {
-    const aces::AcesShaderParams ap = aces_params(p);
-    const Vec3 rgb_pre = aces::aces_rgb_pre(t.graded, p.wcs_to_ap0, ap);
+    const Vec3 rgb_pre = aces::aces_rgb_pre(t.graded, p.wcs_to_ap0, aces_shader);
     Range3 pre = Range3::point(rgb_pre);
     widen_noise(rgb_pre, kShaderNoise, &pre);
-    through_aces = aces::output_transform_tail_range(pre, ap);
+    through_aces = aces::output_transform_tail_range(pre, aces_shader);
     // The arithmetic after the tone scale (the matrices, the clamps, linCV_2_Y) as the noise of
     // its result, kShaderNoise of the largest channel around each end.
     double top = 0;
@@ -652,6 +653,7 @@ BakedLut bake_lut_device(const ParamBlock& p, const DevicePrecision& device, con
                                             p.inverse_gamma[2]};
   std::vector<Vec3> lo(lut.texels.size()), hi(lut.texels.size());
   std::vector<uint8_t> flags(lut.texels.size(), BakedLut::kAmbiguous);
+  const aces::AcesShaderParams aces_shader = aces_params(p);
   // The user-LUT blend (film devices, BLENDCOUNT > 1): its lookups' weight boxes and pow pair.
   const int d = p.output_device;
   const bool blend = luts && p.lut_blend_count > 1 && (d <= 2 || d == 9);
@@ -673,8 +675,9 @@ BakedLut bake_lut_device(const ParamBlock& p, const DevicePrecision& device, con
         Range3 blend_film;
         if (blend)
           blend_film = blend_film_range(p, *luts, device.sub_texel_bits, film, wcs, fade, t);
-        Range3 range = scale(device_texel_range(p, inverse_gamma, t, blend ? &blend_film : nullptr),
-                             1.0 / kLutScale);
+        Range3 range = scale(
+            device_texel_range(p, inverse_gamma, aces_shader, t, blend ? &blend_film : nullptr),
+            1.0 / kLutScale);
         range.include(v);
         store_either_way(p.lut_format, device.fp16_rte, range, &lo[i], &hi[i], &flags[i]);
         // The tight range (and the stored point) stay admissible.
