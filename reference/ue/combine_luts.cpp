@@ -469,10 +469,8 @@ Range3 widen_relative(Range3 r, double k) {
 // (pq_encode_on_device), the SDR encodes as nondecreasing maps plus their pow's own error.
 // `blend_film`: FilmColorNoGamma's range from the user-LUT blend's device range (film devices with
 // BLENDCOUNT > 1), admitted besides the widened point.
-// `aces_shader`: aces_params(p), computed once per bake by the caller (devices 3-6).
 Range3 device_texel_range(const ParamBlock& p, const grading::InverseGamma& inverse_gamma,
-                          const aces::AcesShaderParams& aces_shader, const CombineLutsTrace& t,
-                          const Range3* blend_film = nullptr) {
+                          const CombineLutsTrace& t, const Range3* blend_film = nullptr) {
   const int device = p.output_device;
   const Mat3& to_output = p.ap1_to_output;
   Range3 r;
@@ -519,31 +517,6 @@ Range3 device_texel_range(const ParamBlock& p, const grading::InverseGamma& inve
     before = device == 7 ? apply_matrix(to_output, apply_matrix(p.wcs_to_ap1, before))
                          : apply_matrix(to_output, before);
   }
-  // The same noise where the ACES output transform's cross-channel arithmetic ends (devices 3-6):
-  // on rrt_sweeteners' result (the working colour space → AP0 matrix, the glow, the red modifier,
-  // AP0 → AP1 and the global desaturation), carried through the tone scale and the matrices after
-  // it in exact arithmetic (aces::output_transform_tail_range). A saturated input's dark AP1
-  // channel is a small fraction of the largest: the largest channel's noise is a large relative
-  // error of it, which the tone scale keeps (its log-log slope near 1 and above), while the noise
-  // taken after the transform is relative to the tone-mapped largest channel, compressed by the
-  // shoulder. docs/precision.md, "The ACES output transform's tone scale on a device".
-  Range3 through_aces{};
-  const bool aces_path = device >= 3 && device <= 6;
-  if (aces_path) {
-    const Vec3 rgb_pre = aces::aces_rgb_pre(t.graded, p.wcs_to_ap0, aces_shader);
-    Range3 pre = Range3::point(rgb_pre);
-    widen_noise(rgb_pre, kShaderNoise, &pre);
-    through_aces = aces::output_transform_tail_range(pre, aces_shader);
-    // The arithmetic after the tone scale (the matrices, the clamps, linCV_2_Y) as the noise of
-    // its result, kShaderNoise of the largest channel around each end.
-    double top = 0;
-    for (int c = 0; c < 3; ++c) top = std::fmax(top, std::fabs(through_aces.hi[c]));
-    for (int c = 0; c < 3; ++c) {
-      through_aces.lo[c] -= kShaderNoise * top;
-      through_aces.hi[c] += kShaderNoise * top;
-    }
-    if (device <= 4) through_aces = apply_matrix(to_output, through_aces);
-  }
   for (int c = 0; c < 3; ++c) {
     if (!std::isfinite(pq_in[c])) {
       r.lo[c] = r.hi[c] = st2084::pq_from_nits(pq_in[c]);
@@ -554,10 +527,6 @@ Range3 device_texel_range(const ParamBlock& p, const grading::InverseGamma& inve
     if (matrices && std::isfinite(before.lo[c]) && std::isfinite(before.hi[c])) {
       lo = std::fmin(lo, before.lo[c]);
       hi = std::fmax(hi, before.hi[c]);
-    }
-    if (aces_path && std::isfinite(through_aces.lo[c]) && std::isfinite(through_aces.hi[c])) {
-      lo = std::fmin(lo, through_aces.lo[c]);
-      hi = std::fmax(hi, through_aces.hi[c]);
     }
     if (lo < 0) r.nan[c] = true;  // PQ (pow) of a negative value: NaN
     if (hi < 0) {
@@ -653,7 +622,6 @@ BakedLut bake_lut_device(const ParamBlock& p, const DevicePrecision& device, con
                                             p.inverse_gamma[2]};
   std::vector<Vec3> lo(lut.texels.size()), hi(lut.texels.size());
   std::vector<uint8_t> flags(lut.texels.size(), BakedLut::kAmbiguous);
-  const aces::AcesShaderParams aces_shader = aces_params(p);
   // The user-LUT blend (film devices, BLENDCOUNT > 1): its lookups' weight boxes and pow pair.
   const int d = p.output_device;
   const bool blend = luts && p.lut_blend_count > 1 && (d <= 2 || d == 9);
@@ -675,9 +643,8 @@ BakedLut bake_lut_device(const ParamBlock& p, const DevicePrecision& device, con
         Range3 blend_film;
         if (blend)
           blend_film = blend_film_range(p, *luts, device.sub_texel_bits, film, wcs, fade, t);
-        Range3 range = scale(
-            device_texel_range(p, inverse_gamma, aces_shader, t, blend ? &blend_film : nullptr),
-            1.0 / kLutScale);
+        Range3 range = scale(device_texel_range(p, inverse_gamma, t, blend ? &blend_film : nullptr),
+                             1.0 / kLutScale);
         range.include(v);
         store_either_way(p.lut_format, device.fp16_rte, range, &lo[i], &hi[i], &flags[i]);
         // The tight range (and the stored point) stay admissible.
