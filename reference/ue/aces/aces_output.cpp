@@ -2,9 +2,10 @@
 
 #include <cmath>
 
-#include "reference/ue/aces/aces_common.h"
 #include "color/d3d_math.h"
+#include "reference/color/noise_range.h"
 #include "reference/color/ue_matrices.h"
+#include "reference/ue/aces/aces_common.h"
 
 namespace hdrc::ref::aces {
 namespace {
@@ -121,9 +122,9 @@ bool gamut_compression_is_identity(const Vec3& aces, double gamut_compression) {
 Vec3 output_transform_precomputed(const Vec3& aces, const TsParams& params,
                                   const SstsPrecomputed& pre);
 
-// TonemapCommon.ush: ACESOutputTransforms1000/2000 body.
-Vec3 aces_output_transforms(const Vec3& scene_linear, const Mat3& wcs_to_ap0,
-                            const AcesShaderParams& params) {
+// TonemapCommon.ush: ACESOutputTransforms1000/2000 body up to outputTransform's input (AP0).
+Vec3 aces_output_input(const Vec3& scene_linear, const Mat3& wcs_to_ap0,
+                       const AcesShaderParams& params) {
   const double scm = params.scene_color_multiplier;
   Vec3 aces =
       wcs_to_ap0 * Vec3{scene_linear[0] * scm, scene_linear[1] * scm, scene_linear[2] * scm};
@@ -133,7 +134,14 @@ Vec3 aces_output_transforms(const Vec3& scene_linear, const Mat3& wcs_to_ap0,
     const Vec3 compressed = compress_color(aces);
     for (int i = 0; i < 3; ++i) aces[i] = lerp(aces[i], compressed[i], params.gamut_compression);
   }
-  return output_transform_precomputed(aces, params.aces_params, params.ssts_pre);
+  return aces;
+}
+
+// TonemapCommon.ush: ACESOutputTransforms1000/2000 body.
+Vec3 aces_output_transforms(const Vec3& scene_linear, const Mat3& wcs_to_ap0,
+                            const AcesShaderParams& params) {
+  return output_transform_precomputed(aces_output_input(scene_linear, wcs_to_ap0, params),
+                                      params.aces_params, params.ssts_pre);
 }
 
 }  // namespace
@@ -270,6 +278,32 @@ Vec3 aces_output_transforms_1000(const Vec3& scene_linear, const Mat3& wcs_to_ap
 Vec3 aces_output_transforms_2000(const Vec3& scene_linear, const Mat3& wcs_to_ap0,
                                  const AcesShaderParams& params) {
   return aces_output_transforms(scene_linear, wcs_to_ap0, params);
+}
+
+Vec3 aces_rgb_pre(const Vec3& scene_linear, const Mat3& wcs_to_ap0,
+                  const AcesShaderParams& params) {
+  return rrt_sweeteners(aces_output_input(scene_linear, wcs_to_ap0, params));
+}
+
+// outputTransform after rrt_sweeteners, on a range: ssts per channel is nondecreasing (ACES.ush:
+// the two B-spline halves have nondecreasing coefficients and meet the linear segments at their
+// knots, TsParams' slopes ≥ 0), so the range's end points map to the result's; Y_2_linCV and
+// linCV_2_Y are increasing affine maps (Y_MAX > Y_MIN); the clamps are nondecreasing; the matrix
+// pairs around limit_to_primaries are linear, each applied as its composed matrix (XYZ_2_AP1 ·
+// AP1_2_XYZ, one exact interval product: the real values the chain takes for every point of the
+// range, without the dependency widening of two separate interval products).
+Range3 output_transform_tail_range(const Range3& rgb_pre, const AcesShaderParams& params) {
+  const TsParams& c = params.aces_params;
+  const double y_min = c.min.y, y_max = c.max.y;
+  const Range3 lin_cv = map_nondecreasing(rgb_pre, [&](double v) {
+    return (ssts_precomputed(v, c, params.ssts_pre) - y_min) / (y_max - y_min);
+  });
+  const Mat3 round_trip = lit::kXyzToAp1 * lit::kAp1ToXyz;
+  const Range3 limited = map_nondecreasing(apply_matrix(round_trip, lin_cv),
+                                           [](double v) { return hlsl_clamp(v, 0.0, 1.0); });
+  return map_nondecreasing(apply_matrix(round_trip, limited), [y_max](double v) {
+    return hlsl_clamp(hlsl_clamp(v, 0.0, kHalfPosInf) * (y_max - 0.0) + 0.0, 0.0, kHalfPosInf);
+  });
 }
 
 }  // namespace hdrc::ref::aces

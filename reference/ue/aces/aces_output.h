@@ -19,8 +19,9 @@
 
 #include <array>
 
-#include "reference/ue/aces/aces_params.h"
 #include "color/vec.h"
+#include "reference/color/noise_range.h"
+#include "reference/ue/aces/aces_params.h"
 
 namespace hdrc::ref::aces {
 
@@ -89,5 +90,15 @@ Vec3 aces_output_transforms_1000(const Vec3& scene_linear, const Mat3& wcs_to_ap
                                  const AcesShaderParams& params);
 Vec3 aces_output_transforms_2000(const Vec3& scene_linear, const Mat3& wcs_to_ap0,
                                  const AcesShaderParams& params);
+
+// rrt_sweeteners' result (AP1) for ACESOutputTransforms1000/2000's input: the value outputTransform
+// passes to the tone scale (ssts), per channel.
+Vec3 aces_rgb_pre(const Vec3& scene_linear, const Mat3& wcs_to_ap0, const AcesShaderParams& params);
+
+// The range of outputTransform's result (nits, AP1) for every rrt_sweeteners result in `rgb_pre`:
+// the tone scale, Y_2_linCV, limit_to_primaries, the display matrix and linCV_2_Y evaluated on the
+// range in exact real arithmetic (each step nondecreasing per channel or linear). The device's own
+// float32 error of these steps is not in it (the caller adds it).
+Range3 output_transform_tail_range(const Range3& rgb_pre, const AcesShaderParams& params);
 
 }  // namespace hdrc::ref::aces

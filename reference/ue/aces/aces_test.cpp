@@ -182,6 +182,51 @@ TEST(OutputTransform, SpecHdrGreyChain) {
   }
 }
 
+// outputTransform after rrt_sweeteners on a range (output_transform_tail_range), against the spec's
+// ssts values above (docs/spec/ue55.md §13; 1000 nits). The matrices after the tone scale compose
+// to XYZ_2_AP1 · AP1_2_XYZ ≈ I (the float literals' off-diagonals ~1e-7), linCV = (y − 1e-4)/(1000
+// − 1e-4) stays below 1 (no limit_to_primaries clamp), so each channel's range is the tone scale's
+// range of that channel within 1e-5 relative.
+TEST(OutputTransform, TailRangeMapsEachChannelsEndsThroughTheToneScale) {
+  const AcesShaderParams p = shader_params(1000.0f);
+  hdrc::ref::Range3 grey = hdrc::ref::Range3::point({0.18, 0.18, 0.18});
+  const hdrc::ref::Range3 g = output_transform_tail_range(grey, p);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_LT(rel(g.lo[i], 15.0), 1e-5) << i;
+    EXPECT_LT(rel(g.hi[i], 15.0), 1e-5) << i;
+  }
+  // A saturated red (10 → 516.275 nits) with green and blue anywhere in [0.18, 0.27].
+  hdrc::ref::Range3 box;
+  box.lo = {10.0, 0.18, 0.18};
+  box.hi = {10.0, 0.27, 0.27};
+  const hdrc::ref::Range3 b = output_transform_tail_range(box, p);
+  EXPECT_LT(rel(b.lo[0], 516.275015), 1e-5);
+  EXPECT_LT(rel(b.hi[0], 516.275015), 1e-5);
+  for (int i = 1; i < 3; ++i) {
+    EXPECT_LT(rel(b.lo[i], 15.0), 1e-5) << i;
+    EXPECT_LT(rel(b.hi[i], 25.4976829), 1e-5) << i;
+  }
+}
+
+// Why the device range takes the shader noise before the tone scale (combine_luts.cpp
+// device_texel_range): rgb_pre = (10, 0.27, 0.27) with kShaderNoise = 2^-15 of its largest
+// channel, e = 10·2^-15 = 3.05e-4, is ±0.113 % of green. The tone scale's log-log slope around
+// 0.27 lies between its secants from the spec values, ln(25.4977/15)/ln(1.5) = 1.309 and
+// ln(107.437/25.4977)/ln(1/0.27) = 1.098, so green's output width is 25.4977 × [1.098, 1.309] ×
+// 2e/0.27 = [0.063, 0.076] nits: over twice the 2 × 2^-15 × 516.275 = 0.0315 nits that the same
+// noise taken after the transform (relative to the tone-mapped red) admits.
+TEST(OutputTransform, ShaderNoiseBeforeTheToneScaleWidensASaturatedPixelsDarkChannel) {
+  const AcesShaderParams p = shader_params(1000.0f);
+  const Vec3 pre{10.0, 0.27, 0.27};
+  hdrc::ref::Range3 r = hdrc::ref::Range3::point(pre);
+  ASSERT_TRUE(hdrc::ref::widen_noise(pre, hdrc::ref::kShaderNoise, &r));
+  const hdrc::ref::Range3 out = output_transform_tail_range(r, p);
+  const double width = out.hi[1] - out.lo[1];
+  EXPECT_GT(width, 0.063);
+  EXPECT_LT(width, 0.076);
+  EXPECT_GT(width, 2.0 * hdrc::ref::kShaderNoise * 516.275015);
+}
+
 // Forward/inverse pair: RenderCore.cpp's float inv_ssts undoes the shader ssts to float precision
 // where the curve has slope: the error in x is the float rounding of y (and of inv_ssts' float
 // arithmetic) divided by d log y / d log x, which goes to 0 at Min.x and Max.x (1.5e-4 in the
