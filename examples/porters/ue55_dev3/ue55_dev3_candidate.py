@@ -22,74 +22,10 @@ import sys
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, ".."))
 from exr_io import read_exr, write_exr  # noqa: E402
-
-NAN = float("nan")
-INF = float("inf")
-
+from hlsl_math import (NAN, INF, hmax, hmin, sat, clamp, lerp, hpow, hlog10, exp2, mul,  # noqa: E402
+                       to_half)
 
 # --- D3D intrinsics (docs/spec/semantics.md) ---
-def hmax(a, b):
-    if a != a:
-        return b
-    if b != b:
-        return a
-    return a if a > b else b
-
-
-def hmin(a, b):
-    if a != a:
-        return b
-    if b != b:
-        return a
-    return a if a < b else b
-
-
-def sat(x):
-    if x != x:
-        return 0.0
-    return 0.0 if x < 0.0 else (1.0 if x > 1.0 else x)
-
-
-def clamp(x, lo, hi):
-    return hmin(hmax(x, lo), hi)
-
-
-def lerp(a, b, t):
-    return a + t * (b - a)
-
-
-def hpow(x, y):
-    if x != x or y != y or x < 0.0:
-        return NAN
-    if x == 0.0:
-        return 0.0 if y > 0.0 else (NAN if y == 0.0 else INF)
-    if x == INF:
-        return INF if y > 0.0 else (0.0 if y < 0.0 else NAN)
-    try:
-        return math.pow(x, y)
-    except OverflowError:
-        return INF
-
-
-def hlog10(x):
-    if x != x or x < 0.0:
-        return NAN
-    if x == 0.0:
-        return -INF
-    if x == INF:
-        return INF
-    return math.log10(x)
-
-
-def exp2(x):
-    if x != x:
-        return NAN
-    try:
-        return math.pow(2.0, x)
-    except OverflowError:
-        return INF
-
-
 def fdiv(a, b):
     """IEEE-754 division (Python raises on x / 0): x / 0 = ±Inf, 0 / 0 = NaN."""
     if b == 0.0:
@@ -102,10 +38,6 @@ def fdiv(a, b):
 def smoothstep(e0, e1, x):
     t = sat((x - e0) / (e1 - e0))
     return t * t * (3.0 - 2.0 * t)
-
-
-def mul(m, v):
-    return [m[i][0] * v[0] + m[i][1] * v[1] + m[i][2] * v[2] for i in range(3)]
 
 
 def rows(flat):
@@ -380,15 +312,6 @@ def f32(x):
         return struct.unpack("<f", struct.pack("<f", x))[0]
     except OverflowError:
         return math.copysign(INF, x)
-
-
-def to_half(v):
-    if v != v:
-        return v
-    try:
-        return struct.unpack("<e", struct.pack("<e", v))[0]
-    except OverflowError:
-        return math.copysign(INF, v)
 
 
 def quantize(v, fmt):  # §4.12 storage (D-S1)

@@ -14,70 +14,14 @@ import argparse
 import json
 import math
 import os
-import struct
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 from exr_io import read_exr, write_exr  # noqa: E402
-
-NAN = float("nan")
-INF = float("inf")
-
+from hlsl_math import (NAN, INF, hmax, hmin, sat, clamp, lerp, hpow, hlog10, exp2, mul,  # noqa: E402
+                       to_half)
 
 # --- HLSL intrinsics with D3D's meaning (docs/spec/semantics.md, "The intrinsics") ---
-def hmax(a, b):  # maxNum: a NaN operand gives the other operand
-    if a != a:
-        return b
-    if b != b:
-        return a
-    return a if a > b else b
-
-
-def hmin(a, b):
-    if a != a:
-        return b
-    if b != b:
-        return a
-    return a if a < b else b
-
-
-def sat(x):  # saturate(NaN) = 0
-    if x != x:
-        return 0.0
-    return 0.0 if x < 0.0 else (1.0 if x > 1.0 else x)
-
-
-def clamp(x, lo, hi):
-    return hmin(hmax(x, lo), hi)
-
-
-def lerp(a, b, t):
-    return a + t * (b - a)
-
-
-def hpow(x, y):  # pow = exp2(y log2 x): NaN for x < 0, pow(0, y > 0) = 0, pow(0, 0) = NaN
-    if x != x or y != y or x < 0.0:
-        return NAN
-    if x == 0.0:
-        return 0.0 if y > 0.0 else (NAN if y == 0.0 else INF)
-    if x == INF:
-        return INF if y > 0.0 else (0.0 if y < 0.0 else NAN)
-    try:
-        return math.pow(x, y)
-    except OverflowError:
-        return INF
-
-
-def hlog10(x):
-    if x != x or x < 0.0:
-        return NAN
-    if x == 0.0:
-        return -INF
-    if x == INF:
-        return INF
-    return math.log10(x)
-
-
 def hlog2(x):
     if x != x or x < 0.0:
         return NAN
@@ -86,13 +30,6 @@ def hlog2(x):
     if x == INF:
         return INF
     return math.log2(x)
-
-
-def exp2(x):
-    try:
-        return math.pow(2.0, x)
-    except OverflowError:
-        return INF
 
 
 def exp10(x):
@@ -112,10 +49,6 @@ def smoothstep(e0, e1, x):
         return 1.0 if x > e0 else 0.0
     t = sat((x - e0) / (e1 - e0))
     return t * t * (3.0 - 2.0 * t)
-
-
-def mul(m, v):
-    return [m[i][0] * v[0] + m[i][1] * v[1] + m[i][2] * v[2] for i in range(3)]
 
 
 def matmul(a, b):
@@ -383,15 +316,6 @@ class Grade:
         elif self.tonemap == 2:
             x = aces_fit(mul(SRGB_2_AP0, x))
         return [sat(v) for v in x]
-
-
-def to_half(v):
-    if v != v:
-        return v
-    try:
-        return struct.unpack("<e", struct.pack("<e", v))[0]
-    except OverflowError:
-        return math.copysign(INF, v)
 
 
 def quantize(v, fmt):
