@@ -14,8 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "core/pipeline.h"
-#include "runner/case_loader.h"
+#include "runner/h200_references.h"
 
 namespace {
 
@@ -86,37 +85,15 @@ const std::vector<H200Value>& h200_values() {
   return rows;
 }
 
-std::string pipeline_of(const std::string& id) {
-  if (id.rfind("unity_urp/", 0) == 0) return "unity_urp";
-  if (id.rfind("pq_grading/", 0) == 0) return "pq_grading";
-  return "ue55";
-}
-
 TEST(H200Filter, ValuesAgainstTheDeviceRangesAtTheCtsFilterPrecision) {
-  const hdrc::LoadedCases loaded = hdrc::load_cases(kCasesDir);
-  std::map<std::string, hdrc::Image> refs;
+  hdrc::test::H200References refs(kCasesDir);
   std::map<std::string, std::pair<int, int>> per_case;  // admitted, outside
   int in = 0, out = 0;
   for (const H200Value& row : h200_values()) {
-    auto it = refs.find(row.id);
-    if (it == refs.end()) {
-      const hdrc::Case* found = nullptr;
-      for (const hdrc::Case& c : loaded.cases)
-        if (c.id == row.id) found = &c;
-      ASSERT_NE(found, nullptr) << row.id;
-      auto rc = hdrc::resolve_case(*found);
-      ASSERT_TRUE(rc) << rc.error().to_string();
-      rc->device_allowances = true;
-      rc->device.sub_texel_bits = 8;
-      rc->device.mipmap_bits = 8;
-      rc->device.fp16_rte = true;
-      const hdrc::Pipeline* pipeline = hdrc::find_pipeline(pipeline_of(row.id));
-      ASSERT_NE(pipeline, nullptr) << row.id;
-      auto img = pipeline->reference(*rc, false);
-      ASSERT_TRUE(img) << img.error().to_string();
-      it = refs.emplace(row.id, std::move(*img)).first;
-    }
-    const hdrc::Image& ref = it->second;
+    std::string error;
+    const hdrc::Image* image = refs.get(row.id, &error);
+    ASSERT_NE(image, nullptr) << error;
+    const hdrc::Image& ref = *image;
     const double r = ref.px(row.x, row.y)[row.channel];
     // The same case and pixel as the H200's run: the tight reference it was compared with.
     EXPECT_NEAR(r, row.reference, 1e-6 * std::fmax(1.0, std::fabs(r))) << row.id;

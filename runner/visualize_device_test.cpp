@@ -7,11 +7,10 @@
 #include <gtest/gtest.h>
 
 #include <array>
-#include <map>
 #include <string>
 
-#include "reference/reference_engine.h"
 #include "runner/case_loader.h"
+#include "runner/h200_references.h"
 
 namespace {
 
@@ -213,28 +212,14 @@ TEST(VisualizeDevice, H200CandidatesAgainstTheDeviceRanges) {
        {6.40898943e-05, 0, 0},
        true},  // allow miss, R
   };
-  const hdrc::LoadedCases loaded = hdrc::load_cases(kCasesDir);
-  std::map<std::string, hdrc::Image> refs;
+  hdrc::test::H200References refs(kCasesDir);
   int in = 0, out = 0;
   for (const H200Pixel& row : rows) {
-    auto it = refs.find(row.id);
-    if (it == refs.end()) {
-      const hdrc::Case* found = nullptr;
-      for (const hdrc::Case& c : loaded.cases)
-        if (c.id == row.id) found = &c;
-      ASSERT_NE(found, nullptr) << row.id;
-      auto rc = hdrc::resolve_case(*found);
-      ASSERT_TRUE(rc) << rc.error().to_string();
-      rc->device_allowances = true;
-      rc->device.sub_texel_bits = 8;
-      rc->device.mipmap_bits = 8;
-      rc->device.fp16_rte = true;
-      auto img = hdrc::ref::run_ue55(*rc, false);
-      ASSERT_TRUE(img) << img.error().to_string();
-      it = refs.emplace(row.id, std::move(*img)).first;
-    }
+    std::string error;
+    const hdrc::Image* image = refs.get(row.id, &error);
+    ASSERT_NE(image, nullptr) << error;
     std::string why;
-    const bool ok = admitted(it->second, row.x, row.y, row.candidate, &why);
+    const bool ok = admitted(*image, row.x, row.y, row.candidate, &why);
     (ok ? in : out)++;
     if (row.admitted) {
       EXPECT_TRUE(ok) << row.id << " (" << row.x << ", " << row.y << "):" << why;
