@@ -587,7 +587,10 @@ std::string pixel_rows(const json& c, bool probe) {
   // Entries of one pixel and channel (most metrics' worst values are the same pixel) are one row
   // that names them all, in this order.
   std::vector<std::pair<std::string, const json*>> rows;
-  for (const auto& [label, p] : px) {
+  for (const auto& entry : px) {
+    // Named copies, not a structured binding: clang 14 (the sanitizer build) cannot capture one.
+    const std::string& label = entry.first;
+    const json* p = entry.second;
     auto same_pixel = [&](const auto& row) {
       for (const char* f : {"x", "y", "channel", "input", "reference", "candidate"})
         if (text(get(*row.second, {f})) != text(get(*p, {f}))) return false;

@@ -160,7 +160,7 @@ const BadCase kBadCases[] = {
     {"unknown_tolerance_key",
      R"({"stage": "shaper", "input": {"stimulus": "log_ramp"}, "tolerance": {"pq_code_10": 1, "reason": "x"}})",
      "t.json: /tolerance/pq_code_10: unknown key 'pq_code_10'; valid choices: linear_abs, "
-     "linear_rel, pq_code10, pq_code12, delta_e_itp, dither, rel_floor, reason"},
+     "linear_rel, pq_code10, pq_code12, delta_e_itp, dither, rel_floor, pq_near_black, reason"},
     {"lut_missing",
      R"({"pipeline": "pq_grading", "stage": "pq_grade", "input": {"stimulus": "log_ramp"}})",
      "t.json: /lut: stage pq_grade needs a user LUT; valid choices: \"lut\": a .cube path under "
