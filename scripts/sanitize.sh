@@ -68,7 +68,11 @@ cd "$build"
 # each), the shard listing of the whole suite (Cli.ShardsPartitionTheCaseList, 88 s), the CI
 # image runs (CliImages.*, 55 s) and the diagnosis over a sample of passing cases
 # (DiagnosisOnPassingCases.*, 27 s; the detectors run under the sanitizers in Diagnosis*.*).
+# Left out since 2026-11-27 (issue 24): the H200's recorded values against the references' ranges
+# at the CTS's filter precision (H200Filter.*, 16 whole cases' references with device ranges, a
+# replay like VisualizeDevice.H200*; filter_taps and its callers are unit-tested here in
+# DeviceAllowance.* and the pipelines' device-range tests).
 # The unit tests run as GoogleTest shards (CMakeLists.txt, hdrc_discover_tests), so the tests left
 # out are named to GoogleTest; a filter of the caller's own replaces this one.
-export GTEST_FILTER="${GTEST_FILTER:--*DevicesThreeAndFourOnlyOverTheWholeSuite*:*ThreeShardsMergedEqualOneUnshardedRun*:*ValidationLayerIsClean*:Hygiene.*Validation*:Pipelines.Planted*:DitherPlanted.*:VisualizeDevice.H200*:*_too_big:Pipelines.WorstCaseDevice*:*MergeSandboxInput.*:OutputSet.*Merge*:Budget.*:ParamsContract.EveryExportedParamsJsonMatchesTheSchema:Cli.ShardsPartitionTheCaseList:CliImages.*:DiagnosisOnPassingCases.*}"
+export GTEST_FILTER="${GTEST_FILTER:--*DevicesThreeAndFourOnlyOverTheWholeSuite*:*ThreeShardsMergedEqualOneUnshardedRun*:*ValidationLayerIsClean*:Hygiene.*Validation*:Pipelines.Planted*:DitherPlanted.*:VisualizeDevice.H200*:*_too_big:Pipelines.WorstCaseDevice*:*MergeSandboxInput.*:OutputSet.*Merge*:Budget.*:ParamsContract.EveryExportedParamsJsonMatchesTheSchema:Cli.ShardsPartitionTheCaseList:CliImages.*:DiagnosisOnPassingCases.*:H200Filter.*}"
 exec ctest --output-on-failure -j"$(nproc)" -L 'unit|conformance|fuzz' "$@"
