@@ -528,10 +528,9 @@ std::set<std::string> anchors_of(const fs::path& page) {
 TEST(SpecPages, LinksStayInsideTheRepository) {
   std::vector<fs::path> pages = spec_pages();
   // and the pages that cite sections of docs/spec/ue55.md and unity_urp.md by link.
-  for (const char* p :
-       {"operators.md", "pq_grading.md", "candidate-protocol.md", "unity_urp.md", "diagnosis.md",
-        "ue55-decisions.md", "unity_urp-spec.md", "ue55-lut-blend-spec.md", "diff-metrics.md",
-        "cases.md"})
+  for (const char* p : {"operators.md", "pq_grading.md", "candidate-protocol.md", "unity_urp.md",
+                        "diagnosis.md", "ue55-decisions.md", "unity_urp-spec.md",
+                        "ue55-lut-blend-spec.md", "diff-metrics.md", "cases.md"})
     pages.push_back(kRoot / "docs" / p);
   for (const auto& e : fs::directory_iterator(kRoot / "docs" / "candidates"))
     if (e.path().extension() == ".md") pages.push_back(e.path());
