@@ -63,6 +63,16 @@ def hlog10(x):
     return math.log10(x)
 
 
+def hlog2(x):
+    if x != x or x < 0.0:
+        return NAN
+    if x == 0.0:
+        return -INF
+    if x == INF:
+        return INF
+    return math.log2(x)
+
+
 def exp2(x):
     if x != x:
         return NAN

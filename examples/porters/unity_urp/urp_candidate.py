@@ -19,19 +19,9 @@ import sys
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 from exr_io import read_exr, write_exr  # noqa: E402
 from hlsl_math import (NAN, INF, hmax, hmin, sat, clamp, lerp, hpow, hlog10, exp2, mul,  # noqa: E402
-                       to_half)
+                       to_half, hlog2)
 
 # --- HLSL intrinsics with D3D's meaning (docs/spec/semantics.md, "The intrinsics") ---
-def hlog2(x):
-    if x != x or x < 0.0:
-        return NAN
-    if x == 0.0:
-        return -INF
-    if x == INF:
-        return INF
-    return math.log2(x)
-
-
 def exp10(x):
     try:
         return math.pow(10.0, x)
