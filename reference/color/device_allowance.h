@@ -70,6 +70,33 @@ inline TapBox linear_tap_box(double t, int size, int bits, double coord_noise) {
   return b;
 }
 
+// The unnormalised coordinate as VK-GL-CTS lets a conformant device form it
+// (vktSampleVerifier.cpp, SampleVerifier::verifySampleMipmapLevel and calcUnnormalizedCoordRange):
+// the normalised coordinate u, then its product u·size, each rounded outward in
+// FloatFormat(-32, 32, 16) — 16 fraction bits, "accurate to about 1 part in 10^5" as the
+// specification's fundamentals-numerics asks of sampling — before calcTexelGridCoordRange snaps
+// the range's ends to the sub-texel grid. The texel-space interval [t_lo, t_hi] (t = u·size − 1/2)
+// widened so: at the far end of a 1024-texel strip about ±2^-6 texel (4 steps of an 8-bit
+// weight), along a 17-texel LUT axis at most about ±2^-12. docs/precision.md, "Filter
+// arithmetic".
+inline double coord_format_round(double v, bool upward) {
+  if (v == 0 || !std::isfinite(v)) return v;
+  int e = 0;
+  std::frexp(v, &e);  // |v| in [2^(e−1), 2^e)
+  const int quantum = std::max(e - 1, -32) - 16;
+  const double scaled = std::ldexp(v, -quantum);
+  return std::ldexp(upward ? std::ceil(scaled) : std::floor(scaled), quantum);
+}
+struct CoordRange {
+  double lo = 0, hi = 0;
+};
+inline CoordRange cts_texel_range(double t_lo, double t_hi, int size) {
+  const double s = static_cast<double>(size);
+  const double u_lo = coord_format_round((t_lo + 0.5) / s, false);
+  const double u_hi = coord_format_round((t_hi + 0.5) / s, true);
+  return {coord_format_round(u_lo * s, false) - 0.5, coord_format_round(u_hi * s, true) - 0.5};
+}
+
 // The same where the coordinate's noise may carry it across a texel plane (a coordinate at or near
 // a texel centre: a lattice stimulus, the first texel of an unwrapped LUT's slice): the filter then
 // reads another pair of texels, with the lower one's weight near 1 − 2^-bits (the box of a
@@ -77,8 +104,11 @@ inline TapBox linear_tap_box(double t, int size, int bits, double coord_noise) {
 // strictly between them (weight 0 of the upper neighbour there, the value the piece below reaches
 // at weight 1): within one piece the filtered value is linear in the weight, so its extremes over
 // the whole range lie among these boxes' corners (as strip_device_range.h's candidates).
+// The coordinate's range also takes the CTS's rounding of the unnormalised coordinate
+// (cts_texel_range): the boxes a hardware filter may use.
 inline std::vector<TapBox> linear_tap_boxes(double t, int size, int bits, double coord_noise) {
-  const double a = t - coord_noise, b = t + coord_noise;
+  const CoordRange range = cts_texel_range(t - coord_noise, t + coord_noise, size);
+  const double a = range.lo, b = range.hi;
   std::vector<TapBox> boxes = {linear_tap_box(a, size, bits, 0.0)};
   for (double k = std::floor(a) + 1; k < b; k += 1)
     boxes.push_back(linear_tap_box(k, size, bits, 0.0));
@@ -134,18 +164,35 @@ inline double filter_round(double d, bool upward, const FilterArithmetic& fa) {
 // axis to the first, rounded outward after every factor; the sum adds the taps in index order,
 // rounded outward after every addition (interval arithmetic throughout). With kExact it is the
 // exact weighted sum of the lower and of the upper bounds.
+//
+// `weight_bits` > 0: each tap's weight, the product of its axes' weights, also snaps to the
+// nearest point of the 2^-weight_bits grid (a tie either way), each on its own (the weights' sum
+// need not stay 1). The
+// specification's VkPhysicalDeviceLimits::subTexelPrecisionBits: "Sub-texel values calculated
+// during image sampling will snap to these locations when generating the filtered results" — a
+// tap's weight is such a value (the fraction of the texel's area under the footprint), so with
+// weight_bits = subTexelPrecisionBits this is the sentence read for every sub-texel value, not only
+// each axis's fraction (whose rounding the CTS leaves open: either neighbour, linear_tap_box). A
+// conformant device does it: the NVIDIA H200's bilinear results lie at the edges of these ranges
+// (docs/precision.md, "Filter arithmetic").
 struct FilteredRange {
   double lo = 0, hi = 0;
 };
 inline FilteredRange filter_taps(int axes, const double* alpha, const double* t_lo,
-                                 const double* t_hi, const FilterArithmetic& fa) {
+                                 const double* t_hi, const FilterArithmetic& fa,
+                                 int weight_bits = 0) {
   FilteredRange r;
+  const double grid = std::ldexp(1.0, weight_bits);
   for (int k = 0; k < (1 << axes); ++k) {
     double w_lo = 1, w_hi = 1;
     for (int a = axes - 1; a >= 0; --a) {
       const double f = (k >> a) & 1 ? alpha[a] : 1 - alpha[a];
       w_lo = filter_round(w_lo * f, false, fa);  // weights are non-negative
       w_hi = filter_round(w_hi * f, true, fa);
+    }
+    if (weight_bits > 0 && axes > 1) {  // one axis: the weight is the fraction, already snapped
+      w_lo = filter_round(std::ceil(w_lo * grid - 0.5) / grid, false, fa);  // a tie: down
+      w_hi = filter_round(std::floor(w_hi * grid + 0.5) / grid, true, fa);  // a tie: up
     }
     if (w_hi == 0) continue;  // 0·t = 0 for any finite texel; a NaN texel is the caller's flag
     const double p[4] = {w_lo * t_lo[k], w_lo * t_hi[k], w_hi * t_lo[k], w_hi * t_hi[k]};

@@ -93,6 +93,74 @@ TEST(DeviceAllowance, TwoByTwoFilterRoundsEachProductWeightInTheFormat) {
   EXPECT_DOUBLE_EQ(w.lo, 1956.0 / 65536);
   EXPECT_DOUBLE_EQ(w.hi, 1956.0 / 65536);
   EXPECT_LT(w.hi, 8.0 / 256);
+  // With the tap's weight on the 8-bit grid as well (weight_bits: the specification's "sub-texel
+  // values ... will snap to these locations"): 1956/65536 = 7.64/256 snaps to 8/256, the H200's.
+  const FilteredRange snapped = filter_taps(2, h200, one, one, FilterArithmetic::float16(), 8);
+  EXPECT_DOUBLE_EQ(snapped.lo, 8.0 / 256);
+  EXPECT_DOUBLE_EQ(snapped.hi, 8.0 / 256);
+}
+
+// Each tap's weight snapped to the nearest 2^-bits point, by hand (filter_taps, weight_bits 8):
+// α = 77/256 along x, β = 1/2 along y. Tap 1 (upper x, lower y) weighs α(1 − β) = 38.5/256, a
+// tie: either 38/256 or 39/256. Tap 0 weighs (1 − α)(1 − β) = 89.5/256, also a tie. At α = β =
+// 7/256 the taps weigh 249²/65536 = 242.19/256 → 242/256, 249·7/65536 = 6.81/256 → 7/256 and
+// 49/65536 = 0.19/256 → 0 (no tie: one value each). One axis: the weight is the fraction itself.
+TEST(DeviceAllowance, TapWeightsSnapToTheNearestGridPoint) {
+  const double alpha[2] = {77.0 / 256, 0.5};
+  const double tap1[4] = {0, 1, 0, 0}, tap0[4] = {1, 0, 0, 0};
+  FilteredRange r = filter_taps(2, alpha, tap1, tap1, FilterArithmetic::exact(), 8);
+  EXPECT_DOUBLE_EQ(r.lo, 38.0 / 256);
+  EXPECT_DOUBLE_EQ(r.hi, 39.0 / 256);
+  r = filter_taps(2, alpha, tap0, tap0, FilterArithmetic::exact(), 8);
+  EXPECT_DOUBLE_EQ(r.lo, 89.0 / 256);
+  EXPECT_DOUBLE_EQ(r.hi, 90.0 / 256);
+  const double seven[2] = {7.0 / 256, 7.0 / 256};
+  const double tap3[4] = {0, 0, 0, 1}, tap2[4] = {0, 0, 1, 0};
+  r = filter_taps(2, seven, tap0, tap0, FilterArithmetic::exact(), 8);
+  EXPECT_DOUBLE_EQ(r.lo, 242.0 / 256);
+  EXPECT_DOUBLE_EQ(r.hi, 242.0 / 256);
+  r = filter_taps(2, seven, tap2, tap2, FilterArithmetic::exact(), 8);
+  EXPECT_DOUBLE_EQ(r.lo, 7.0 / 256);
+  EXPECT_DOUBLE_EQ(r.hi, 7.0 / 256);
+  r = filter_taps(2, seven, tap3, tap3, FilterArithmetic::exact(), 8);
+  EXPECT_EQ(r.lo, 0.0);
+  EXPECT_EQ(r.hi, 0.0);
+  // Without weight_bits the exact products.
+  r = filter_taps(2, seven, tap3, tap3, FilterArithmetic::exact());
+  EXPECT_DOUBLE_EQ(r.hi, 49.0 / 65536);
+  const double one_axis[1] = {0.3};
+  const double t01[2] = {0, 1};
+  r = filter_taps(1, one_axis, t01, t01, FilterArithmetic::exact(), 8);
+  EXPECT_DOUBLE_EQ(r.hi, 0.3);
+}
+
+// The CTS's unnormalised coordinate (cts_texel_range: u, then u·size, rounded outward to 16
+// fraction bits), by hand. Along a 1024-texel strip at t = 1000.3: u = 1000.8/1024 = 0.97734375,
+// in [1/2, 1) the quantum 2^-17: u·2^17 = 128102.4, so u in [128102, 128103]/2^17; times 1024:
+// [1000.796875, 1000.8046875], multiples of 2^-7, the quantum of the product in [512, 1024). So t
+// in [1000.296875, 1000.3046875]: the 8-bit box of the fraction 0.3 (76.8/256) is [76, 78]/256,
+// not [76, 77]/256. Along 17 texels at t = 4.72 (the fraction 184.32/256) the widening is about
+// 1.3e-4 texel: the box stays [184, 185]/256.
+TEST(DeviceAllowance, CtsCoordinateRoundingWidensALongStripsBox) {
+  const CoordRange r = cts_texel_range(1000.3, 1000.3, 1024);
+  EXPECT_DOUBLE_EQ(r.lo, 1000.296875);
+  EXPECT_DOUBLE_EQ(r.hi, 1000.3046875);
+  // linear_tap_boxes gives the boxes at both ends of the range (the filter is linear in the
+  // weight between them): the fractions 76/256 and 78/256, both of taps (1000, 1001).
+  const std::vector<TapBox> strip = linear_tap_boxes(1000.3, 1024, 8, 0.0);
+  ASSERT_EQ(strip.size(), 2u);
+  EXPECT_EQ(strip[0].i0, 1000);
+  EXPECT_EQ(strip[1].i0, 1000);
+  EXPECT_DOUBLE_EQ(strip[0].f_lo, 76.0 / 256);
+  EXPECT_DOUBLE_EQ(strip[1].f_hi, 78.0 / 256);
+  const std::vector<TapBox> lut = linear_tap_boxes(4.72, 17, 8, 0.0);
+  ASSERT_FALSE(lut.empty());
+  EXPECT_DOUBLE_EQ(lut.front().f_lo, 184.0 / 256);
+  EXPECT_DOUBLE_EQ(lut.back().f_hi, 185.0 / 256);
+  // A coordinate the format holds exactly stays a point (u = 1/2 on 2 texels: t = 0.5).
+  const CoordRange exact = cts_texel_range(0.5, 0.5, 2);
+  EXPECT_EQ(exact.lo, 0.5);
+  EXPECT_EQ(exact.hi, 0.5);
 }
 
 // filter_round by hand: UNORM b on the grid 1/(2^b − 1), floats on their significand, the

@@ -46,12 +46,11 @@ struct StripBounds {
 // all; spirv_precision.h). NaN texels make the
 // channel's NaN admissible.
 //
-// `snap_weights`: each of a tap's four bilinear weights (the products (1 − α)(1 − β), α(1 − β),
-// ...) also snaps to the 2^-bits grid, either way and each on its own (their sum need not stay 1):
-// the specification's "Sub-texel values calculated during image sampling will snap to these
-// locations when generating the filtered results" (VkPhysicalDeviceLimits::subTexelPrecisionBits)
-// read for every sub-texel value of the filter, the weights included, not only the fractions α and
-// β.
+// `snap_weights` (the default): each of a tap's four bilinear weights (the products (1 − α)(1 − β),
+// α(1 − β), ...) also snaps to the 2^-bits grid, either way and each on its own
+// (device_allowance.h filter_taps, weight_bits: the specification's "Sub-texel values calculated
+// during image sampling will snap to these locations" read for every sub-texel value of the
+// filter). False: only each axis's fraction (a hand check of the per-axis box).
 //
 // `fa`: the precision of the filter's own arithmetic (device_allowance.h filter_taps, VK-GL-CTS's
 // filtering precision of the strip's storage format): each product weight and partial sum rounded
@@ -59,17 +58,25 @@ struct StripBounds {
 inline Range3 strip_lookup_device_range(const StripBounds& s, const Range3& t, int bits,
                                         double coord_noise,
                                         const FilterArithmetic& fa = FilterArithmetic::exact(),
-                                        bool snap_weights = false) {
+                                        bool snap_weights = true) {
   const int n = s.size;
   const int width = n * n;
   // The candidate coordinates per axis, in texel units: both ends of the coordinate's range
   // widened by the noise, and the texel planes strictly between them (the noise may carry a
   // coordinate across a plane: a strip's x below a slice's first texel reads the previous slice's
   // last one). At each candidate the weight takes its sub-texel box.
-  auto candidates = [](double a, double b, double noise) {
+  // `size` > 0: a hardware coordinate along an axis of that many texels, whose range also takes
+  // the CTS's rounding of the unnormalised coordinate (device_allowance.h cts_texel_range); 0: the
+  // shader's own slice coordinate.
+  auto candidates = [](double a, double b, double noise, int size) {
     std::vector<double> v;
     a -= noise;
     b += noise;
+    if (size > 0) {
+      const CoordRange range = cts_texel_range(a, b, size);
+      a = range.lo;
+      b = range.hi;
+    }
     v.push_back(a);
     for (double k = std::floor(a) + 1; k < b; k += 1) v.push_back(k);
     if (b > a) v.push_back(b);
@@ -81,8 +88,8 @@ inline Range3 strip_lookup_device_range(const StripBounds& s, const Range3& t, i
     a[c] = std::isnan(t.lo[c]) ? 0.0 : std::clamp(t.lo[c], 0.0, 1.0) * (n - 1);
     b[c] = std::isnan(t.hi[c]) ? a[c] : std::max(a[c], std::clamp(t.hi[c], 0.0, 1.0) * (n - 1));
   }
-  const std::vector<double> pos_g = candidates(a[1], b[1], coord_noise * n);
-  const std::vector<double> pos_b = candidates(a[2], b[2], coord_noise * n);
+  const std::vector<double> pos_g = candidates(a[1], b[1], coord_noise * n, n);
+  const std::vector<double> pos_b = candidates(a[2], b[2], coord_noise * n, 0);
   Range3 r;
   for (int c = 0; c < 3; ++c) {
     r.lo[c] = HUGE_VAL;
@@ -102,8 +109,8 @@ inline Range3 strip_lookup_device_range(const StripBounds& s, const Range3& t, i
           s_lo[k][c] = HUGE_VAL;
           s_hi[k][c] = -HUGE_VAL;
         }
-        for (const double px :
-             candidates(a[0] + n * (slice + k), b[0] + n * (slice + k), coord_noise * width)) {
+        for (const double px : candidates(a[0] + n * (slice + k), b[0] + n * (slice + k),
+                                          coord_noise * width, width)) {
           const TapBox tx = linear_tap_box(px, width, bits, 0.0);
           for (const double fx : {tx.f_lo, tx.f_hi})
             for (const double fy : {ty.f_lo, ty.f_hi}) {
@@ -111,7 +118,6 @@ inline Range3 strip_lookup_device_range(const StripBounds& s, const Range3& t, i
                            w11 = fx * fy;
               const double alpha[2] = {fx, fy};
               for (int c = 0; c < 3; ++c) {
-                double lo = 0, hi = 0;
                 // Tap j: bit 0 the upper x texel, bit 1 the upper y texel (filter_taps' order).
                 const int xs[4] = {tx.i0, tx.i1, tx.i0, tx.i1},
                           ys[4] = {ty.i0, ty.i0, ty.i1, ty.i1};
@@ -124,20 +130,11 @@ inline Range3 strip_lookup_device_range(const StripBounds& s, const Range3& t, i
                   const double tl = tls[j], th = ths[j];
                   if (std::isnan(tl) || std::isnan(th)) nan[c] = true;
                   least[c] = std::fmin(least[c], tl);
-                  if (snap_weights) {
-                    const double g = std::ldexp(1.0, bits);
-                    const double wl = std::floor(ws[j] * g) / g, wh = std::ceil(ws[j] * g) / g;
-                    lo += std::fmin(wl * tl, wh * tl);
-                    hi += std::fmax(wl * th, wh * th);
-                  }
                 }
-                if (!snap_weights) {
-                  const FilteredRange f = filter_taps(2, alpha, tls, ths, fa);
-                  lo = f.lo;
-                  hi = f.hi;
-                }
-                s_lo[k][c] = std::fmin(s_lo[k][c], lo);
-                s_hi[k][c] = std::fmax(s_hi[k][c], hi);
+                const FilteredRange f =
+                    filter_taps(2, alpha, tls, ths, fa, snap_weights ? bits : 0);
+                s_lo[k][c] = std::fmin(s_lo[k][c], f.lo);
+                s_hi[k][c] = std::fmax(s_hi[k][c], f.hi);
               }
             }
         }

@@ -779,7 +779,8 @@ bool sample_lut_device_range(const BakedLut& lut, const Vec3& encoded, int bits,
   // derived arithmetic noise of the encode, kShaderNoise of the coordinate, in texel units.
   const double coord_noise = kShaderNoise * n;
   // The filter's own arithmetic in the storage format's precision (device_allowance.h
-  // FilterArithmetic, VK-GL-CTS's filtering precision): 10-bit UNORM, RGBA16F or float32.
+  // FilterArithmetic, VK-GL-CTS's filtering precision): 10-bit UNORM, RGBA16F or float32; each
+  // tap's weight on the sub-texel grid (filter_taps' weight_bits).
   const FilterArithmetic fa = lut.lut_format == 0   ? FilterArithmetic::unorm(10)
                               : lut.lut_format == 1 ? FilterArithmetic::float16()
                                                     : FilterArithmetic::float32();
@@ -829,7 +830,7 @@ bool sample_lut_device_range(const BakedLut& lut, const Vec3& encoded, int bits,
           }
         }
         for (int c = 0; c < 3; ++c) {
-          const FilteredRange f = filter_taps(axes, alpha, t_lo[c], t_hi[c], fa);
+          const FilteredRange f = filter_taps(axes, alpha, t_lo[c], t_hi[c], fa, bits);
           (*mins)[c] = std::fmin((*mins)[c], f.lo);
           (*maxs)[c] = std::fmax((*maxs)[c], f.hi);
         }

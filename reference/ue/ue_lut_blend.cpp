@@ -113,6 +113,11 @@ Interval rounded_mul_add(Interval a, Interval b, Interval c) {
 int tap_boxes(double t_lo, double t_hi, int size, int bits, TapBox out[2]) {
   const double grid = std::ldexp(1.0, bits);
   int n = 0;
+  // The hardware's unnormalised coordinate as the CTS bounds it (device_allowance.h
+  // cts_texel_range).
+  const CoordRange range = cts_texel_range(t_lo, t_hi, size);
+  t_lo = range.lo;
+  t_hi = range.hi;
   if (t_lo == t_hi) {  // a point: linear_tap_box itself
     out[n++] = linear_tap_box(t_lo, size, bits, 0.0);
     return n;
@@ -149,13 +154,15 @@ void bilinear_extremes(const UeLutTexture& lut, Interval u, Interval v, int bits
       for (const double fx : {x.f_lo, x.f_hi})
         for (const double fy : {y.f_lo, y.f_hi}) {
           // The filter's own arithmetic in float32, the precision of the RGBA32F strip the engine
-          // binds (device_allowance.h filter_taps; tap k: bit 0 the upper x, bit 1 the upper y).
+          // binds, each tap's weight on the sub-texel grid (device_allowance.h filter_taps; tap k:
+          // bit 0 the upper x, bit 1 the upper y).
           const double alpha[2] = {fx, fy};
           const Vec3* t[4] = {&lut.at(x.i0, y.i0), &lut.at(x.i1, y.i0), &lut.at(x.i0, y.i1),
                               &lut.at(x.i1, y.i1)};
           for (int c = 0; c < 3; ++c) {
             const double tc[4] = {(*t[0])[c], (*t[1])[c], (*t[2])[c], (*t[3])[c]};
-            const FilteredRange f = filter_taps(2, alpha, tc, tc, FilterArithmetic::float32());
+            const FilteredRange f =
+                filter_taps(2, alpha, tc, tc, FilterArithmetic::float32(), bits);
             (*lo)[c] = std::fmin((*lo)[c], f.lo);
             (*hi)[c] = std::fmax((*hi)[c], f.hi);
           }

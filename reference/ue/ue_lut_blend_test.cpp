@@ -214,29 +214,36 @@ TEST(UeLutBlend, LookupMatchesOpenColorIO) {
 }
 
 // The device lookup's sub-texel weight box (Vulkan spec, "Texel Filtering": the weight keeps
-// subTexelPrecisionBits fraction bits, rounding unspecified), hand-computed on the identity strip
-// (texel (r + 16 b, g) = (r, g, b)/15). UVW = (3.8/16, 6/16, 2.75/16): w = 2.75 − 0.5 = 2.25, so
-// IntW = 2, FracW = 0.25; the first sample's x = (3.8/16 + 2)·256/16 − 0.5 = 35.3 (texels 35, 36 =
-// red 3 and 4 of slice 2, weight 0.3), the second's 51.3 (slice 3, the same weight); y = 6 − 0.5
-// = 5.5 (weight 0.5, on every grid). Red = (3 + box(0.3))/15, green 5.5/15, blue (2 + 0.25)/15.
+// subTexelPrecisionBits fraction bits, rounding unspecified) and each tap's weight snapped to the
+// nearest grid point (a tie either way; device_allowance.h filter_taps), hand-computed on the
+// identity strip (texel (r + 16 b, g) = (r, g, b)/15). UVW = (3.8/16, 6/16, 2.75/16): w = 2.75 −
+// 0.5 = 2.25, so IntW = 2, FracW = 0.25; the first sample's x = (3.8/16 + 2)·256/16 − 0.5 = 35.3
+// (texels 35, 36 = red 3 and 4 of slice 2, weight α = 0.3), the second's 51.3 (slice 3, the same
+// weight); y = 6 − 0.5 = 5.5 (β = 0.5, on every grid; rows 5, 6 = green 5 and 6).
+// 8 bits: α·256 = 76.8 → α in {76, 77}/256. The tap weights (1 − α)β and αβ, in 256ths: at 76, 90
+// and 38 exactly; at 77, 89.5 and 38.5, ties: [89, 90] and [38, 39]. Red = Σ w·red over the two
+// rows: at 77, 2·89·3 + 2·38·4 = 838 up to 2·90·3 + 2·39·4 = 852 (76 gives 844), over 256·15 =
+// 3840. Green: (89 + 38)·(5 + 6) = 1397 up to (90 + 39)·11 = 1419. Blue (2/15 in slice 2, 3/15 in
+// slice 3, lerped by FracW 0.25): the weights' sum 254 up to 258, times 2.25.
 TEST(UeLutBlend, DeviceSampleBoxesTheSubTexelWeight) {
   using hdrc::ref::spirv::Interval;
   const UeLutTexture t = strip_of(identity);
   const std::array<Interval, 3> uvw = {Interval::point(3.8 / 16), Interval::point(6.0 / 16),
                                        Interval::point(2.75 / 16)};
-  // 8 bits: 0.3·256 = 76.8 → [76, 77]/256 = [0.296875, 0.30078125].
   hdrc::ref::Range3 r = hdrc::ref::unwrapped_texture3d_sample_device(t, uvw, 8);
   constexpr double kArith = 1e-6;  // the shader's own add/sub/mul roundings (float32 ulps)
-  EXPECT_NEAR(r.lo[0], 3.296875 / 15, kArith);
-  EXPECT_NEAR(r.hi[0], 3.30078125 / 15, kArith);
-  EXPECT_NEAR(r.lo[1], 5.5 / 15, kArith);
-  EXPECT_NEAR(r.hi[1], 5.5 / 15, kArith);
-  EXPECT_NEAR(r.lo[2], 2.25 / 15, kArith);
-  EXPECT_NEAR(r.hi[2], 2.25 / 15, kArith);
-  // 4 bits (the core minimum): 0.3·16 = 4.8 → [4, 5]/16 = [0.25, 0.3125].
+  EXPECT_NEAR(r.lo[0], 838.0 / 3840, kArith);
+  EXPECT_NEAR(r.hi[0], 852.0 / 3840, kArith);
+  EXPECT_NEAR(r.lo[1], 1397.0 / 3840, kArith);
+  EXPECT_NEAR(r.hi[1], 1419.0 / 3840, kArith);
+  EXPECT_NEAR(r.lo[2], 254 * 2.25 / 3840, kArith);
+  EXPECT_NEAR(r.hi[2], 258 * 2.25 / 3840, kArith);
+  // 4 bits (the core minimum): α·16 = 4.8 → α in {4, 5}/16; at 5 the tap weights 5.5 and 2.5
+  // sixteenths, ties: [5, 6] and [2, 3]. Red: 2·5·3 + 2·2·4 = 46 up to 2·6·3 + 2·3·4 = 60, over
+  // 16·15 = 240.
   r = hdrc::ref::unwrapped_texture3d_sample_device(t, uvw, 4);
-  EXPECT_NEAR(r.lo[0], 3.25 / 15, kArith);
-  EXPECT_NEAR(r.hi[0], 3.3125 / 15, kArith);
+  EXPECT_NEAR(r.lo[0], 46.0 / 240, kArith);
+  EXPECT_NEAR(r.hi[0], 60.0 / 240, kArith);
   // The exact lookup lies inside.
   const Vec3 exact = hdrc::ref::unwrapped_texture3d_sample(t, {3.8 / 16, 6.0 / 16, 2.75 / 16});
   for (int c = 0; c < 3; ++c) {
@@ -246,25 +253,29 @@ TEST(UeLutBlend, DeviceSampleBoxesTheSubTexelWeight) {
 }
 
 // A coordinate interval across a texel centre takes both texel pairs: UVW.x in 0.28125 ± 1e-6
-// puts x at (0.28125 + 2)·16 − 0.5 = 36 ± 1.6e-5, texel 36 = red 4 of slice 2. Texels 35, 36 with
-// weights in [255/256, 1] give red (3 + [0.99609375, 1])/15; texels 36, 37 with [0, 1/256] give
-// (4 + [0, 0.00390625])/15: together [3.99609375, 4.00390625]/15.
+// puts x at (0.28125 + 2)·16 − 0.5 = 36 ± 1.6e-5, texel 36 = red 4 of slice 2; β = 0.5 as above.
+// Texels 35, 36 with α in [255/256, 1]: at 255/256 the tap weights (1 − α)β = 0.5/256 and αβ =
+// 127.5/256 are ties, [0, 1] and [127, 128]: red down to 2·0·3 + 2·127·4 = 1016 (over 3840).
+// Texels 36, 37 with α in [0, 1/256]: at 1/256 the ties [127, 128] and [0, 1]: red up to
+// 2·128·4 + 2·1·5 = 1034.
 TEST(UeLutBlend, DeviceSampleAcrossATexelCentreTakesBothPairs) {
   using hdrc::ref::spirv::Interval;
   const UeLutTexture t = strip_of(identity);
   const std::array<Interval, 3> uvw = {Interval{0.28125 - 1e-6, 0.28125 + 1e-6},
                                        Interval::point(6.0 / 16), Interval::point(2.75 / 16)};
   const hdrc::ref::Range3 r = hdrc::ref::unwrapped_texture3d_sample_device(t, uvw, 8);
-  EXPECT_NEAR(r.lo[0], 3.99609375 / 15, 1e-6);
-  EXPECT_NEAR(r.hi[0], 4.00390625 / 15, 1e-6);
+  EXPECT_NEAR(r.lo[0], 1016.0 / 3840, 1e-6);
+  EXPECT_NEAR(r.hi[0], 1034.0 / 3840, 1e-6);
 }
 
 // The whole blend on a device contains the exact blend. Its width, hand-computed at FilmColor
 // 0.5 grey through the identity LUT at full weight: the upstream allowance e = 2^-15 · 0.5 =
 // 1.53e-5 moves sRGB by e · 1.055/2.4 · 0.5^(1/2.4 − 1) = 1.01e-5 each way; UVW = 0.73535 · 15/16
-// + 1/32 = 0.72064 puts red and green at texel 11.03 (weight 0.030 · 256 = 7.7: box [7, 8]/256,
-// one 2^-8 step of the 1/15 texel difference, 2.60e-4) and blue at slice weight 0.03 (no box:
-// the shader's lerp). The pow pair's and the arithmetic's bounds add a few float32 ulps (5e-6).
+// + 1/32 = 0.72064 puts red and green at texel 11.03 (weight 0.030 · 256 = 7.7: box [7, 8]/256;
+// the four tap weights snapped to the nearest 1/256 sum, over texel 11 and texel 12, to 249 and 7
+// at α = 7/256 (red 2823/3840) and to 248 and 8 at 8/256 (2824/3840): one 2^-8 step of the 1/15
+// texel difference, 2.60e-4) and blue at slice weight 0.03 (no box: the shader's lerp). The pow
+// pair's and the arithmetic's bounds add a few float32 ulps (5e-6).
 TEST(UeLutBlend, DeviceRangeContainsTheBlendAndIsTheBoxWide) {
   const UeLutTexture d = strip_of(identity);
   const std::array<double, 5> w = {0.0, 1.0, 0.0, 0.0, 0.0};

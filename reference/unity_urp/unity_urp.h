@@ -256,11 +256,12 @@ StripRange bake_lut_strip_device_range(const ParamBlock& p, const DevicePrecisio
 // ApplyColorGrading's output range on a device with `sub_texel_bits` sub-texel bits reading the
 // strip held within `bounds` (bake_lut_strip_device_range): the exact coordinate (post exposure,
 // LogC or the uber tone map) with kFloat32Noise for its float32 arithmetic, the weight boxes of the
-// two bilinear taps, the filter's arithmetic in the strip format's precision (VK-GL-CTS's
-// filtering precision: RGBA16F, RGBA8 UNORM or float32) and the lerp
-// (reference/color/strip_device_range.h). Contains apply_color_grading of the reference strip.
+// two bilinear taps and each tap's weight on the sub-texel grid (snap_weights, the default), the
+// filter's arithmetic in the strip format's precision (VK-GL-CTS's filtering precision: RGBA16F,
+// RGBA8 UNORM or float32) and the lerp (reference/color/strip_device_range.h). Contains
+// apply_color_grading of the reference strip.
 Range3 apply_color_grading_device_range(const StripRange& bounds, const ParamBlock& p,
                                         const Vec3& scene_linear, int sub_texel_bits,
-                                        bool snap_weights = false);
+                                        bool snap_weights = true);
 
 }  // namespace hdrc::ref::unity_urp

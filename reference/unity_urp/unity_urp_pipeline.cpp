@@ -61,10 +61,8 @@ Result<Image> reference(const ResolvedCase& c, bool /*analytic_lut*/) {
   // Device allowances: the texels' ranges (the bake stage's own output), or ApplyColorGrading's
   // range per pixel over them.
   const StripRange bounds = bake_lut_strip_device_range(c.params, c.device);
-  // The weight box is the specification's: each axis's fraction on the sub-texel grid. The H200's
-  // lookups fit a filter that also snaps each bilinear weight (strip_device_range.h,
-  // snap_weights), but that is a measurement of one device, not a bound the specification states,
-  // so it is not applied (docs/precision.md, "A device's own filter").
+  // The weight box is the specification's: each axis's fraction and each tap's weight on the
+  // sub-texel grid (strip_device_range.h, snap_weights; docs/precision.md, "Filter arithmetic").
   for (int y = 0; y < out.height; ++y)
     for (int x = 0; x < out.width; ++x) {
       const double* o = out.px(x, y);

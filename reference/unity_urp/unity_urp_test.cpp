@@ -766,20 +766,21 @@ ParamBlock graded_look() {
 }
 
 // Bilinear weights snapped to the 2^-bits grid, by hand (reference/color/strip_device_range.h,
-// snap_weights): a 2-edge strip (4 x 2 texels) holding 1 in texel (1, 0) of slice 0 and 0
-// elsewhere, read at t = (0.6, 0.05, 0): α = 0.6 and β = 0.05 snap to [153, 154]/256 and
-// [12, 13]/256 (8 bits), so the weight α(1 − β) of texel (1, 0) lies in [153·243, 154·244]/65536
-// = [0.5673370, 0.5733643]; snapped on its own it is [145, 147]/256 = [0.56640625, 0.57421875].
-// The slice lerp adds 2.5 ULP of the larger sample (2.5·2^-24 < 1.5e-7).
+// snap_weights, the default; device_allowance.h filter_taps' weight_bits): a 2-edge strip (4 x 2
+// texels) holding 1 in texel (1, 0) of slice 0 and 0 elsewhere, read at t = (0.6, 0.05, 0): α = 0.6
+// and β = 0.05 snap to [153, 154]/256 and [12, 13]/256 (8 bits), so the weight α(1 − β) of texel
+// (1, 0) lies in [153·243, 154·244]/65536 = [0.5673370, 0.5733643]; snapped on its own it is [145,
+// 147]/256 = [0.56640625, 0.57421875]. The slice lerp adds 2.5 ULP of the larger sample (2.5·2^-24
+// < 1.5e-7).
 TEST(UnityUrpDevice, SnappedWeightsByHand) {
   Image lo(4, 2), hi(4, 2);
   lo.px(1, 0)[0] = hi.px(1, 0)[0] = 1.0;
   const hdrc::ref::Range3 t = hdrc::ref::Range3::point({0.6, 0.05, 0.0});
-  const hdrc::ref::Range3 axis = hdrc::ref::strip_lookup_device_range({&lo, &hi, 2}, t, 8, 0.0);
+  const hdrc::ref::Range3 axis = hdrc::ref::strip_lookup_device_range(
+      {&lo, &hi, 2}, t, 8, 0.0, hdrc::ref::FilterArithmetic::exact(), false);
   EXPECT_NEAR(axis.lo[0], 153.0 * 243 / 65536, 2e-7);
   EXPECT_NEAR(axis.hi[0], 154.0 * 244 / 65536, 2e-7);
-  const hdrc::ref::Range3 snapped = hdrc::ref::strip_lookup_device_range(
-      {&lo, &hi, 2}, t, 8, 0.0, hdrc::ref::FilterArithmetic::exact(), true);
+  const hdrc::ref::Range3 snapped = hdrc::ref::strip_lookup_device_range({&lo, &hi, 2}, t, 8, 0.0);
   EXPECT_NEAR(snapped.lo[0], 145.0 / 256, 2e-7);
   EXPECT_NEAR(snapped.hi[0], 147.0 / 256, 2e-7);
 }
