@@ -91,8 +91,10 @@ class CombineLuts58 {
   Vec3 apply_tone_curve(const Vec3& color_ap1, double peak, bool inv_eotf_pq) const;
   Vec3 output_aces(const Vec3& graded) const;
   Vec3 inv_output_aces(const Vec3& film_nits) const;
-  Vec3 inner_output(const Vec3& e) const;  // MethodLUTsCommon before its encode (nits)
-  Vec3 inner_encode(Vec3 out) const;       // and its encode
+  Vec3 inner_output(const Vec3& e) const;      // MethodLUTsCommon before its encode (nits)
+  Vec3 inner_input_nits(const Vec3& e) const;  // its decode of the lattice coordinate (nits)
+  Vec3 inner_output_from_nits(const Vec3& nits) const;  // and the rest, from that decode
+  Vec3 inner_encode(Vec3 out) const;                    // and its encode
   Vec3 color_corrected(const Vec3& e) const;
   Range3 tone_curve_range(const Vec3& color_ap1, double peak, bool inv_eotf_pq,
                           const DevicePrecision& device) const;
