@@ -445,12 +445,12 @@ const Range3& CombineLuts58::inner_stored_range(int r, int g, int b,
   const Vec3& stored = inner_stored(r, g, b);  // and inner_out_[i], the output before its encode
   // The lattice coordinate's decode on a device (MainCS: DispatchThreadId * InvLUTSizeMinusOne, a
   // multiply by the float32 reciprocal, or the GLSL twin's division by M - 1: the hull of both;
-  // Filmic's x 0.5080784215; ST2084ToLinear,
-  // pq_decode_on_device): near the SDR peak the decode's bounds leave the nits about 1e-4
-  // relative wide (the pow(., 1/m1 = 6.28) of a difference Np - c1). The output transform is
-  // evaluated at the 8 corners of that box, each with kShaderNoise on top (docs/ue58-decisions.md
-  // E9: Filmic's SDR inverse amplifies the box where the inverse gamut compressor is near its
-  // asymptote and a channel of a saturated colour lands near black).
+  // Filmic's x 0.5080784215; ST2084ToLinear, pq_decode_on_device): near the SDR peak the
+  // decode's bounds leave the nits about 2e-4 relative wide (pow(., 1/m1 = 6.28) of the
+  // difference Np - c1). The output transform is evaluated at the 8 corners of that box, each
+  // with kShaderNoise on top (docs/ue58-decisions.md E9: Filmic's SDR inverse amplifies the box
+  // where the inverse gamut compressor is near its asymptote and a channel of a saturated colour
+  // lands near black).
   spirv::Interval box[3];
   const int idx[3] = {r, g, b};
   const bool filmic = p_.ue58_tonemapping_method != static_cast<int>(Method::kStandardAces);
