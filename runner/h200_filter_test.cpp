@@ -14,7 +14,10 @@
 #include <string>
 #include <vector>
 
+#include "core/image.h"
+#include "runner/diff.h"
 #include "runner/h200_references.h"
+#include "runner/tolerance.h"
 
 namespace {
 
@@ -164,6 +167,48 @@ TEST(H200Filter, Ue58FilmicAces2ValuesInsideTheInnerLutInputRanges) {
         << "RGB"[row.channel] << ": " << row.candidate << " outside [" << lo << ", " << hi << "]";
     std::printf("%s (%d, %d) %c: [%.9g, %.9g] %.9g (reference %.9g)\n", row.id, row.x, row.y,
                 "RGB"[row.channel], lo, hi, row.candidate, r);
+  }
+}
+
+// The same six cases, the H200's whole images (its candidate.exr of that run, in
+// runner/h200_candidates/<case id>.exr: a `verify --candidate-dir` folder) judged as `run` judges
+// a case that misses its tight bounds (run.cpp judge_with_device_allowances): the reference's
+// device ranges with the H200's precision, the case's tolerance with the overlays for "vulkan" on
+// an NVIDIA device. The H200's run judged each of them FAIL "outside the device allowances too"
+// (585 values over in dev5's).
+TEST(H200Filter, Ue58FilmicAces2WholeImagesPassWithTheH200Precision) {
+  const char* ids[] = {
+      "ue58/devices/dev3_gamut0_tonemappingmethod0_version2",
+      "ue58/devices/dev4_gamut0_tonemappingmethod0_version2",
+      "ue58/devices/dev5_gamut0_tonemappingmethod0_version2",
+      "ue58/devices/dev6_gamut0_tonemappingmethod0_version2",
+      "ue58/hdr_display/dev4_max4000_gamut1_tonemappingmethod0_limitinggamut2_paperwhite100",
+      "ue58/hdr_display/dev6_max1000_gamut0_tonemappingmethod0_limitinggamut4_paperwhite203",
+  };
+  const hdrc::LoadedCases loaded = hdrc::load_cases(kCasesDir);
+  std::vector<hdrc::Error> errors;
+  const auto overlays = hdrc::load_tolerance_overlays(kCasesDir, &errors);
+  ASSERT_TRUE(errors.empty()) << errors.front().to_string();
+  for (const char* id : ids) {
+    const hdrc::Case* found = nullptr;
+    for (const hdrc::Case& c : loaded.cases)
+      if (c.id == id) found = &c;
+    ASSERT_NE(found, nullptr) << id;
+    auto rc = hdrc::resolve_case(*found);
+    ASSERT_TRUE(rc.ok()) << rc.error().to_string();
+    hdrc::test::set_h200_precision(*rc);
+    auto ref = hdrc::pipeline_of(*found->stage).reference(*rc, false);
+    ASSERT_TRUE(ref.ok()) << ref.error().to_string();
+    auto candidate =
+        hdrc::read_image(std::string(HDRC_SOURCE_DIR) + "/runner/h200_candidates/" + id + ".exr");
+    ASSERT_TRUE(candidate.ok()) << candidate.error().to_string();
+    auto tol = hdrc::apply_overlays(*found, "vulkan", "NVIDIA H200", overlays);
+    ASSERT_TRUE(tol.ok()) << tol.error().to_string();
+    ref->admissible = std::move(ref->device_admissible);
+    const hdrc::DiffStats s = hdrc::diff_images(
+        rc->input, *ref, *candidate, hdrc::output_encoding(*found->stage, rc->params), *tol);
+    const hdrc::Verdict v = hdrc::judge(s, *tol, !found->pins_nonfinite.empty());
+    EXPECT_TRUE(v.pass) << id << ": " << v.reason;
   }
 }
 
