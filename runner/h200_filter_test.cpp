@@ -15,7 +15,10 @@
 #include <string>
 #include <vector>
 
+#include "core/image.h"
+#include "runner/diff.h"
 #include "runner/h200_references.h"
+#include "runner/tolerance.h"
 
 namespace {
 
@@ -126,6 +129,98 @@ TEST(H200Filter, ValuesAgainstTheDeviceRangesAtTheCtsFilterPrecision) {
   for (const auto& [id, n] : per_case) cases_in += n.second == 0;
   std::printf("values admitted %d, outside %d; cases with every value admitted %d of %zu\n", in,
               out, cases_in, per_case.size());
+}
+
+// The H200's six ue58 FAILs of 2026-11-27 (tree 5466e1a, `hdrconform run --device nvidia`; its
+// results.json, the worst value of each case's failing metric): Filmic with ACES 2.0, where the
+// inner LUT's texel is the SDR inverse then the forward 1000- or 4000-nit transform. One channel
+// of one inner texel moved (G and B of the outer texel identical to 9 digits): a channel near
+// black of a saturated colour at the SDR peak, where the device's decode of the lattice
+// coordinate (ST2084ToLinear at the precision table's bounds) goes through the inverse gamut
+// compressor near its asymptote (docs/ue58-decisions.md E9, docs/precision.md). Each must lie in
+// the reference's device range with the H200's precision; before E9 none did.
+TEST(H200Filter, Ue58FilmicAces2ValuesInsideTheInnerLutInputRanges) {
+  struct Row {
+    const char* id;
+    int x, y, channel;
+    double candidate, reference;
+  };
+  const Row rows[] = {
+      {"ue58/devices/dev3_gamut0_tonemappingmethod0_version2", 198, 8, 0, 0.0850439883,
+       0.0664711632},  // linear_abs
+      {"ue58/devices/dev4_gamut0_tonemappingmethod0_version2", 198, 8, 0, 0.0850439883,
+       0.0664711632},  // linear_abs
+      {"ue58/devices/dev5_gamut0_tonemappingmethod0_version2", 199, 8, 0, 0.0942382812,
+       0.0784912109},  // linear_rel
+      {"ue58/devices/dev6_gamut0_tonemappingmethod0_version2", 199, 8, 0, 0.0942382812,
+       0.0784912109},  // linear_rel
+      {"ue58/hdr_display/dev4_max4000_gamut1_tonemappingmethod0_limitinggamut2_paperwhite100", 11,
+       11, 2, 0.1485826, 0.127077224},  // linear_abs
+      {"ue58/hdr_display/dev6_max1000_gamut0_tonemappingmethod0_limitinggamut4_paperwhite203", 211,
+       12, 0, 1.91308594, 1.86035156},  // linear_rel
+  };
+  hdrc::test::H200References refs(kCasesDir);
+  for (const Row& row : rows) {
+    std::string error;
+    const hdrc::Image* image = refs.get(row.id, &error);
+    ASSERT_NE(image, nullptr) << error;
+    const double r = image->px(row.x, row.y)[row.channel];
+    EXPECT_NEAR(r, row.reference, 1e-6 * std::fmax(1.0, std::fabs(r))) << row.id;
+    const size_t i = static_cast<size_t>(row.y) * image->width + row.x;
+    double lo = r, hi = r;
+    for (const hdrc::AdmissibleRange& a : image->device_admissible)
+      if (a.pixel == i) {
+        lo = a.lo[row.channel];
+        hi = a.hi[row.channel];
+      }
+    EXPECT_TRUE(row.candidate >= lo && row.candidate <= hi)
+        << row.id << " (" << row.x << ", " << row.y << ") "
+        << "RGB"[row.channel] << ": " << row.candidate << " outside [" << lo << ", " << hi << "]";
+    std::printf("%s (%d, %d) %c: [%.9g, %.9g] %.9g (reference %.9g)\n", row.id, row.x, row.y,
+                "RGB"[row.channel], lo, hi, row.candidate, r);
+  }
+}
+
+// The same six cases, the H200's whole images (its candidate.exr of that run, in
+// runner/h200_candidates/<case id>.exr: a `verify --candidate-dir` folder) judged as `run` judges
+// a case that misses its tight bounds (run.cpp judge_with_device_allowances): the reference's
+// device ranges with the H200's precision, the case's tolerance with the overlays for "vulkan" on
+// an NVIDIA device. The H200's run judged each of them FAIL "outside the device allowances too"
+// (585 values over in dev5's).
+TEST(H200Filter, Ue58FilmicAces2WholeImagesPassWithTheH200Precision) {
+  const char* ids[] = {
+      "ue58/devices/dev3_gamut0_tonemappingmethod0_version2",
+      "ue58/devices/dev4_gamut0_tonemappingmethod0_version2",
+      "ue58/devices/dev5_gamut0_tonemappingmethod0_version2",
+      "ue58/devices/dev6_gamut0_tonemappingmethod0_version2",
+      "ue58/hdr_display/dev4_max4000_gamut1_tonemappingmethod0_limitinggamut2_paperwhite100",
+      "ue58/hdr_display/dev6_max1000_gamut0_tonemappingmethod0_limitinggamut4_paperwhite203",
+  };
+  const hdrc::LoadedCases loaded = hdrc::load_cases(kCasesDir);
+  std::vector<hdrc::Error> errors;
+  const auto overlays = hdrc::load_tolerance_overlays(kCasesDir, &errors);
+  ASSERT_TRUE(errors.empty()) << errors.front().to_string();
+  for (const char* id : ids) {
+    const hdrc::Case* found = nullptr;
+    for (const hdrc::Case& c : loaded.cases)
+      if (c.id == id) found = &c;
+    ASSERT_NE(found, nullptr) << id;
+    auto rc = hdrc::resolve_case(*found);
+    ASSERT_TRUE(rc.ok()) << rc.error().to_string();
+    hdrc::test::set_h200_precision(*rc);
+    auto ref = hdrc::pipeline_of(*found->stage).reference(*rc, false);
+    ASSERT_TRUE(ref.ok()) << ref.error().to_string();
+    auto candidate =
+        hdrc::read_image(std::string(HDRC_SOURCE_DIR) + "/runner/h200_candidates/" + id + ".exr");
+    ASSERT_TRUE(candidate.ok()) << candidate.error().to_string();
+    auto tol = hdrc::apply_overlays(*found, "vulkan", "NVIDIA H200", overlays);
+    ASSERT_TRUE(tol.ok()) << tol.error().to_string();
+    ref->admissible = std::move(ref->device_admissible);
+    const hdrc::DiffStats s = hdrc::diff_images(
+        rc->input, *ref, *candidate, hdrc::output_encoding(*found->stage, rc->params), *tol);
+    const hdrc::Verdict v = hdrc::judge(s, *tol, !found->pins_nonfinite.empty());
+    EXPECT_TRUE(v.pass) << id << ": " << v.reason;
+  }
 }
 
 }  // namespace

@@ -161,14 +161,22 @@ Vec3 CombineLuts58::inv_output_aces(const Vec3& film_nits) const {
 
 // PostProcessCombineLUTsInner.usf: MethodLUTsCommon up to its encode: the output transform's nits.
 Vec3 CombineLuts58::inner_output(const Vec3& e) const {
-  Vec3 graded;
-  if (p_.ue58_tonemapping_method == static_cast<int>(Method::kStandardAces)) {
-    graded = p_.wcs_from_ap1 * scale(pq_inv(e), 1.0 / kLinearToNits);
-  } else {
-    // "Automatic HDR": undo the outer LUT's x 1.9682001, then the SDR inverse.
-    graded = inv_output_aces(pq_inv(scale(e, kFilmPqUnscale)));
-  }
-  return output_aces(graded);
+  return inner_output_from_nits(inner_input_nits(e));
+}
+
+// MethodLUTsCommon's decode of its lattice coordinate: ST2084ToLinear of it (StandardACES), or of
+// it x 0.5080784215 (Filmic's "automatic HDR": undoes the outer LUT's x 1.9682001). Nits.
+Vec3 CombineLuts58::inner_input_nits(const Vec3& e) const {
+  if (p_.ue58_tonemapping_method == static_cast<int>(Method::kStandardAces)) return pq_inv(e);
+  return pq_inv(scale(e, kFilmPqUnscale));
+}
+
+// MethodLUTsCommon from that decode on: StandardACES reads it as AP1 (nits / 100), Filmic through
+// the SDR inverse; then the output transform.
+Vec3 CombineLuts58::inner_output_from_nits(const Vec3& nits) const {
+  if (p_.ue58_tonemapping_method == static_cast<int>(Method::kStandardAces))
+    return output_aces(p_.wcs_from_ap1 * scale(nits, 1.0 / kLinearToNits));
+  return output_aces(inv_output_aces(nits));
 }
 
 // PostProcessCombineLUTsInner.usf: MethodLUTsCommon.
@@ -435,7 +443,34 @@ const Range3& CombineLuts58::inner_stored_range(int r, int g, int b,
   const size_t i = (static_cast<size_t>(b) * m + g) * m + r;
   if (inner_range_done_[i]) return inner_range_[i];
   const Vec3& stored = inner_stored(r, g, b);  // and inner_out_[i], the output before its encode
-  const Range3 out = with_shader_noise(inner_out_[i]);
+  // The lattice coordinate's decode on a device (MainCS: DispatchThreadId * InvLUTSizeMinusOne, a
+  // multiply by the float32 reciprocal, or the GLSL twin's division by M - 1: the hull of both;
+  // Filmic's x 0.5080784215; ST2084ToLinear, pq_decode_on_device): near the SDR peak the
+  // decode's bounds leave the nits about 2e-4 relative wide (pow(., 1/m1 = 6.28) of the
+  // difference Np - c1). The output transform is evaluated at the 8 corners of that box, each
+  // with kShaderNoise on top (docs/ue58-decisions.md E9: Filmic's SDR inverse amplifies the box
+  // where the inverse gamut compressor is near its asymptote and a channel of a saturated colour
+  // lands near black).
+  spirv::Interval box[3];
+  const int idx[3] = {r, g, b};
+  const bool filmic = p_.ue58_tonemapping_method != static_cast<int>(Method::kStandardAces);
+  for (int c = 0; c < 3; ++c) {
+    const spirv::Interval n = spirv::Interval::point(idx[c]);
+    const spirv::Interval by_mul =
+        spirv::mul(n, spirv::Interval::point(static_cast<float>(1.0 / (m - 1))));
+    const spirv::Interval by_div = spirv::div(n, spirv::Interval::point(m - 1));
+    spirv::Interval e{std::fmin(by_mul.lo, by_div.lo), std::fmax(by_mul.hi, by_div.hi)};
+    if (filmic) e = spirv::mul(e, spirv::Interval::point(static_cast<float>(kFilmPqUnscale)));
+    box[c] = {pq_decode_on_device(std::fmax(e.lo, 0.0)).lo, pq_decode_on_device(e.hi).hi};
+  }
+  Range3 out = with_shader_noise(inner_out_[i]);
+  for (int k = 0; k < 8; ++k) {
+    const Vec3 nits{k & 1 ? box[0].hi : box[0].lo, k & 2 ? box[1].hi : box[1].lo,
+                    k & 4 ? box[2].hi : box[2].lo};
+    const Range3 corner = with_shader_noise(inner_output_from_nits(nits));
+    out.include(corner.lo);
+    out.include(corner.hi);
+  }
   Range3 enc;
   if (p_.output_max_luminance > kLinearToNits) {
     enc = pq_clamped_on_device(out);

@@ -70,10 +70,12 @@ class CombineLuts58 {
   // value of the float32-exact evaluation above.
   //
   // The inner texel (r, g, b) as such a device may store it: MethodLUTsCommon's output (nits, or
-  // sRGB-range linear) widened by kShaderNoise of its largest channel (the upstream arithmetic,
-  // ACES 1.3 / 2.0 included: noise_range.h), through the device's PQ (pq_encode_on_device) or
-  // sRGB encode (monotone, plus kEncodePowNoise), then either neighbouring value of the inner
-  // format (store_either_way). Evaluated on first use and kept.
+  // sRGB-range linear) at the point and at the 8 corners of the device's decode of the lattice
+  // coordinate (pq_decode_on_device; docs/ue58-decisions.md E9), each widened by kShaderNoise of
+  // its largest channel (the upstream arithmetic, ACES 1.3 / 2.0 included: noise_range.h), the
+  // union through the device's PQ (pq_encode_on_device) or sRGB encode (monotone, plus
+  // kEncodePowNoise), then either neighbouring value of the inner format (store_either_way).
+  // Evaluated on first use and kept.
   const Range3& inner_stored_range(int r, int g, int b, const DevicePrecision& device) const;
   // InnerLookupTable over a range of coordinates `encoded` on such a device: per axis the texel
   // planes the range spans and the weight box of the device's sub-texel bits (UE samples the
@@ -91,8 +93,10 @@ class CombineLuts58 {
   Vec3 apply_tone_curve(const Vec3& color_ap1, double peak, bool inv_eotf_pq) const;
   Vec3 output_aces(const Vec3& graded) const;
   Vec3 inv_output_aces(const Vec3& film_nits) const;
-  Vec3 inner_output(const Vec3& e) const;  // MethodLUTsCommon before its encode (nits)
-  Vec3 inner_encode(Vec3 out) const;       // and its encode
+  Vec3 inner_output(const Vec3& e) const;      // MethodLUTsCommon before its encode (nits)
+  Vec3 inner_input_nits(const Vec3& e) const;  // its decode of the lattice coordinate (nits)
+  Vec3 inner_output_from_nits(const Vec3& nits) const;  // and the rest, from that decode
+  Vec3 inner_encode(Vec3 out) const;                    // and its encode
   Vec3 color_corrected(const Vec3& e) const;
   Range3 tone_curve_range(const Vec3& color_ap1, double peak, bool inv_eotf_pq,
                           const DevicePrecision& device) const;
