@@ -165,9 +165,10 @@ inline double filter_round(double d, bool upward, const FilterArithmetic& fa) {
 // rounded outward after every addition (interval arithmetic throughout). With kExact it is the
 // exact weighted sum of the lower and of the upper bounds.
 //
-// `weight_bits` > 0: each tap's weight, the product of its axes' weights, also snaps to the
+// `weight_bits` > 0: each tap's weight, the product of its axes' weights, may also snap to the
 // nearest point of the 2^-weight_bits grid (a tie either way), each on its own (the weights' sum
-// need not stay 1). The
+// need not stay 1); the range is the hull of the filter with every weight snapped and the filter
+// with every weight the product as formed. The
 // specification's VkPhysicalDeviceLimits::subTexelPrecisionBits: "Sub-texel values calculated
 // during image sampling will snap to these locations when generating the filtered results" — a
 // tap's weight is such a value (the fraction of the texel's area under the footprint), so with
@@ -181,23 +182,34 @@ struct FilteredRange {
 inline FilteredRange filter_taps(int axes, const double* alpha, const double* t_lo,
                                  const double* t_hi, const FilterArithmetic& fa,
                                  int weight_bits = 0) {
-  FilteredRange r;
-  const double grid = std::ldexp(1.0, weight_bits);
-  for (int k = 0; k < (1 << axes); ++k) {
-    double w_lo = 1, w_hi = 1;
-    for (int a = axes - 1; a >= 0; --a) {
-      const double f = (k >> a) & 1 ? alpha[a] : 1 - alpha[a];
-      w_lo = filter_round(w_lo * f, false, fa);  // weights are non-negative
-      w_hi = filter_round(w_hi * f, true, fa);
+  // One filter: every tap's weight snapped (snap) or every one the product as formed.
+  auto one = [&](bool snap) {
+    FilteredRange r;
+    const double grid = std::ldexp(1.0, weight_bits);
+    for (int k = 0; k < (1 << axes); ++k) {
+      double w_lo = 1, w_hi = 1;
+      for (int a = axes - 1; a >= 0; --a) {
+        const double f = (k >> a) & 1 ? alpha[a] : 1 - alpha[a];
+        w_lo = filter_round(w_lo * f, false, fa);  // weights are non-negative
+        w_hi = filter_round(w_hi * f, true, fa);
+      }
+      if (snap) {  // the nearest grid point; at a tie either one
+        w_lo = filter_round(std::ceil(w_lo * grid - 0.5) / grid, false, fa);
+        w_hi = filter_round(std::floor(w_hi * grid + 0.5) / grid, true, fa);
+      }
+      if (w_hi == 0) continue;  // 0·t = 0 for any finite texel; a NaN texel is the caller's flag
+      const double p[4] = {w_lo * t_lo[k], w_lo * t_hi[k], w_hi * t_lo[k], w_hi * t_hi[k]};
+      r.lo = filter_round(r.lo + std::min({p[0], p[1], p[2], p[3]}), false, fa);
+      r.hi = filter_round(r.hi + std::max({p[0], p[1], p[2], p[3]}), true, fa);
     }
-    if (weight_bits > 0 && axes > 1) {  // one axis: the weight is the fraction, already snapped
-      w_lo = filter_round(std::ceil(w_lo * grid - 0.5) / grid, false, fa);  // a tie: down
-      w_hi = filter_round(std::floor(w_hi * grid + 0.5) / grid, true, fa);  // a tie: up
-    }
-    if (w_hi == 0) continue;  // 0·t = 0 for any finite texel; a NaN texel is the caller's flag
-    const double p[4] = {w_lo * t_lo[k], w_lo * t_hi[k], w_hi * t_lo[k], w_hi * t_hi[k]};
-    r.lo = filter_round(r.lo + std::min({p[0], p[1], p[2], p[3]}), false, fa);
-    r.hi = filter_round(r.hi + std::max({p[0], p[1], p[2], p[3]}), true, fa);
+    return r;
+  };
+  FilteredRange r = one(false);
+  if (weight_bits > 0 && axes > 1) {  // one axis: the weight is the fraction, already snapped
+    // A device snaps its tap weights or forms them as products (the CTS's model): both admitted.
+    const FilteredRange snapped = one(true);
+    r.lo = std::fmin(r.lo, snapped.lo);
+    r.hi = std::fmax(r.hi, snapped.hi);
   }
   return r;
 }

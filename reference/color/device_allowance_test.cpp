@@ -95,16 +95,18 @@ TEST(DeviceAllowance, TwoByTwoFilterRoundsEachProductWeightInTheFormat) {
   EXPECT_LT(w.hi, 8.0 / 256);
   // With the tap's weight on the 8-bit grid as well (weight_bits: the specification's "sub-texel
   // values ... will snap to these locations"): 1956/65536 = 7.64/256 snaps to 8/256, the H200's.
+  // The range holds both, the product (a device that does not snap it) and the snap.
   const FilteredRange snapped = filter_taps(2, h200, one, one, FilterArithmetic::float16(), 8);
-  EXPECT_DOUBLE_EQ(snapped.lo, 8.0 / 256);
+  EXPECT_DOUBLE_EQ(snapped.lo, 1956.0 / 65536);
   EXPECT_DOUBLE_EQ(snapped.hi, 8.0 / 256);
 }
 
-// Each tap's weight snapped to the nearest 2^-bits point, by hand (filter_taps, weight_bits 8):
-// α = 77/256 along x, β = 1/2 along y. Tap 1 (upper x, lower y) weighs α(1 − β) = 38.5/256, a
-// tie: either 38/256 or 39/256. Tap 0 weighs (1 − α)(1 − β) = 89.5/256, also a tie. At α = β =
-// 7/256 the taps weigh 249²/65536 = 242.19/256 → 242/256, 249·7/65536 = 6.81/256 → 7/256 and
-// 49/65536 = 0.19/256 → 0 (no tie: one value each). One axis: the weight is the fraction itself.
+// Each tap's weight snapped to the nearest 2^-bits point or not, by hand (filter_taps, weight_bits
+// 8): α = 77/256 along x, β = 1/2 along y. Tap 1 (upper x, lower y) weighs α(1 − β) = 38.5/256,
+// a tie: 38/256 up to 39/256. Tap 0 weighs (1 − α)(1 − β) = 89.5/256, also a tie. At α = β =
+// 7/256 the taps weigh 249²/65536 = 242.19/256 (snapped 242/256), 249·7/65536 = 6.81/256 (7/256)
+// and 49/65536 = 0.19/256 (0): each range from the snap to the product (one texel read: the
+// filters with and without snapping give the two ends). One axis: the weight is the fraction.
 TEST(DeviceAllowance, TapWeightsSnapToTheNearestGridPoint) {
   const double alpha[2] = {77.0 / 256, 0.5};
   const double tap1[4] = {0, 1, 0, 0}, tap0[4] = {1, 0, 0, 0};
@@ -118,13 +120,13 @@ TEST(DeviceAllowance, TapWeightsSnapToTheNearestGridPoint) {
   const double tap3[4] = {0, 0, 0, 1}, tap2[4] = {0, 0, 1, 0};
   r = filter_taps(2, seven, tap0, tap0, FilterArithmetic::exact(), 8);
   EXPECT_DOUBLE_EQ(r.lo, 242.0 / 256);
-  EXPECT_DOUBLE_EQ(r.hi, 242.0 / 256);
+  EXPECT_DOUBLE_EQ(r.hi, 249.0 * 249 / 65536);
   r = filter_taps(2, seven, tap2, tap2, FilterArithmetic::exact(), 8);
-  EXPECT_DOUBLE_EQ(r.lo, 7.0 / 256);
+  EXPECT_DOUBLE_EQ(r.lo, 249.0 * 7 / 65536);
   EXPECT_DOUBLE_EQ(r.hi, 7.0 / 256);
   r = filter_taps(2, seven, tap3, tap3, FilterArithmetic::exact(), 8);
   EXPECT_EQ(r.lo, 0.0);
-  EXPECT_EQ(r.hi, 0.0);
+  EXPECT_DOUBLE_EQ(r.hi, 49.0 / 65536);
   // Without weight_bits the exact products.
   r = filter_taps(2, seven, tap3, tap3, FilterArithmetic::exact());
   EXPECT_DOUBLE_EQ(r.hi, 49.0 / 65536);
