@@ -35,8 +35,8 @@
 #include "reference/color/device_allowance.h"
 #include "reference/color/noise_range.h"
 #include "reference/color/spirv_precision.h"
-#include "reference/ue/combine_luts.h"
 #include "reference/reference_engine.h"
+#include "reference/ue/combine_luts.h"
 
 namespace hdrc::gpu::testing {
 
@@ -47,11 +47,35 @@ inline bool float32_exact(const DeviceInfo& d) {
   return d.engine == "vulkan" && d.device.rfind("llvmpipe", 0) == 0 && d.precision.model.empty();
 }
 
-// The device a default-constructed engine opens (HDRC_VK_DEVICE where set, else lavapipe), asked
-// once per process.
+// The device model the tests that build their engines with test_options() run under: the
+// environment's HDRC_DEVICE_MODEL, "none" (the default) or "worst" (core/device_precision.h, as
+// `hdrconform run --device-model worst`). Under "worst" the device is not float32-exact, so those
+// tests take their derived bounds on lavapipe, against the model's output. Another value is an
+// error naming the variable, the value and the choices (the test that asks fails with it).
+inline Result<DeviceModel> test_device_model() {
+  const char* e = std::getenv("HDRC_DEVICE_MODEL");
+  const std::string v = e == nullptr ? "" : e;
+  if (v.empty() || v == "none") return DeviceModel::kNone;
+  if (v == "worst") return DeviceModel::kWorst;
+  return Error{"", "HDRC_DEVICE_MODEL", "unknown device model '" + v + "'", "none, worst"};
+}
+
+// The options of an engine on the tests' device: the default device (HDRC_VK_DEVICE where set,
+// else lavapipe) under test_device_model().
+inline VulkanOptions test_options() {
+  VulkanOptions o;
+  const Result<DeviceModel> model = test_device_model();
+  if (model.ok())
+    o.device_model = *model;
+  else
+    ADD_FAILURE() << model.error().to_string();
+  return o;
+}
+
+// The device an engine with test_options() opens, asked once per process.
 inline const DeviceInfo& test_device() {
   static const DeviceInfo info = [] {
-    VulkanEngine engine({});
+    VulkanEngine engine(test_options());
     const Status st = engine.init();
     return st.ok() ? engine.device() : DeviceInfo{};
   }();

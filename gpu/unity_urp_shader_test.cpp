@@ -470,7 +470,7 @@ class UrpStageEngine {
       if (planted_) text.replace(at, from.size(), to);
       dir_.write(lib, text);
     }
-    hdrc::gpu::VulkanOptions o;
+    hdrc::gpu::VulkanOptions o = hdrc::gpu::testing::test_options();
     o.shader_dir = dir_.path();
     engine_ = std::make_unique<hdrc::gpu::VulkanEngine>(o);
     init_ = engine_->init();
