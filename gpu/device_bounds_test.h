@@ -14,6 +14,9 @@
 //    linear_tap_box), 2^-bits per weight;
 //  * a whole stage: the reference's own device ranges (ResolvedCase::device_allowances,
 //    Image::device_admissible), as `hdrconform run` judges a case after its tight miss.
+// HDRC_DEVICE_MODEL=worst runs the tests that build their engines with test_options() under the
+// worst-case device model (a device that is not float32-exact, on lavapipe): their derived
+// branch is then exercised against the model's output.
 // Tests about lavapipe itself (its name, its serial execution, its timing) and the worst-case
 // model's probes (which assume an exact base device) skip with the reason on other devices; tests
 // that need the Khronos validation layer skip where it is not installed, except on lavapipe (CI
@@ -118,7 +121,9 @@ inline std::string not_lavapipe_reason(const char* why) {
 // The reason a test that assumes a float32-exact device skips elsewhere ("" on such a device).
 inline std::string not_exact_reason(const char* why) {
   if (exact_device()) return "";
+  const std::string model = test_device().precision.model;
   return std::string("assumes a float32-exact device, ") + test_device().device +
+         (model.empty() ? "" : " under the " + model + "-case device model (HDRC_DEVICE_MODEL)") +
          " is not (runner/dither.h float32_exact_device): " + why;
 }
 

@@ -164,8 +164,12 @@ std::vector<std::array<double, 4>> run_on_gpu(hdrc::gpu::VulkanEngine& engine,
   return result;
 }
 
-std::unique_ptr<hdrc::gpu::VulkanEngine> make_engine(const ShaderDirCopy& dir) {
-  hdrc::gpu::VulkanOptions o = hdrc::gpu::testing::test_options();
+// `follow_model`: under HDRC_DEVICE_MODEL (device_bounds_test.h test_options); false: the device
+// as it is.
+std::unique_ptr<hdrc::gpu::VulkanEngine> make_engine(const ShaderDirCopy& dir,
+                                                     bool follow_model = true) {
+  hdrc::gpu::VulkanOptions o =
+      follow_model ? hdrc::gpu::testing::test_options() : hdrc::gpu::VulkanOptions{};
   o.shader_dir = dir.path();
   auto engine = std::make_unique<hdrc::gpu::VulkanEngine>(o);
   const hdrc::Status st = engine->init();
@@ -483,11 +487,10 @@ struct SweepResult {
   }
 };
 
-// Devices 0-9 × gamuts 0-4 × `gradings` on the 17³ lattice plus the PQ-uniform grid; on a device
-// that is not float32-exact each texel's distance outside its device range (compare_values).
+// Devices 0-9 × gamuts 0-4 × `gradings` on the 17³ lattice plus the PQ-uniform grid; `derived`:
+// each texel's distance outside its device range (compare_values).
 std::vector<SweepResult> sweep(hdrc::gpu::VulkanEngine& engine,
-                               const std::vector<Grading>& gradings) {
-  const bool derived = !hdrc::gpu::testing::exact_device();
+                               const std::vector<Grading>& gradings, bool derived) {
   std::vector<SweepResult> out;
   const std::vector<Vec3> grid17 = volume_grid(17);
   for (int device = 0; device <= 9; ++device) {
@@ -519,7 +522,9 @@ TEST(GradingShader, TexelMatchesReferenceEveryDeviceAndGamut) {
   const auto dir = probe_dir("texel", probe_source(kTexelProbeIncludes, kTexelProbeBody));
   auto engine = make_engine(*dir);
   ASSERT_TRUE(engine);
-  const auto results = sweep(*engine, {Grading::kDefault, Grading::kAllControls});
+  // On a device that is not float32-exact: the distance outside the texel's device range.
+  const auto results = sweep(*engine, {Grading::kDefault, Grading::kAllControls},
+                             !hdrc::gpu::testing::exact_device());
   for (const SweepResult& r : results) {
     std::printf("[ measured ] %s\n", r.where().c_str());
     EXPECT_EQ(r.stats.nan_inconsistent, 0u) << r.where();
@@ -686,10 +691,15 @@ TEST(GradingShader, PlantedDefectsAreCaught) {
   for (const Plant& defect : plants) {
     const auto dir = probe_dir("planted", probe_source(kTexelProbeIncludes, kTexelProbeBody));
     ASSERT_TRUE(plant(*dir, defect.file, defect.from, defect.to)) << defect.from;
-    auto engine = make_engine(*dir);
+    auto engine = make_engine(*dir, /*follow_model=*/false);
     ASSERT_TRUE(engine);
     std::vector<int> failing;
-    for (const SweepResult& r : sweep(*engine, {Grading::kAllControls})) {
+    // The tight comparison on every device, on the device as it is (not under HDRC_DEVICE_MODEL):
+    // a 1e-5 change lies within the device ranges of the SDR devices with every control moved
+    // (kShaderNoise, 2^-15 of the texel's largest channel), so those ranges cannot show it, and
+    // under the worst-case model the tight bounds of devices 3-7 fail unplanted; what this test
+    // checks is the sweep's power to see the change.
+    for (const SweepResult& r : sweep(*engine, {Grading::kAllControls}, /*derived=*/false)) {
       if (r.pass()) continue;
       if (failing.empty() || failing.back() != r.device) failing.push_back(r.device);
       std::printf("[ planted  ] %s in %s: caught on %s (%zu texels over the rel bound)\n",
