@@ -164,10 +164,10 @@ std::vector<std::array<double, 4>> run_on_gpu(hdrc::gpu::VulkanEngine& engine,
   return result;
 }
 
-// `follow_model`: under HDRC_DEVICE_MODEL (device_bounds_test.h test_options); false: the device
-// as it is.
+// `follow_model`: under HDRC_DEVICE_MODEL (device_bounds_test.h test_options), for a test whose
+// bounds have a derived branch; false: the device as it is.
 std::unique_ptr<hdrc::gpu::VulkanEngine> make_engine(const ShaderDirCopy& dir,
-                                                     bool follow_model = true) {
+                                                     bool follow_model = false) {
   hdrc::gpu::VulkanOptions o =
       follow_model ? hdrc::gpu::testing::test_options() : hdrc::gpu::VulkanOptions{};
   o.shader_dir = dir.path();
@@ -520,7 +520,7 @@ std::vector<SweepResult> sweep(hdrc::gpu::VulkanEngine& engine,
 // float32 noise. Prints the per-device summary docs/precision.md records.
 TEST(GradingShader, TexelMatchesReferenceEveryDeviceAndGamut) {
   const auto dir = probe_dir("texel", probe_source(kTexelProbeIncludes, kTexelProbeBody));
-  auto engine = make_engine(*dir);
+  auto engine = make_engine(*dir, /*follow_model=*/true);
   ASSERT_TRUE(engine);
   // On a device that is not float32-exact: the distance outside the texel's device range.
   const auto results = sweep(*engine, {Grading::kDefault, Grading::kAllControls},
@@ -691,7 +691,7 @@ TEST(GradingShader, PlantedDefectsAreCaught) {
   for (const Plant& defect : plants) {
     const auto dir = probe_dir("planted", probe_source(kTexelProbeIncludes, kTexelProbeBody));
     ASSERT_TRUE(plant(*dir, defect.file, defect.from, defect.to)) << defect.from;
-    auto engine = make_engine(*dir, /*follow_model=*/false);
+    auto engine = make_engine(*dir);
     ASSERT_TRUE(engine);
     std::vector<int> failing;
     // The tight comparison on every device, on the device as it is (not under HDRC_DEVICE_MODEL):
