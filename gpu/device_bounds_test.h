@@ -14,6 +14,9 @@
 //    linear_tap_box), 2^-bits per weight;
 //  * a whole stage: the reference's own device ranges (ResolvedCase::device_allowances,
 //    Image::device_admissible), as `hdrconform run` judges a case after its tight miss.
+// HDRC_DEVICE_MODEL=worst runs the tests that build their engines with test_options() under the
+// worst-case device model (a device that is not float32-exact, on lavapipe): their derived
+// branch is then exercised against the model's output.
 // Tests about lavapipe itself (its name, its serial execution, its timing) and the worst-case
 // model's probes (which assume an exact base device) skip with the reason on other devices; tests
 // that need the Khronos validation layer skip where it is not installed, except on lavapipe (CI
@@ -35,8 +38,8 @@
 #include "reference/color/device_allowance.h"
 #include "reference/color/noise_range.h"
 #include "reference/color/spirv_precision.h"
-#include "reference/ue/combine_luts.h"
 #include "reference/reference_engine.h"
+#include "reference/ue/combine_luts.h"
 
 namespace hdrc::gpu::testing {
 
@@ -47,11 +50,35 @@ inline bool float32_exact(const DeviceInfo& d) {
   return d.engine == "vulkan" && d.device.rfind("llvmpipe", 0) == 0 && d.precision.model.empty();
 }
 
-// The device a default-constructed engine opens (HDRC_VK_DEVICE where set, else lavapipe), asked
-// once per process.
+// The device model the tests that build their engines with test_options() run under: the
+// environment's HDRC_DEVICE_MODEL, "none" (the default) or "worst" (core/device_precision.h, as
+// `hdrconform run --device-model worst`). Under "worst" the device is not float32-exact, so those
+// tests take their derived bounds on lavapipe, against the model's output. Another value is an
+// error naming the variable, the value and the choices (the test that asks fails with it).
+inline Result<DeviceModel> test_device_model() {
+  const char* e = std::getenv("HDRC_DEVICE_MODEL");
+  const std::string v = e == nullptr ? "" : e;
+  if (v.empty() || v == "none") return DeviceModel::kNone;
+  if (v == "worst") return DeviceModel::kWorst;
+  return Error{"", "HDRC_DEVICE_MODEL", "unknown device model '" + v + "'", "none, worst"};
+}
+
+// The options of an engine on the tests' device: the default device (HDRC_VK_DEVICE where set,
+// else lavapipe) under test_device_model().
+inline VulkanOptions test_options() {
+  VulkanOptions o;
+  const Result<DeviceModel> model = test_device_model();
+  if (model.ok())
+    o.device_model = *model;
+  else
+    ADD_FAILURE() << model.error().to_string();
+  return o;
+}
+
+// The device an engine with test_options() opens, asked once per process.
 inline const DeviceInfo& test_device() {
   static const DeviceInfo info = [] {
-    VulkanEngine engine({});
+    VulkanEngine engine(test_options());
     const Status st = engine.init();
     return st.ok() ? engine.device() : DeviceInfo{};
   }();
@@ -94,7 +121,9 @@ inline std::string not_lavapipe_reason(const char* why) {
 // The reason a test that assumes a float32-exact device skips elsewhere ("" on such a device).
 inline std::string not_exact_reason(const char* why) {
   if (exact_device()) return "";
+  const std::string model = test_device().precision.model;
   return std::string("assumes a float32-exact device, ") + test_device().device +
+         (model.empty() ? "" : " under the " + model + "-case device model (HDRC_DEVICE_MODEL)") +
          " is not (runner/dither.h float32_exact_device): " + why;
 }
 

@@ -20,19 +20,19 @@
 #include <string>
 #include <vector>
 
+#include "color/gamma_correction.h"
+#include "color/st2084.h"
 #include "core/shader_interface.h"
 #include "gpu/device_bounds_test.h"
 #include "gpu/shader_probe.h"
 #include "gpu/vulkan_engine.h"
-#include "reference/ue/aces/aces_common.h"
-#include "color/gamma_correction.h"
-#include "color/st2084.h"
 #include "reference/color/ue_matrices.h"
+#include "reference/ue/aces/aces_common.h"
 #include "reference/ue/combine_luts.h"
+#include "reference/ue/cpp/resolve.h"
 #include "reference/ue/grading/expand_gamut.h"
 #include "reference/ue/grading/film_tonemap.h"
 #include "reference/ue/lut_shaper.h"
-#include "reference/ue/cpp/resolve.h"
 
 namespace fs = std::filesystem;
 using hdrc::ref::Mat3;
@@ -164,8 +164,12 @@ std::vector<std::array<double, 4>> run_on_gpu(hdrc::gpu::VulkanEngine& engine,
   return result;
 }
 
-std::unique_ptr<hdrc::gpu::VulkanEngine> make_engine(const ShaderDirCopy& dir) {
-  hdrc::gpu::VulkanOptions o;
+// `follow_model`: under HDRC_DEVICE_MODEL (device_bounds_test.h test_options), for a test whose
+// bounds have a derived branch; false: the device as it is.
+std::unique_ptr<hdrc::gpu::VulkanEngine> make_engine(const ShaderDirCopy& dir,
+                                                     bool follow_model = false) {
+  hdrc::gpu::VulkanOptions o =
+      follow_model ? hdrc::gpu::testing::test_options() : hdrc::gpu::VulkanOptions{};
   o.shader_dir = dir.path();
   auto engine = std::make_unique<hdrc::gpu::VulkanEngine>(o);
   const hdrc::Status st = engine->init();
@@ -314,9 +318,14 @@ double percentile(std::vector<double> v, double q) {
 
 // GPU values (stored texels) vs the reference on `lattice` points for one parameter block;
 // `rel_bound` decides which NaN mismatches are sign noise and which texels are listed in
-// over_rel.
+// over_rel. `derived` (a device that is not float32-exact): the reference value is first moved to
+// the value of its device range nearest the GPU's (combine_luts.h
+// combine_luts_texel_device_range: what a conformant device may compute there, as
+// device_bounds_test.h nearest_admissible does for a whole stage), so the measures are the GPU
+// value's distance outside that range; a NaN the range admits counts as NaN on both sides.
 ErrorStats compare_values(const hdrc::ParamBlock& p, const std::vector<Vec3>& lattice,
-                          const std::vector<std::array<double, 4>>& gpu, double rel_bound) {
+                          const std::vector<std::array<double, 4>>& gpu, double rel_bound,
+                          bool derived = false) {
   ErrorStats s;
   std::vector<double>& codes = s.codes;
   std::vector<double>& rels = s.rels;
@@ -324,12 +333,23 @@ ErrorStats compare_values(const hdrc::ParamBlock& p, const std::vector<Vec3>& la
     hdrc::ref::CombineLutsTrace trace;
     const Vec3 ref = hdrc::ref::combine_luts_texel(p, lattice[i], &trace);
     const Vec3 ref_lin = reference_linear(p, trace);
+    hdrc::ref::Range3 range;
+    if (derived) range = hdrc::ref::combine_luts_texel_device_range(p, lattice[i]);
     double magnitude = kRelFloor;
     for (double v : ref_lin) magnitude = std::fmax(magnitude, std::fabs(v));
     bool over = false;
     for (int c = 0; c < 3; ++c) {
       ++s.count;
-      const double r = ref[c], g = gpu[i][c];
+      const double g = gpu[i][c];
+      double r = ref[c], r_lin = ref_lin[c];
+      if (derived) {
+        if (std::isnan(g) && range.nan[c]) {
+          r = g;
+        } else if (!std::isnan(g) && range.lo[c] <= range.hi[c]) {
+          r = std::clamp(g, range.lo[c], range.hi[c]);
+          if (r != ref[c]) r_lin = decode_device(p, device_value(r), ref_lin[c]);
+        }
+      }
       if (std::isnan(r) && std::isnan(g)) {
         ++s.nan_both;
         continue;
@@ -345,7 +365,7 @@ ErrorStats compare_values(const hdrc::ParamBlock& p, const std::vector<Vec3>& la
       }
       const double code = std::fabs(device_value(g) - device_value(r));
       const double rel =
-          std::fabs(decode_device(p, device_value(g), ref_lin[c]) - ref_lin[c]) / magnitude;
+          std::fabs(decode_device(p, device_value(g), ref_lin[c]) - r_lin) / magnitude;
       codes.push_back(code);
       rels.push_back(rel);
       if (!(rel <= rel_bound)) over = true;
@@ -370,10 +390,10 @@ ErrorStats compare_values(const hdrc::ParamBlock& p, const std::vector<Vec3>& la
 }
 
 ErrorStats compare_texels(hdrc::gpu::VulkanEngine& engine, const hdrc::ParamBlock& p,
-                          const std::vector<Vec3>& lattice, double rel_bound) {
+                          const std::vector<Vec3>& lattice, double rel_bound, bool derived) {
   std::vector<std::array<double, 4>> inputs;
   for (const Vec3& l : lattice) inputs.push_back({l[0], l[1], l[2], 0.0});
-  return compare_values(p, lattice, run_on_gpu(engine, p, inputs), rel_bound);
+  return compare_values(p, lattice, run_on_gpu(engine, p, inputs), rel_bound, derived);
 }
 
 std::string describe(const ErrorStats& s) {
@@ -467,9 +487,10 @@ struct SweepResult {
   }
 };
 
-// Devices 0-9 × gamuts 0-4 × `gradings` on the 17³ lattice plus the PQ-uniform grid.
+// Devices 0-9 × gamuts 0-4 × `gradings` on the 17³ lattice plus the PQ-uniform grid; `derived`:
+// each texel's distance outside its device range (compare_values).
 std::vector<SweepResult> sweep(hdrc::gpu::VulkanEngine& engine,
-                               const std::vector<Grading>& gradings) {
+                               const std::vector<Grading>& gradings, bool derived) {
   std::vector<SweepResult> out;
   const std::vector<Vec3> grid17 = volume_grid(17);
   for (int device = 0; device <= 9; ++device) {
@@ -483,8 +504,8 @@ std::vector<SweepResult> sweep(hdrc::gpu::VulkanEngine& engine,
         r.gamut = gamut;
         r.grading = grading;
         r.bound = bound_for(device, gamut, grading);
-        r.stats =
-            compare_texels(engine, make_params(device, gamut, grading, 1), lattice, r.bound.rel);
+        r.stats = compare_texels(engine, make_params(device, gamut, grading, 1), lattice,
+                                 r.bound.rel, derived);
         out.push_back(std::move(r));
       }
   }
@@ -499,9 +520,11 @@ std::vector<SweepResult> sweep(hdrc::gpu::VulkanEngine& engine,
 // float32 noise. Prints the per-device summary docs/precision.md records.
 TEST(GradingShader, TexelMatchesReferenceEveryDeviceAndGamut) {
   const auto dir = probe_dir("texel", probe_source(kTexelProbeIncludes, kTexelProbeBody));
-  auto engine = make_engine(*dir);
+  auto engine = make_engine(*dir, /*follow_model=*/true);
   ASSERT_TRUE(engine);
-  const auto results = sweep(*engine, {Grading::kDefault, Grading::kAllControls});
+  // On a device that is not float32-exact: the distance outside the texel's device range.
+  const auto results = sweep(*engine, {Grading::kDefault, Grading::kAllControls},
+                             !hdrc::gpu::testing::exact_device());
   for (const SweepResult& r : results) {
     std::printf("[ measured ] %s\n", r.where().c_str());
     EXPECT_EQ(r.stats.nan_inconsistent, 0u) << r.where();
@@ -671,7 +694,12 @@ TEST(GradingShader, PlantedDefectsAreCaught) {
     auto engine = make_engine(*dir);
     ASSERT_TRUE(engine);
     std::vector<int> failing;
-    for (const SweepResult& r : sweep(*engine, {Grading::kAllControls})) {
+    // The tight comparison on every device, on the device as it is (not under HDRC_DEVICE_MODEL):
+    // a 1e-5 change lies within the device ranges of the SDR devices with every control moved
+    // (kShaderNoise, 2^-15 of the texel's largest channel), so those ranges cannot show it, and
+    // under the worst-case model the tight bounds of devices 3-7 fail unplanted; what this test
+    // checks is the sweep's power to see the change.
+    for (const SweepResult& r : sweep(*engine, {Grading::kAllControls}, /*derived=*/false)) {
       if (r.pass()) continue;
       if (failing.empty() || failing.back() != r.device) failing.push_back(r.device);
       std::printf("[ planted  ] %s in %s: caught on %s (%zu texels over the rel bound)\n",

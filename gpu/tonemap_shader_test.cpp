@@ -462,6 +462,8 @@ hdrc::Result<hdrc::ref::BakedLut> gpu_lut(hdrc::gpu::VulkanEngine& gpu, hdrc::Re
   hdrc::ref::BakedLut lut;
   lut.size = rc.params.lut_size;
   lut.layout = rc.params.lut_layout;
+  // The storage format: the device ranges filter in its precision (sample_lut_device_range).
+  lut.lut_format = rc.params.lut_format;
   const int n = lut.size;
   lut.texels.resize(static_cast<size_t>(n) * n * n);
   for (int b = 0; b < n; ++b)
@@ -477,15 +479,18 @@ hdrc::Result<hdrc::ref::BakedLut> gpu_lut(hdrc::gpu::VulkanEngine& gpu, hdrc::Re
 // float32-exact device (lavapipe: the tight bounds, unchanged); elsewhere moved into the pass's
 // device ranges over the GPU's texels (the sampler's weight box of subTexelPrecisionBits, "Texel
 // Filtering", and the pass's float32 arithmetic within the precision table's bounds; reference/
-// tonemap.h), nearest the GPU's value (device_bounds_test.h nearest_admissible).
-Image pass_reference(const hdrc::ParamBlock& p, const Image& scene, const Image* bloom,
-                     const Image* dirt, const hdrc::ref::BakedLut& lut, const Image& got) {
-  if (hdrc::gpu::testing::exact_device())
-    return hdrc::ref::tonemap_image(p, scene, bloom, dirt, &lut);
+// tonemap.h; the filter's arithmetic in the LUT format's precision, sample_lut_device_range),
+// nearest the GPU's value (device_bounds_test.h nearest_admissible). `derived` and `sub_texel_bits`
+// name another device (the worst-case model's planted-defect test).
+Image pass_reference(
+    const hdrc::ParamBlock& p, const Image& scene, const Image* bloom, const Image* dirt,
+    const hdrc::ref::BakedLut& lut, const Image& got,
+    bool derived = !hdrc::gpu::testing::exact_device(),
+    int sub_texel_bits = hdrc::gpu::testing::test_device().precision.sub_texel_bits) {
+  if (!derived) return hdrc::ref::tonemap_image(p, scene, bloom, dirt, &lut);
   const hdrc::ref::BakedLut device = hdrc::gpu::testing::as_device_lut(lut);
   const Image ranged =
-      hdrc::ref::tonemap_image(p, scene, bloom, dirt, &lut, nullptr, &device,
-                               hdrc::gpu::testing::test_device().precision.sub_texel_bits);
+      hdrc::ref::tonemap_image(p, scene, bloom, dirt, &lut, nullptr, &device, sub_texel_bits);
   return hdrc::gpu::testing::nearest_admissible(ranged, got);
 }
 
@@ -530,7 +535,7 @@ class TonemapEndToEnd : public ::testing::TestWithParam<EndToEnd> {};
 TEST_P(TonemapEndToEnd, PassMatchesReferenceOnTheGpuLut) {
   const EndToEnd e = GetParam();
   const hdrc::ResolvedCase rc = tonemap_case(e, scene_colours(128, 32, 5));
-  hdrc::gpu::VulkanEngine gpu({});
+  hdrc::gpu::VulkanEngine gpu(hdrc::gpu::testing::test_options());
   ASSERT_TRUE(gpu.init().ok());
   auto got = gpu.run(rc);
   ASSERT_TRUE(got.ok()) << got.error().to_string();
@@ -553,7 +558,7 @@ TEST_P(TonemapEndToEnd, PassMatchesReferenceOnTheGpuLut) {
 TEST_P(TonemapEndToEnd, StageMatchesReference) {
   const EndToEnd e = GetParam();
   const hdrc::ResolvedCase rc = tonemap_case(e, scene_colours(128, 32, 5));
-  hdrc::gpu::VulkanEngine gpu({});
+  hdrc::gpu::VulkanEngine gpu(hdrc::gpu::testing::test_options());
   ASSERT_TRUE(gpu.init().ok());
   auto got = gpu.run(rc);
   ASSERT_TRUE(got.ok()) << got.error().to_string();
@@ -579,21 +584,26 @@ TEST_P(TonemapEndToEnd, StageMatchesReference) {
 // product weight and partial sum, device_allowance.h filter_taps) admits up to about 8 LUT codes
 // per lookup, and this defect (4.7 codes outside the ranges without it) then lies 0.26 codes
 // outside, within the bound 2.2 (docs/precision.md, "Filter arithmetic").
+// A copy of the shaders with PQ's m2 made 1.005·m2 in lib/st2084.glsl pq_from_nits (the LUT's
+// encode and the shaper's); false where the line is not found.
+bool plant_pq_exponent(hdrc::gpu::testing::ShaderDirCopy& dir) {
+  std::ifstream in(std::string(hdrc::gpu::default_shader_dir()) + "/lib/st2084.glsl");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string source = text.str();
+  const std::string from = "PQ_C3 * lm)), PQ_M2);";
+  const size_t at = source.find(from);
+  if (at == std::string::npos) return false;
+  source.replace(at, from.size(), "PQ_C3 * lm)), PQ_M2 * 1.005);");
+  dir.write("lib/st2084.glsl", source);
+  return true;
+}
+
 TEST(TonemapShader, DerivedBoundsStillRejectAPlantedDefect) {
   const EndToEnd e{3, 2, 0, 2, 32};
   const hdrc::ResolvedCase rc = tonemap_case(e, scene_colours(128, 32, 5));
   hdrc::gpu::testing::ShaderDirCopy dir("tonemap_planted_pq");
-  {
-    std::ifstream in(std::string(hdrc::gpu::default_shader_dir()) + "/lib/st2084.glsl");
-    std::stringstream text;
-    text << in.rdbuf();
-    std::string source = text.str();
-    const std::string from = "PQ_C3 * lm)), PQ_M2);";
-    const size_t at = source.find(from);
-    ASSERT_NE(at, std::string::npos);
-    source.replace(at, from.size(), "PQ_C3 * lm)), PQ_M2 * 1.005);");
-    dir.write("lib/st2084.glsl", source);
-  }
+  ASSERT_TRUE(plant_pq_exponent(dir));
   hdrc::DevicePrecision device;
   device.sub_texel_bits = 8;
   device.fp16_rte = false;
@@ -614,6 +624,57 @@ TEST(TonemapShader, DerivedBoundsStillRejectAPlantedDefect) {
               code_max[0], code_max[1], code_bound(3).stage);
   EXPECT_LE(code_max[0], code_bound(3).stage);
   EXPECT_GT(code_max[1], code_bound(3).stage);
+}
+
+// The same on the worst-case device (DeviceModel::kWorst: the in-shader filter's 8-bit weights,
+// transcendentals at the edge of their bounds, toward-zero stores), judged as a device that is not
+// float32-exact is judged, with the model's own precision (engine.device()): the Tonemap pass on
+// the GPU's LUT within its device ranges and the stage within the stage's, each held to its tight
+// bound; the planted PQ exponent lies outside both. Device 3 (PQ codes); a 10-bit UNORM LUT
+// (filtered at 1/1023, the CTS's precision) and an RGBA32F one.
+TEST(TonemapShader, WorstCaseDeviceWithinTheDerivedRangesAndAPlantedDefectOutside) {
+  hdrc::gpu::testing::ShaderDirCopy dir("tonemap_planted_pq_worst");
+  ASSERT_TRUE(plant_pq_exponent(dir));
+  hdrc::ref::ReferenceEngine reference;
+  const EndToEnd cases[] = {{3, 2, 0, 0, 32}, {3, 2, 0, 2, 32}};
+  double pass_max[2][2] = {}, stage_max[2][2] = {};  // [case][planted]
+  for (int planted : {0, 1}) {
+    hdrc::gpu::VulkanOptions o;
+    o.device_model = hdrc::DeviceModel::kWorst;
+    if (planted) o.shader_dir = dir.path();
+    hdrc::gpu::VulkanEngine gpu(o);
+    ASSERT_TRUE(gpu.init().ok());
+    const hdrc::DevicePrecision device = gpu.device().precision;
+    ASSERT_FALSE(hdrc::gpu::testing::float32_exact(gpu.device()));
+    for (int k = 0; k < 2; ++k) {
+      const hdrc::ResolvedCase rc = tonemap_case(cases[k], scene_colours(128, 32, 5));
+      auto got = gpu.run(rc);
+      ASSERT_TRUE(got.ok()) << got.error().to_string();
+      auto lut = gpu_lut(gpu, rc);
+      ASSERT_TRUE(lut.ok()) << lut.error().to_string();
+      const Image pass = pass_reference(rc.params, rc.input, nullptr, nullptr, *lut, *got,
+                                        /*derived=*/true, device.sub_texel_bits);
+      pass_max[k][planted] = compare(cases[k], pass, *got).code.max();
+      auto stage =
+          hdrc::gpu::testing::stage_reference(reference, rc, *got, /*derived=*/true, device);
+      ASSERT_TRUE(stage.ok()) << stage.error().to_string();
+      stage_max[k][planted] = compare(cases[k], *stage, *got).code.max();
+    }
+  }
+  for (int k = 0; k < 2; ++k) {
+    const EndToEnd& e = cases[k];
+    std::printf(
+        "worst-case device, %s: pass code max %.4g clean, %.4g planted (bound %.3g); stage %.4g "
+        "clean, %.4g planted (bound %.3g)\n",
+        e.name().c_str(), pass_max[k][0], pass_max[k][1], code_bound(3).pass, stage_max[k][0],
+        stage_max[k][1], code_bound(3).stage);
+    EXPECT_LE(pass_max[k][0], code_bound(3).pass) << e.name();
+    EXPECT_GT(pass_max[k][1], code_bound(3).pass) << e.name();
+    EXPECT_LE(stage_max[k][0], code_bound(3).stage) << e.name();
+    if (e.format == 2) {
+      EXPECT_GT(stage_max[k][1], code_bound(3).stage) << e.name();
+    }
+  }
 }
 
 // The sampler's filter weights, measured: a probe in place of tonemap.comp reads the LUT that
@@ -696,7 +757,7 @@ TEST(TonemapShader, BloomDirtAndSpecialValuesOnTheGpuLut) {
                                           {"ChromaticAberrationStartOffset", 0.2}});
     rc.bloom = bloom;
     rc.bloom_dirt = dirt;
-    hdrc::gpu::VulkanEngine gpu({});
+    hdrc::gpu::VulkanEngine gpu(hdrc::gpu::testing::test_options());
     ASSERT_TRUE(gpu.init().ok());
     auto got = gpu.run(rc);
     ASSERT_TRUE(got.ok()) << got.error().to_string();

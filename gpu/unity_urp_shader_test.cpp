@@ -453,8 +453,10 @@ std::string read_shader(const std::string& relative) {
 // replaces the text `from` of library file `lib` with `to`.
 class UrpStageEngine {
  public:
+  // `follow_model`: the engine runs under HDRC_DEVICE_MODEL (device_bounds_test.h test_options),
+  // for a test whose bounds have a derived branch; else on the device as it is.
   explicit UrpStageEngine(const std::string& lib = "", const std::string& from = "",
-                          const std::string& to = "")
+                          const std::string& to = "", bool follow_model = false)
       : dir_("urp") {
     auto relink = [](std::string s) {
       for (size_t at; (at = s.find("\"../lib/")) != std::string::npos;)
@@ -470,7 +472,8 @@ class UrpStageEngine {
       if (planted_) text.replace(at, from.size(), to);
       dir_.write(lib, text);
     }
-    hdrc::gpu::VulkanOptions o;
+    hdrc::gpu::VulkanOptions o =
+        follow_model ? hdrc::gpu::testing::test_options() : hdrc::gpu::VulkanOptions{};
     o.shader_dir = dir_.path();
     engine_ = std::make_unique<hdrc::gpu::VulkanEngine>(o);
     init_ = engine_->init();
@@ -697,7 +700,7 @@ void grade_and_compare(UrpStageEngine& engine, const BakeCase& c, double bound_r
 }
 
 TEST(UnityUrpShader, GradingStageMatchesTheReference) {
-  UrpStageEngine engine;
+  UrpStageEngine engine("", "", "", /*follow_model=*/true);
   // RGBA16F strips: the GPU's strip differs from the reference's by a half ulp in some texels
   // (BakeStageMatchesTheReference), so the image does by up to a half ulp relative (9.8e-4);
   // the lookup alone (lavapipe's bilinear filter) is far tighter.

@@ -664,6 +664,16 @@ BakedLut bake_lut_device(const ParamBlock& p, const DevicePrecision& device, con
   return lut;
 }
 
+Range3 combine_luts_texel_device_range(const ParamBlock& p, const Vec3& lattice) {
+  const grading::InverseGamma inverse_gamma{p.inverse_gamma[0], p.inverse_gamma[1],
+                                            p.inverse_gamma[2]};
+  CombineLutsTrace t;
+  const Vec3 v = combine_luts_texel(p, lattice, &t);
+  Range3 range = scale(device_texel_range(p, inverse_gamma, t), 1.0 / kLutScale);
+  range.include(v);
+  return range;
+}
+
 LazyBakedLut::LazyBakedLut(const ParamBlock& p) : p_(p), texel_(p_) {
   const size_t n = static_cast<size_t>(p.lut_size);
   lut_.size = p.lut_size;

@@ -126,6 +126,13 @@ BakedLut bake_lut(const ParamBlock& p, const UeLutSet* luts = nullptr);
 BakedLut bake_lut_device(const ParamBlock& p, const DevicePrecision& device,
                          const UeLutSet* luts = nullptr);
 
+// The value (before storage) a conformant device may compute for the texel function at `lattice`
+// without a user-LUT blend: the range bake_lut_device stores from before the format's rounding
+// (the shader arithmetic's derived noise through the device's encode), holding
+// combine_luts_texel(p, lattice) itself. For a test that evaluates the texel function off the
+// LUT's lattice (gpu/grading_shader_test.cpp on a device that is not float32-exact).
+Range3 combine_luts_texel_device_range(const ParamBlock& p, const Vec3& lattice);
+
 // The range a conformant device's hardware filter may return for a lookup of a device LUT: the
 // weight box of `sub_texel_bits` around each axis's weight (device_allowance.h linear_tap_box),
 // the lower texel bounds at the box corner that minimises, the upper at the one that maximises,

@@ -225,6 +225,43 @@ TEST(CombineLuts, DarkChannelOfABrightTexelCarriesTheTexelsNoiseThroughPq) {
   EXPECT_FALSE(hdrc::ref::widen_noise({0, 0, 0}, 0.001, &z));
 }
 
+// combine_luts_texel_device_range is the range bake_lut_device stores from: for every texel of an
+// RGBA32F LUT (whose store adds only either float neighbour) on an SDR, a PQ and a linear device,
+// the stored range holds it, it holds the texel function's own value, and it is wider than a point
+// wherever the texel has a finite non-zero channel (kShaderNoise of the largest channel).
+TEST(CombineLuts, TexelDeviceRangeIsWhatTheDeviceLutStoresFrom) {
+  hdrc::DevicePrecision device;
+  device.sub_texel_bits = 8;
+  for (int d : {0, 3, 9}) {
+    const hdrc::ParamBlock p = lut_params(d, 2, 16, 2, 0);
+    const hdrc::ref::BakedLut lut = hdrc::ref::bake_lut_device(p, device);
+    ASSERT_TRUE(lut.has_ranges());
+    const int n = lut.size;
+    ASSERT_EQ(n, 16);
+    for (int b = 0; b < n; ++b)
+      for (int g = 0; g < n; ++g)
+        for (int r = 0; r < n; ++r) {
+          const Vec3 lattice = hdrc::ref::lattice_coordinate(0, n, r, g, b);
+          const hdrc::ref::Range3 range = hdrc::ref::combine_luts_texel_device_range(p, lattice);
+          const Vec3 v = hdrc::ref::combine_luts_texel(p, lattice);
+          const size_t i = lut.index(r, g, b);
+          for (int c = 0; c < 3; ++c) {
+            if (std::isnan(v[c])) {
+              EXPECT_TRUE(range.nan[c]) << d << " " << r << " " << g << " " << b << " " << c;
+              continue;
+            }
+            EXPECT_LE(range.lo[c], v[c]) << d << " " << r << " " << g << " " << b << " " << c;
+            EXPECT_GE(range.hi[c], v[c]) << d << " " << r << " " << g << " " << b << " " << c;
+            EXPECT_LE(lut.lo[i][c], range.lo[c]) << d << " " << r << " " << g << " " << b;
+            EXPECT_GE(lut.hi[i][c], range.hi[c]) << d << " " << r << " " << g << " " << b;
+            if (v[c] != 0) {
+              EXPECT_LT(range.lo[c], range.hi[c]) << d << " " << r << " " << g << " " << b;
+            }
+          }
+        }
+  }
+}
+
 // Every stored texel is a value of its storage format: RGBA32F texels are float32 values, RGBA16F
 // texels half values, UNORM texels k/1023. GCC 12's SLP vectoriser dropped the float round trip of
 // two channels at -O3 (CMakeLists.txt, -fno-tree-slp-vectorize); this is the test that saw it.
