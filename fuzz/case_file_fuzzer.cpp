@@ -25,7 +25,7 @@ const hdrc::SuiteDefaults& defaults() {
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
   std::vector<hdrc::Error> errors;
-  auto cases = hdrc::parse_case_file(HDRC_SOURCE_CASES_DIR "/fuzz/case.json", text,
+  auto cases = hdrc::parse_case_file(std::string(HDRC_SOURCE_CASES_DIR) + "/fuzz/case.json", text,
                                      HDRC_SOURCE_CASES_DIR, "fuzz/case", defaults(), &errors);
   for (const hdrc::Error& e : errors) (void)e.to_string();
   // Resolving builds the stimulus: only small ones, so that an iteration stays fast (the size

@@ -108,7 +108,7 @@ namespace {
 
 std::string errors_of(const std::string& text) {
   std::vector<hdrc::Error> errors;
-  hdrc::parse_case_file("t.json", text, HDRC_SOURCE_DIR "/cases", "t", &errors);
+  hdrc::parse_case_file("t.json", text, std::string(HDRC_SOURCE_DIR) + "/cases", "t", &errors);
   std::string all;
   for (const auto& e : errors) all += e.to_string() + "\n";
   return all;
@@ -137,8 +137,8 @@ TEST(CoveringLoader, StrengthAndTierAreChecked) {
 }
 
 TEST(CoveringLoader, SuitesSelectTiers) {
-  const auto quick = hdrc::load_cases(HDRC_SOURCE_DIR "/cases");
-  const auto all = hdrc::load_cases(HDRC_SOURCE_DIR "/cases", "exhaustive");
+  const auto quick = hdrc::load_cases(std::string(HDRC_SOURCE_DIR) + "/cases");
+  const auto all = hdrc::load_cases(std::string(HDRC_SOURCE_DIR) + "/cases", "exhaustive");
   ASSERT_TRUE(quick.errors.empty());
   ASSERT_TRUE(all.errors.empty());
   size_t exhaustive = 0;
@@ -146,7 +146,7 @@ TEST(CoveringLoader, SuitesSelectTiers) {
   for (const auto& c : all.cases) exhaustive += c.tier == "exhaustive";
   EXPECT_EQ(all.cases.size(), quick.cases.size() + exhaustive);
   EXPECT_GE(exhaustive, 5000u);
-  EXPECT_FALSE(hdrc::load_cases(HDRC_SOURCE_DIR "/cases", "fast").errors.empty());
+  EXPECT_FALSE(hdrc::load_cases(std::string(HDRC_SOURCE_DIR) + "/cases", "fast").errors.empty());
 }
 
 }  // namespace

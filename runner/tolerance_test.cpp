@@ -186,7 +186,7 @@ TEST(ToleranceOverlays, EveryOverlayNeedsASelectorAndAReason) {
 
 TEST(ToleranceOverlays, TheSuitesOverlayFileLoads) {
   std::vector<hdrc::Error> errors;
-  hdrc::load_tolerance_overlays(HDRC_SOURCE_DIR "/cases", &errors);
+  hdrc::load_tolerance_overlays(std::string(HDRC_SOURCE_DIR) + "/cases", &errors);
   for (const auto& e : errors) ADD_FAILURE() << e.to_string();
 }
 

@@ -262,7 +262,7 @@ int main(int argc, char** argv) {
     return 1;
   }
 
-  const std::string cases_dir = HDRC_SOURCE_DIR "/cases";
+  const std::string cases_dir = std::string(HDRC_SOURCE_DIR) + "/cases";
   std::vector<hdrc::Error> errors;
   std::vector<Case> main_cases, skipped_cases;
   auto add = [&](std::vector<Case>* to, const char* text, const std::string& name) {
