@@ -105,15 +105,29 @@ inline CoordRange cts_texel_range(double t_lo, double t_hi, int size) {
 // at weight 1): within one piece the filtered value is linear in the weight, so its extremes over
 // the whole range lie among these boxes' corners (as strip_device_range.h's candidates).
 // The coordinate's range also takes the CTS's rounding of the unnormalised coordinate
-// (cts_texel_range): the boxes a hardware filter may use.
-inline std::vector<TapBox> linear_tap_boxes(double t, int size, int bits, double coord_noise) {
-  const CoordRange range = cts_texel_range(t - coord_noise, t + coord_noise, size);
+// (cts_texel_range): the boxes a hardware filter may use. Consecutive boxes of the same two taps
+// are merged into one: the coordinates between theirs reach every fraction between, so the merged
+// box is exact, and a lookup then evaluates one box per axis where the range stays in one cell.
+// linear_tap_boxes_over: the same over a texel-space range [lo, hi] of the coordinate.
+inline std::vector<TapBox> linear_tap_boxes_over(double lo, double hi, int size, int bits) {
+  const CoordRange range = cts_texel_range(lo, hi, size);
   const double a = range.lo, b = range.hi;
-  std::vector<TapBox> boxes = {linear_tap_box(a, size, bits, 0.0)};
-  for (double k = std::floor(a) + 1; k < b; k += 1)
-    boxes.push_back(linear_tap_box(k, size, bits, 0.0));
-  if (b > a) boxes.push_back(linear_tap_box(b, size, bits, 0.0));
+  std::vector<TapBox> boxes;
+  auto add = [&](const TapBox& box) {
+    if (!boxes.empty() && boxes.back().i0 == box.i0 && boxes.back().i1 == box.i1) {
+      boxes.back().f_lo = std::fmin(boxes.back().f_lo, box.f_lo);
+      boxes.back().f_hi = std::fmax(boxes.back().f_hi, box.f_hi);
+    } else {
+      boxes.push_back(box);
+    }
+  };
+  add(linear_tap_box(a, size, bits, 0.0));
+  for (double k = std::floor(a) + 1; k < b; k += 1) add(linear_tap_box(k, size, bits, 0.0));
+  if (b > a) add(linear_tap_box(b, size, bits, 0.0));
   return boxes;
+}
+inline std::vector<TapBox> linear_tap_boxes(double t, int size, int bits, double coord_noise) {
+  return linear_tap_boxes_over(t - coord_noise, t + coord_noise, size, bits);
 }
 
 // The arithmetic of the filter itself: the precision in which a conformant device may form the

@@ -65,18 +65,15 @@ inline Range3 strip_lookup_device_range(const StripBounds& s, const Range3& t, i
   // widened by the noise, and the texel planes strictly between them (the noise may carry a
   // coordinate across a plane: a strip's x below a slice's first texel reads the previous slice's
   // last one). At each candidate the weight takes its sub-texel box.
-  // `size` > 0: a hardware coordinate along an axis of that many texels, whose range also takes
-  // the CTS's rounding of the unnormalised coordinate (device_allowance.h cts_texel_range); 0: the
-  // shader's own slice coordinate.
-  auto candidates = [](double a, double b, double noise, int size) {
+  // The slice coordinate (the shader's own lerp, no sub-texel rounding): both ends of its range
+  // widened by the noise and the texel planes strictly between them (the noise may carry it across
+  // a plane). The hardware axes: linear_tap_boxes_over, the CTS's coordinate rounding included and
+  // the boxes of one texel pair merged (a strip's x below a slice's first texel reads the previous
+  // slice's last one: another pair).
+  auto candidates = [](double a, double b, double noise) {
     std::vector<double> v;
     a -= noise;
     b += noise;
-    if (size > 0) {
-      const CoordRange range = cts_texel_range(a, b, size);
-      a = range.lo;
-      b = range.hi;
-    }
     v.push_back(a);
     for (double k = std::floor(a) + 1; k < b; k += 1) v.push_back(k);
     if (b > a) v.push_back(b);
@@ -88,8 +85,9 @@ inline Range3 strip_lookup_device_range(const StripBounds& s, const Range3& t, i
     a[c] = std::isnan(t.lo[c]) ? 0.0 : std::clamp(t.lo[c], 0.0, 1.0) * (n - 1);
     b[c] = std::isnan(t.hi[c]) ? a[c] : std::max(a[c], std::clamp(t.hi[c], 0.0, 1.0) * (n - 1));
   }
-  const std::vector<double> pos_g = candidates(a[1], b[1], coord_noise * n, n);
-  const std::vector<double> pos_b = candidates(a[2], b[2], coord_noise * n, 0);
+  const std::vector<TapBox> boxes_g =
+      linear_tap_boxes_over(a[1] - coord_noise * n, b[1] + coord_noise * n, n, bits);
+  const std::vector<double> pos_b = candidates(a[2], b[2], coord_noise * n);
   Range3 r;
   for (int c = 0; c < 3; ++c) {
     r.lo[c] = HUGE_VAL;
@@ -98,20 +96,19 @@ inline Range3 strip_lookup_device_range(const StripBounds& s, const Range3& t, i
   bool nan[3] = {false, false, false};
   double least[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL};  // the least lower texel bound read
   auto at = [](const Image& img, int x, int y, int c) { return img.px(x, y)[c]; };
-  for (const double pg : pos_g)
+  for (const TapBox& ty : boxes_g)
     for (const double pb : pos_b) {
       const double slice = std::floor(pb);
       const double frac = pb - slice;
       Vec3 s_lo[2], s_hi[2];
-      const TapBox ty = linear_tap_box(pg, n, bits, 0.0);
       for (int k = 0; k < 2; ++k) {
         for (int c = 0; c < 3; ++c) {
           s_lo[k][c] = HUGE_VAL;
           s_hi[k][c] = -HUGE_VAL;
         }
-        for (const double px : candidates(a[0] + n * (slice + k), b[0] + n * (slice + k),
-                                          coord_noise * width, width)) {
-          const TapBox tx = linear_tap_box(px, width, bits, 0.0);
+        for (const TapBox& tx :
+             linear_tap_boxes_over(a[0] + n * (slice + k) - coord_noise * width,
+                                   b[0] + n * (slice + k) + coord_noise * width, width, bits)) {
           for (const double fx : {tx.f_lo, tx.f_hi})
             for (const double fy : {ty.f_lo, ty.f_hi}) {
               const double w00 = (1 - fx) * (1 - fy), w10 = fx * (1 - fy), w01 = (1 - fx) * fy,
