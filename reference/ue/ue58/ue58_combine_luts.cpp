@@ -416,20 +416,10 @@ constexpr double kBt1886PowNoise = kShaderNoise;
 // larger operand, spirv_precision.h; as strip_device_range.h): 7.5 ULP of the largest texel bound.
 constexpr double kTrilinearUlps = 7.5;
 
-// linear_tap_boxes with the consecutive boxes of the same two taps merged into one: the
-// coordinates between theirs reach every fraction between, and the filtered value is linear in
-// it, so the merged box's ends hold the extremes of both. A pair of equal (clamped) taps weighs
-// nothing: one corner.
+// linear_tap_boxes (the consecutive boxes of one texel pair already merged there), with a pair
+// of equal (clamped) taps weighing nothing: one corner.
 std::vector<TapBox> merged_tap_boxes(double t, int size, int bits, double noise) {
-  std::vector<TapBox> out;
-  for (const TapBox& b : linear_tap_boxes(t, size, bits, noise)) {
-    if (!out.empty() && out.back().i0 == b.i0 && out.back().i1 == b.i1) {
-      out.back().f_lo = std::fmin(out.back().f_lo, b.f_lo);
-      out.back().f_hi = std::fmax(out.back().f_hi, b.f_hi);
-    } else {
-      out.push_back(b);
-    }
-  }
+  std::vector<TapBox> out = linear_tap_boxes(t, size, bits, noise);
   for (TapBox& b : out)
     if (b.i0 == b.i1) b.f_lo = b.f_hi = 0;
   return out;
