@@ -156,6 +156,9 @@ struct LutBlendStep {
 struct Case {
   std::string id;    // stable, readable: "linear_device/dev7_gamut2_log_ramp"
   std::string file;  // the case file it came from
+  // The same file relative to the cases folder it was loaded from ("lut/devices.json"): what an
+  // export names, so a params.json carries no path of the machine that wrote it.
+  std::string file_in_cases;
   const StageInfo* stage = nullptr;
   CvarValues cvars;
   SettingValues settings;  // post-process and view settings (UE defaults when unset)

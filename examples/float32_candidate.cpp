@@ -521,7 +521,7 @@ int main(int argc, char** argv) {
   } catch (const std::exception& e) {
     return fail(params_path + ": " + e.what());
   }
-  if (doc.value("format_version", 0) != 2)
+  if (doc.value("format_version", 0) != 3)
     return fail(params_path + ": format_version " + doc.value("format_version", json()).dump() +
                 ", this port reads 2");
   const std::string stage = doc.at("stage");

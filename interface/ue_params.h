@@ -10,7 +10,8 @@
   X(I, output_device, "EDisplayOutputFormat after cvar resolution (0-9)")                         \
   X(I, output_gamut, "EDisplayColorGamut after cvar resolution (0-4)")                            \
   X(I, lut_size, "r.LUT.Size: LUT edge N")                                                        \
-  X(I, lut_format, "LUT storage: 0 A2B10G10R10 UNORM, 1 RGBA16F, 2 RGBA32F")                      \
+  X(I, lut_format,                                                                                \
+    "LUT storage: 0 A2B10G10R10 UNORM, 1 RGBA16F, 2 RGBA32F, 3 RGBA8 UNORM (unity_urp LDR)")      \
   X(I, lut_layout, "LUT layout: 0 volume N^3, 1 2-D unwrapped N^2 x N")                           \
   X(I, wcs_is_srgb, "WorkingColorSpace.bIsSRGB")                                                  \
   X(I, white_balance_enabled, "0 when SKIP_TEMPERATURE (6500 K and tint 0)")                      \
@@ -83,8 +84,10 @@
   X(M3, wcs_to_ap1, "WorkingColorSpace.ToAP1, float as UE's CPU builds it")                       \
   X(M3, wcs_from_ap1, "WorkingColorSpace.FromAP1: inverse of the float ToAP1")                    \
   X(M3, wcs_to_ap0, "WorkingColorSpace.ToAP0")                                                    \
-  X(M3, wcs_to_xyz, "WorkingColorSpace.ToXYZ (white balance is built from it on the host)")       \
-  X(M3, wcs_from_xyz, "WorkingColorSpace.FromXYZ")                                                \
+  X(M3, wcs_to_xyz,                                                                               \
+    "WorkingColorSpace.ToXYZ (working RGB to CIE XYZ), float as UE's CPU builds it")              \
+  X(M3, wcs_from_xyz,                                                                             \
+    "WorkingColorSpace.FromXYZ (CIE XYZ to working RGB), float as UE's CPU builds it")            \
   X(M3, white_balance, "FromXYZ * CA(src, dst) * ToXYZ (identity when skipped)")                  \
   X(M3, ap1_to_output, "OuputGamutMappingMatrix(output_gamut), product of UE's literals")         \
   X(I, lut_blend_count, "BLENDCOUNT: 1 + the user LUTs blended (GenerateFinalTable; 1: none)")    \

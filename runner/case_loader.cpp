@@ -769,6 +769,7 @@ std::vector<Case> parse_case_file(const std::string& file, const std::string& te
 
   Case base;
   base.file = file;
+  base.file_in_cases = name + fs::path(file).extension().generic_string();
   base.tolerance = default_tolerance();
   if (doc.contains("tier")) {
     const json& t = doc["tier"];

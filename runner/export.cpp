@@ -428,20 +428,9 @@ json user_lut_json(const ResolvedCase& rc) {
           {"sampler", "linear filtering, clamp-to-edge, normalised coordinates"}};
 }
 
-// The case file relative to the folder the params.json is written to (`dir`), so an export names
-// no absolute path of the machine that made it; "" for a case without a file (probe).
-std::string case_file_relative(const std::string& file, const std::string& dir) {
-  if (file.empty()) return "";
-  std::error_code ec;
-  const fs::path from = fs::absolute(dir.empty() ? fs::path(".") : fs::path(dir), ec);
-  const fs::path to = fs::absolute(file, ec);
-  if (ec) return fs::path(file).filename().generic_string();
-  return to.lexically_normal().lexically_relative(from.lexically_normal()).generic_string();
-}
-
 }  // namespace
 
-json case_export_json(const ResolvedCase& rc, const std::string& dir) {
+json case_export_json(const ResolvedCase& rc) {
   const Case& c = rc.spec;
   json passes = json::array();
   for (const StagePass& p : c.stage->passes) passes.push_back(std::string(p.shader));
@@ -458,7 +447,7 @@ json case_export_json(const ResolvedCase& rc, const std::string& dir) {
       {"format", "hdrconform case export " + std::to_string(kExportFormatVersion)},
       {"schema", "runner/params.schema.json"},
       {"id", c.id},
-      {"case_file", case_file_relative(c.file, dir)},
+      {"case_file", c.file_in_cases},
       {"pipeline", std::string(c.stage->pipeline)},
       {"stage", std::string(c.stage->name)},
       {"passes", passes},
@@ -503,7 +492,7 @@ Status export_case(const ResolvedCase& rc, const std::string& dir) {
     if (!text) return text.error();
     if (Status st = write_file_atomic(dir + "/user_lut.cube", *text); !st) return st;
   }
-  return write_file_atomic(dir + "/params.json", dump_json(case_export_json(rc, dir), 2) + "\n");
+  return write_file_atomic(dir + "/params.json", dump_json(case_export_json(rc), 2) + "\n");
 }
 
 Result<ResolvedCase> load_exported_case(const std::string& params_path) {

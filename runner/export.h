@@ -34,14 +34,14 @@ Result<ParamBlock> params_from_json(const nlohmann::ordered_json& j, const std::
 
 // params.json's format version: a port checks it (2: "storage", "resolved" and the full
 // "output" block; runner/params.schema.json describes it, docs/candidate-protocol.md explains it).
-inline constexpr int kExportFormatVersion = 2;
+inline constexpr int kExportFormatVersion = 3;
 
-// The params.json document of a resolved case, to be written into folder `dir` (image file names
-// and case_file relative to it). A pipeline other than UE 5.5 carries only what applies to it:
-// "resolved" (UE's cvar resolution) is null, "storage" is null unless the pipeline stores a LUT
-// of its own (lut_size), "params" holds its fields and the UE fields it reads (param_carried_by),
-// and output.formula names the docs section that defines the stored value.
-nlohmann::ordered_json case_export_json(const ResolvedCase& rc, const std::string& dir = ".");
+// The params.json document of a resolved case (image file names relative to its folder, case_file
+// relative to the cases folder the case was loaded from). A pipeline other than UE 5.5 carries only
+// what applies to it: "resolved" (UE's cvar resolution) is null, "storage" is null unless the
+// pipeline stores a LUT of its own (lut_size), "params" holds its fields and the UE fields it reads
+// (param_carried_by), and output.formula names the docs section that defines the stored value.
+nlohmann::ordered_json case_export_json(const ResolvedCase& rc);
 
 // Writes params.json and the case's images into `dir` (each atomically).
 Status export_case(const ResolvedCase& rc, const std::string& dir);

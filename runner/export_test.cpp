@@ -309,6 +309,25 @@ TEST(ParamsContract, SchemaListsEveryParameterBlockField) {
   EXPECT_EQ(listed, all);
 }
 
+// Each field's description in the schema is the interface header's meaning of it (one source:
+// interface/*_params.h), with the pipeline note for fields only one pipeline's cases carry. A
+// porter reads the schema; the headers are what the shaders and the reference are built from.
+TEST(ParamsContract, SchemaDescriptionsAreTheInterfaceHeadersMeanings) {
+  std::vector<std::pair<std::string, std::string>> meanings;
+#define HDRC_MEANING(type, name, doc) meanings.emplace_back(#name, doc);
+  HDRC_PARAM_BLOCK(HDRC_MEANING)
+#undef HDRC_MEANING
+  const auto& props = params_schema()["properties"]["params"]["properties"];
+  ASSERT_EQ(props.size(), meanings.size());
+  const std::regex note(R"( \(pipeline [a-z0-9_]+: carried by its cases only\)$)");
+  for (const auto& [name, doc] : meanings) {
+    SCOPED_TRACE(name);
+    ASSERT_TRUE(props.contains(name));
+    const std::string description = props[name].value("description", "");
+    EXPECT_EQ(std::regex_replace(description, note, ""), doc);
+  }
+}
+
 // The validator catches what a port would trip on: a wrong version, a missing block, a wrong
 // type, an unknown key, each located by JSON pointer.
 TEST(ParamsContract, ValidatorLocatesViolations) {
@@ -319,7 +338,7 @@ TEST(ParamsContract, ValidatorLocatesViolations) {
   bad["format_version"] = 1;
   auto e = hdrc::validate_json(bad, params_schema(), "p.json");
   ASSERT_FALSE(e.empty());
-  EXPECT_EQ(e[0].to_string(), "p.json: /format_version: expected 2, got 1");
+  EXPECT_EQ(e[0].to_string(), "p.json: /format_version: expected 3, got 1");
   bad = doc;
   bad["output"].erase("quantisation");
   e = hdrc::validate_json(bad, params_schema(), "p.json");
@@ -449,7 +468,7 @@ void shader_fields(const std::filesystem::path& file, const std::string& pipelin
 // derivation sets (a value other than the block's default in one of its cases), so a UE-only
 // field (output_device, the ACES coefficients, ...) in such an export fails here; no "resolved"
 // block (UE's cvar resolution); "storage" only with a LUT of its own; output.formula a docs
-// section, not a source file; case_file relative to the export folder.
+// section, not a source file; case_file relative to the cases folder, naming no folder above it.
 TEST(ParamsContract, OtherPipelinesExportOnlyWhatApplies) {
   auto loaded = hdrc::load_cases(std::string(HDRC_SOURCE_DIR) + "/cases");
   ASSERT_TRUE(loaded.errors.empty());
@@ -478,8 +497,7 @@ TEST(ParamsContract, OtherPipelinesExportOnlyWhatApplies) {
     const auto def = hdrc::params_json(defaults, "ue55");
     for (auto it = set.begin(); it != set.end(); ++it)
       if (it.value() != def[it.key()]) used[pipeline].insert(it.key());
-    const std::string dir = std::string(HDRC_SOURCE_DIR) + "/build/export/cases/x";
-    const auto doc = hdrc::case_export_json(*rc, dir);
+    const auto doc = hdrc::case_export_json(*rc);
     SCOPED_TRACE(c.id);
     EXPECT_TRUE(doc["resolved"].is_null());
     EXPECT_EQ(doc["storage"].is_null(), !used[pipeline].count("lut_size"));
@@ -493,8 +511,9 @@ TEST(ParamsContract, OtherPipelinesExportOnlyWhatApplies) {
       EXPECT_EQ(formula.find(ext), std::string::npos) << formula;
     const std::string case_file = doc["case_file"];
     EXPECT_NE(case_file.front(), '/');
-    EXPECT_TRUE(
-        std::filesystem::exists((std::filesystem::path(dir) / case_file).lexically_normal()))
+    EXPECT_EQ(case_file.find(".."), std::string::npos) << case_file;
+    EXPECT_TRUE(std::filesystem::equivalent(
+        std::filesystem::path(HDRC_SOURCE_DIR) / "cases" / case_file, c.file))
         << case_file;
   }
   EXPECT_GT(cases["operators"], 0u);

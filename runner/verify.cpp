@@ -443,7 +443,9 @@ Result<Image> CandidateCommandEngine::run(const ResolvedCase& c) {
     why = r.error;
   else if (r.timed_out)
     why = "timed out after " + format_number(timeout_s_) +
-          " s (killed with every process it started)";
+          " s (killed with every process it started); a slower port (an interpreted one baking a "
+          "64^3 LUT takes minutes) needs a larger --timeout, and --rerun-failed DIR repeats only "
+          "the cases that did not pass";
   else if (r.signal == SIGXFSZ)
     why = "wrote a file over the size limit of " + std::to_string(kMaxImageFileBytes) +
           " bytes (killed by SIGXFSZ)";

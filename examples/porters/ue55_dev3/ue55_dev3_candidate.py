@@ -343,8 +343,8 @@ def main():
     args = ap.parse_args()
     with open(args.params) as f:
         pj = json.load(f)
-    if pj.get("format_version") != 2:
-        return decline(78, f"params.json format_version {pj.get('format_version')} is not 2")
+    if pj.get("format_version") != 3:
+        return decline(78, f"params.json format_version {pj.get('format_version')} is not 3")
     stage = pj.get("stage")
     if pj.get("pipeline", "ue55") != "ue55" or stage not in STAGES:
         return decline(78, f"this port implements ue55 shaper/combine_luts/tonemap, not "

@@ -364,8 +364,8 @@ def main():
     args = ap.parse_args()
     with open(args.params) as f:
         pj = json.load(f)
-    if pj.get("format_version") != 2:
-        print(f"params.json format_version {pj.get('format_version')} is not 2")
+    if pj.get("format_version") != 3:
+        print(f"params.json format_version {pj.get('format_version')} is not 3")
         return 78
     if pj.get("pipeline") != "unity_urp" or pj.get("stage") not in ("lut_bake", "color_grading"):
         print(f"this port implements unity_urp's lut_bake and color_grading, not "
