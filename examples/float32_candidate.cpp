@@ -106,23 +106,6 @@ Film film_params(const json& p) {
   return f;
 }
 
-// ACES.ush helpers as docs/spec/film_tonemap.md "The ACES helpers" states them.
-float rgb_2_saturation(const float c[3]) {
-  const float mx = max_num(max_num(c[0], c[1]), c[2]);
-  const float mn = std::fmin(std::fmin(c[0], c[1]), c[2]);
-  return (max_num(mx, 1e-10f) - max_num(mn, 1e-10f)) * (1.0f / max_num(mx, 0.01f));
-}
-float sigmoid_shaper(float x) {
-  const float t = max_num(1.0f - std::fabs(0.5f * x), 0.0f);
-  const float sign = float(x > 0) - float(x < 0);
-  return 0.5f * std::fmaf(sign, 1.0f - t * t, 1.0f);
-}
-float rgb_2_hue(const float c[3]) {
-  if (c[0] == c[1] && c[1] == c[2]) return 0.0f;
-  float h = 57.2957795f * std::atan2(1.73205081f * (c[1] - c[2]), 2.0f * c[0] - c[1] - c[2]);
-  if (h < 0.0f) h += 360.0f;
-  return std::fmin(std::fmax(h, 0.0f), 360.0f);
-}
 // Step 5, one channel.
 float film_curve(float w, const Film& f) {
   const float log_color = log10_e2(w);
@@ -394,9 +377,11 @@ int main(int argc, char** argv) {
                 ", this port reads 2");
   const std::string stage = doc.at("stage");
   const std::string dir = params_path.substr(0, params_path.find_last_of('/') + 1);
-  if (doc.value("pipeline", "") == "unity_urp") {
+  const std::string pipeline = doc.value("pipeline", "");
+  if (pipeline == "unity_urp" || pipeline == "ue55") {
     try {
-      return unity_urp_stage(doc, dir, output_path);
+      return pipeline == "ue55" ? ue55_stage(doc, dir, output_path)
+                                : unity_urp_stage(doc, dir, output_path);
     } catch (const std::exception& e) {
       return fail(params_path + ": " + e.what());
     }

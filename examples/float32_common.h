@@ -128,6 +128,25 @@ inline float center_hue(float h, float center) {
   return c;
 }
 
+// UE's ACES.ush only (docs/spec/film_tonemap.md "The ACES helpers"; Unity's differ: 1e-4 and
+// 1e-2 in the saturation, FastSign, no clamp of the hue).
+inline float rgb_2_saturation(const float c[3]) {
+  const float mx = max_num(max_num(c[0], c[1]), c[2]);
+  const float mn = std::fmin(std::fmin(c[0], c[1]), c[2]);
+  return (max_num(mx, 1e-10f) - max_num(mn, 1e-10f)) * (1.0f / max_num(mx, 0.01f));
+}
+inline float sigmoid_shaper(float x) {
+  const float t = max_num(1.0f - std::fabs(0.5f * x), 0.0f);
+  const float sign = float(x > 0) - float(x < 0);
+  return 0.5f * std::fmaf(sign, 1.0f - t * t, 1.0f);
+}
+inline float rgb_2_hue(const float c[3]) {
+  if (c[0] == c[1] && c[1] == c[2]) return 0.0f;
+  float h = 57.2957795f * std::atan2(1.73205081f * (c[1] - c[2]), 2.0f * c[0] - c[1] - c[2]);
+  if (h < 0.0f) h += 360.0f;
+  return std::fmin(std::fmax(h, 0.0f), 360.0f);
+}
+
 inline int fail(const std::string& what) {
   std::fprintf(stderr, "float32_candidate: %s\n", what.c_str());
   return 1;
@@ -176,6 +195,7 @@ inline int write_rgba(const std::string& path, int w, int h, const std::vector<f
 // document `doc` (read from folder `dir`, ending in '/') and write `output`; the candidate's exit
 // status.
 int unity_urp_stage(const json& doc, const std::string& dir, const std::string& output);
+int ue55_stage(const json& doc, const std::string& dir, const std::string& output);
 
 }  // namespace f32
 
