@@ -1,12 +1,12 @@
-// The second float32 evaluation's `ue55` pipeline, output device 3 (ACES 1000 nits, ST 2084;
-// issue 28 item 6): the stages `shaper`, `combine_luts` (CombineLUTs' grading and the ACES 1.3
-// output transform) and `tonemap` (colour fringe, sharpen, vignette, exposure, tint, bloom and its
-// dirt mask, the PQ shaper, the baked LUT's lookup), written from docs/spec/ue55.md (§3.1, §4,
-// §5.1-§5.2, §6.1), docs/spec/film_tonemap.md (the ACES helpers), docs/spec/semantics.md and
-// docs/candidates/{shaper,combine_luts,tonemap}.md, in float32, in an operation order that differs
-// from the project's GLSL (gpu/shaders/lib/st2084.glsl, combine_luts.glsl, color_correct.glsl,
-// expand_gamut.glsl, aces_rrt.glsl, aces_tonescale.glsl, aces_output.glsl, tonemap_effects.glsl,
-// lut_sample.glsl) on purpose:
+// The second float32 evaluation's `ue55` pipeline, output devices 3 and 4 (ACES 1000 and 2000
+// nits, ST 2084; issue 28 item 6): the stages `shaper`, `combine_luts` (CombineLUTs' grading and
+// the ACES 1.3 output transform) and `tonemap` (colour fringe, sharpen, vignette, exposure, tint,
+// bloom and its dirt mask, the PQ shaper, the baked LUT's lookup), written from docs/spec/ue55.md
+// (§3.1, §4, §5.1-§5.2, §6.1), docs/spec/film_tonemap.md (the ACES helpers), docs/spec/semantics.md
+// and docs/candidates/{shaper,combine_luts,tonemap}.md, in float32, in an operation order that
+// differs from the project's GLSL (gpu/shaders/lib/st2084.glsl, combine_luts.glsl,
+// color_correct.glsl, expand_gamut.glsl, aces_rrt.glsl, aces_tonescale.glsl, aces_output.glsl,
+// tonemap_effects.glsl, lut_sample.glsl) on purpose:
 //
 //  * pow, log10 and 10^x through the C library (powf, log10f; the GLSL: exp2/log2 with D3D's
 //    constants); the PQ rational fused, its / 10000 and · 100 folded;
@@ -18,7 +18,8 @@
 //    taps as four (the GLSL: the hardware's filter, its weights rounded to 8 bits).
 //
 // Declined: every other stage (exit 78), every other output device and degenerate cases (exit 77),
-// as the porter's port (examples/porters/ue55_dev3/) declines them.
+// as the porter's port (examples/porters/ue55_dev3/, device 3 alone) declines them. Device 4
+// differs from 3 only in the parameters (the ACES tone scale's, ap1_to_output) params.json carries.
 #include <Imath/half.h>
 
 #include <cmath>
@@ -145,7 +146,7 @@ void rrt_sweeteners(float a[3], float out[3]) {
   for (int i = 0; i < 3; ++i) out[i] = mix(y, pre[i], 0.96f);
 }
 
-// The single-stage tone scale (§5.2) from the params' spline (UE's 1000-nit parameters).
+// The single-stage tone scale (§5.2) from the params' spline (the device's, from params.json).
 struct Ssts {
   float min_x, min_y, max_x, max_y, mid_x;
   float low[6], high[6];
@@ -262,7 +263,7 @@ void color_correct_all(const Ue55& u, const float c[3], float out[3]) {
   for (int i = 0; i < 3; ++i) out[i] = acc[i];
 }
 
-// §4.3-§5.2 and §4.12 for device 3: a lattice coordinate (PQ) to OutDeviceColor (PQ).
+// §4.3-§5.2 and §4.12 for devices 3 and 4: a lattice coordinate (PQ) to OutDeviceColor (PQ).
 void texel(const Ue55& u, const float coord[3], float out[3]) {
   float lin[3], t[3], ap1[3];
   for (int i = 0; i < 3; ++i) lin[i] = pq_decode(coord[i], 0.01f);  // §4.3
@@ -291,7 +292,7 @@ void texel(const Ue55& u, const float coord[3], float out[3]) {
   mul(u.from_ap1, cc, graded);    // §4.7
   for (int i = 0; i < 3; ++i)
     graded[i] = mix(graded[i] * u.color_scale[i], u.overlay[i], u.overlay[3]);
-  // §5.1 ACES 1.3, 1000 nits.
+  // §5.1 ACES 1.3 (1000 or 2000 nits: the params' tone scale).
   float aces[3], comp[3], pre[3];
   for (float& v : graded) v *= u.scm;
   mul(u.to_ap0, graded, aces);
@@ -308,7 +309,7 @@ void texel(const Ue55& u, const float coord[3], float out[3]) {
   float nits[3], odt[3];
   for (int i = 0; i < 3; ++i)
     nits[i] = clamp_num(clamp_num(r2[i], 0.0f, 65535.0f) * u.ssts.max_y, 0.0f, 65535.0f);
-  mul(u.ap1_to_output, nits, odt);  // §4.12, device 3
+  mul(u.ap1_to_output, nits, odt);  // §4.12, devices 3 and 4
   for (int i = 0; i < 3; ++i) out[i] = pq_encode(odt[i]);
 }
 
@@ -387,9 +388,9 @@ int ue55_stage(const json& doc, const std::string& dir, const std::string& outpu
     return decline(kDeclineCase, "degenerate case: not judged");
   const json& p = doc.at("params");
   const int device = p.at("output_device").get<int>();
-  if (device != 3)
+  if (device != 3 && device != 4)
     return decline(kDeclineCase, "output device " + std::to_string(device) +
-                                     " is not implemented by this port (device 3 only)");
+                                     " is not implemented by this port (devices 3 and 4 only)");
   const int w = doc.at("output").at("width"), h = doc.at("output").at("height");
   const Ue55 u = ue55_from(p);
   const int n = p.at("lut_size").get<int>(), format = p.at("lut_format").get<int>();
