@@ -1,5 +1,6 @@
 // A second, independent float32 evaluation of the `operators` and `pq_grading` pipelines (issue
-// 28 item 6): written from docs/spec/operators.md, docs/spec/film_tonemap.md and
+// 28 item 6; `unity_urp` is examples/float32_unity_urp.cpp, the glue they share
+// examples/float32_common.h): written from docs/spec/operators.md, docs/spec/film_tonemap.md and
 // docs/spec/pq_grading.md alone, in float32, in an operation order that differs from the
 // project's GLSL (gpu/shaders/operators/lib/operators.glsl, gpu/shaders/lib/film_tonemap.glsl,
 // gpu/shaders/pq_grading/lib/pq_grading.glsl) on purpose:
@@ -15,83 +16,29 @@
 //
 // It links nothing of hdrconform (nlohmann-json for params.json, OpenImageIO and Imath for EXR
 // and half), like examples/standalone_candidate.cpp, and follows the candidate protocol
-// (docs/candidate-protocol.md): exit 0 written, 78 any stage but tone_curve and pq_grade, 1 an
-// error.
+// (docs/candidate-protocol.md): exit 0 written, 78 any stage but tone_curve, pq_grade and
+// unity_urp's lut_bake and color_grading, 1 an error.
 //
 //   float32_candidate --params params.json --output out.exr
 //   hdrconform verify --filter 'operators/*'
 //       --candidate-cmd 'float32_candidate --params {params} --output {output}'
 //
-// Its CTests (examples/CMakeLists.txt, examples.float32_candidate.*) require every operators and
-// pq_grading case to pass: the limits must admit any float32 evaluation order
+// Its CTests (examples/CMakeLists.txt, examples.float32_candidate.*) require every operators,
+// pq_grading and unity_urp case to pass: the limits must admit any float32 evaluation order
 // (docs/tolerances.md, "A second float32 evaluation").
 #include <Imath/half.h>
-#include <OpenImageIO/imageio.h>
 
-#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
-#include <limits>
-#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
+#include "float32_common.h"
+
 namespace {
 
-using json = nlohmann::json;
-constexpr int kDeclineStage = 78;
-constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
-
-// --- HLSL intrinsics with D3D's meaning (docs/spec/semantics.md) ---
-float max_num(float a, float b) {
-  return std::fmax(a, b);
-}  // maxNum: max(0, NaN) = 0
-float saturate(float x) {
-  return std::isnan(x) ? 0.0f : std::fmin(std::fmax(x, 0.0f), 1.0f);
-}
-// pow(x, y) = exp2(y · log2 x) (semantics.md: DXC's lowering), for x >= 0.
-float pow_e2(float x, float y) {
-  return std::exp2(y * std::log2(x));
-}
-float log10_e2(float x) {
-  return std::log2(x) * 0.301029996f;
-}  // log10(2)
-float exp_e2(float x) {
-  return std::exp2(x * 1.44269504f);
-}  // log2(e)
-
-// A params.json number: a JSON number, or "NaN" / "Infinity" / "-Infinity".
-float number(const json& v) {
-  if (v.is_number()) return static_cast<float>(v.get<double>());
-  const std::string s = v.get<std::string>();
-  if (s == "NaN") return kNaN;
-  return s == "-Infinity" ? -std::numeric_limits<float>::infinity()
-                          : std::numeric_limits<float>::infinity();
-}
-
-struct M3 {
-  float m[3][3];
-};
-M3 matrix(const json& rows) {
-  M3 out{};
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) out.m[r][c] = number(rows.at(r).at(c));
-  return out;
-}
-// M · v, each row summed from the last column, fused.
-void mul(const M3& a, const float v[3], float out[3]) {
-  for (int r = 0; r < 3; ++r)
-    out[r] = std::fmaf(a.m[r][0], v[0], std::fmaf(a.m[r][1], v[1], a.m[r][2] * v[2]));
-}
-// A · B in float32, each entry summed from the last term.
-M3 mul(const M3& a, const M3& b) {
-  M3 out{};
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c)
-      out.m[r][c] = a.m[r][2] * b.m[2][c] + a.m[r][1] * b.m[1][c] + a.m[r][0] * b.m[0][c];
-  return out;
-}
+using namespace f32;
 
 // --- The per-channel operators (docs/spec/operators.md, "The operators") ---
 
@@ -108,27 +55,6 @@ float reinhard_white(float v, float scale, float white) {
   const float x = scale * v, inv_w2 = 1.0f / (white * white);
   if (std::fabs(x) <= 1.0f) return std::fmaf(x * x, inv_w2, x) * (1.0f / (1.0f + x));
   return std::fmaf(v, scale * inv_w2, 1.0f) / (1.0f / x + 1.0f);
-}
-
-// f(y) = (A y² + C B y + D E) / (A y² + B y + D F) − E / F, expanded and fused; above |y| = 1
-// both divided by y² (in r = 1/y, expanded the other way round).
-struct Rational {
-  float a, b, c, d, e, f;
-};
-float rational(float y, const Rational& k) {
-  const float cb = k.c * k.b, de = k.d * k.e, df = k.d * k.f;
-  float num, den;
-  if (std::fabs(y) <= 1.0f) {
-    const float y2 = y * y;
-    num = std::fmaf(k.a, y2, std::fmaf(cb, y, de));
-    den = std::fmaf(k.a, y2, std::fmaf(k.b, y, df));
-  } else {
-    const float r = 1.0f / y, r2 = r * r;
-    num = std::fmaf(de, r2, std::fmaf(cb, r, k.a));
-    den = std::fmaf(df, r2, std::fmaf(k.b, r, k.a));
-  }
-  // num / den as num · (1 / den); a zero denominator (a pole) is IEEE's ±Inf or NaN.
-  return num * (1.0f / den) - k.e * (1.0f / k.f);
 }
 
 // Hable: f(bias · x) / f(W), as f(bias · x) · (1 / f(W)).
@@ -148,14 +74,6 @@ float aces_narkowicz(float x, float pre_scale) {
     q = std::fmaf(0.03f, r, 2.51f) / std::fmaf(0.14f * r, r, std::fmaf(0.59f, r, 2.43f));
   }
   return saturate(q);
-}
-
-// Unity's NeutralTonemap of scale · v: v = max(v, 0); ws = 1 / N(5.3); N(v · scale · ws) · ws / 1.
-float unity_neutral(float v, float scale) {
-  constexpr Rational kN{0.2f, 0.29f, 0.24f, 0.272f, 0.02f, 0.3f};
-  v = max_num(v, 0.0f);
-  const float ws = 1.0f / rational(5.3f, kN);
-  return rational(v * (scale * ws), kN) * ws;
 }
 
 // --- UE 5.5's FilmToneMap (docs/spec/film_tonemap.md) ---
@@ -186,40 +104,6 @@ Film film_params(const json& p) {
   f.straight_match = (1.0f - f.toe) / f.slope - f.toe_match;
   f.shoulder_match = f.shoulder / f.slope - f.straight_match;
   return f;
-}
-
-// ACES.ush helpers as docs/spec/film_tonemap.md "The ACES helpers" states them.
-float rgb_2_saturation(const float c[3]) {
-  const float mx = max_num(max_num(c[0], c[1]), c[2]);
-  const float mn = std::fmin(std::fmin(c[0], c[1]), c[2]);
-  return (max_num(mx, 1e-10f) - max_num(mn, 1e-10f)) * (1.0f / max_num(mx, 0.01f));
-}
-float rgb_2_yc(const float c[3]) {
-  const float r = c[0], g = c[1], b = c[2];
-  const float chroma = std::fmaf(r, r - b, std::fmaf(g, g - r, b * (b - g)));
-  return (r + g + b + 1.75f * pow_e2(chroma, 0.5f)) * (1.0f / 3.0f);
-}
-float sigmoid_shaper(float x) {
-  const float t = max_num(1.0f - std::fabs(0.5f * x), 0.0f);
-  const float sign = float(x > 0) - float(x < 0);
-  return 0.5f * std::fmaf(sign, 1.0f - t * t, 1.0f);
-}
-float glow_fwd(float yc, float gain, float mid) {
-  if (yc <= mid * (2.0f / 3.0f)) return gain;
-  if (yc >= 2.0f * mid) return 0.0f;
-  return gain * (mid * (1.0f / yc) - 0.5f);
-}
-float rgb_2_hue(const float c[3]) {
-  if (c[0] == c[1] && c[1] == c[2]) return 0.0f;
-  float h = 57.2957795f * std::atan2(1.73205081f * (c[1] - c[2]), 2.0f * c[0] - c[1] - c[2]);
-  if (h < 0.0f) h += 360.0f;
-  return std::fmin(std::fmax(h, 0.0f), 360.0f);
-}
-float center_hue(float h, float center) {
-  float c = h - center;
-  if (c < -180.0f) c += 360.0f;
-  if (c > 180.0f) c -= 360.0f;
-  return c;
 }
 
 // Step 5, one channel.
@@ -348,39 +232,6 @@ void lut_lookup(const Strip& s, const float dmin[3], const float dmax[3], const 
 
 float srgb_encode(float e) {
   return e <= 0.0031308f ? 12.92f * e : 1.055f * pow_e2(e, 1.0f / 2.4f) - 0.055f;
-}
-
-int fail(const std::string& what) {
-  std::fprintf(stderr, "float32_candidate: %s\n", what.c_str());
-  return 1;
-}
-
-// Reads an EXR as float RGBA (alpha 1 where the file has none).
-bool read_rgba(const std::string& path, int* w, int* h, std::vector<float>* rgba,
-               std::string* err) {
-  auto in = OIIO::ImageInput::open(path);
-  if (!in) {
-    *err = path + ": " + OIIO::geterror();
-    return false;
-  }
-  const OIIO::ImageSpec spec = in->spec();
-  *w = spec.width;
-  *h = spec.height;
-  const int nc = spec.nchannels;
-  if (nc < 3) {
-    *err = path + ": fewer than 3 channels";
-    return false;
-  }
-  std::vector<float> px(static_cast<size_t>(*w) * *h * nc);
-  if (!in->read_image(0, 0, 0, nc, OIIO::TypeDesc::FLOAT, px.data())) {
-    *err = path + ": " + in->geterror();
-    return false;
-  }
-  in->close();
-  rgba->assign(static_cast<size_t>(*w) * *h * 4, 1.0f);
-  for (size_t i = 0; i < static_cast<size_t>(*w) * *h; ++i)
-    for (int c = 0; c < std::min(nc, 4); ++c) (*rgba)[i * 4 + c] = px[i * nc + c];
-  return true;
 }
 
 // The operators pipeline's one stage, in place on RGBA pixels.
@@ -525,11 +376,20 @@ int main(int argc, char** argv) {
     return fail(params_path + ": format_version " + doc.value("format_version", json()).dump() +
                 ", this port reads 2");
   const std::string stage = doc.at("stage");
+  const std::string dir = params_path.substr(0, params_path.find_last_of('/') + 1);
+  const std::string pipeline = doc.value("pipeline", "");
+  if (pipeline == "unity_urp" || pipeline == "ue55") {
+    try {
+      return pipeline == "ue55" ? ue55_stage(doc, dir, output_path)
+                                : unity_urp_stage(doc, dir, output_path);
+    } catch (const std::exception& e) {
+      return fail(params_path + ": " + e.what());
+    }
+  }
   if (stage != "tone_curve" && stage != "pq_grade") {
     std::printf("stage %s is not implemented by this port\n", stage.c_str());
     return kDeclineStage;
   }
-  const std::string dir = params_path.substr(0, params_path.find_last_of('/') + 1);
   const json& images = doc.at("images");
   int w = 0, h = 0;
   std::vector<float> image;
@@ -554,11 +414,5 @@ int main(int argc, char** argv) {
     return fail(params_path + ": " + e.what());
   }
 
-  auto o = OIIO::ImageOutput::create(output_path);
-  if (!o) return fail(output_path + ": " + OIIO::geterror());
-  OIIO::ImageSpec ospec(w, h, 4, OIIO::TypeDesc::FLOAT);
-  if (!o->open(output_path, ospec) || !o->write_image(OIIO::TypeDesc::FLOAT, image.data()))
-    return fail(output_path + ": " + o->geterror());
-  o->close();
-  return 0;
+  return write_rgba(output_path, w, h, image);
 }
