@@ -566,9 +566,11 @@ Range3 device_texel_range(const ParamBlock& p, const grading::InverseGamma& inve
 // the rest of the texel function (combine_luts_texel_decoded) to first order: the function's
 // change for each decoded channel moved on its own to its range's farther end, summed in
 // absolute value per output channel (the hull of a linear map over the decode's box). Returns
-// those sums (stored units); zero for the log shaper (devices 0-2: exp2's 3 + 2|x| ULP, about
-// 1e-6 relative, under kShaderNoise) and for a lattice channel at 0 (0/(N − 1) and its decode are
-// exact).
+// those sums (stored units); zero for a lattice channel at 0 (0/(N − 1) and its decode are
+// exact) and for the log shaper (devices 0-2), not derived here: its exp2 errs by about 2.5e-6
+// relative at mid-grey, but near black LogToLin(e) − LogToLin(0) cancels, an absolute ~1e-8
+// (1.3e-4 relative at lattice 0.0023) that exceeds 2^-15 of a texel whose channels are all within
+// ~3e-4 of black (docs/precision.md, "What is left": open).
 Vec3 decode_device_spread(const ParamBlock& p, const CombineLutsTrace& t, const UeLutSet* luts) {
   Vec3 spread{0.0, 0.0, 0.0};
   if (!uses_pq_shaper(p.output_device)) return spread;
