@@ -553,27 +553,25 @@ Range3 device_texel_range(const ParamBlock& p, const grading::InverseGamma& inve
   return r;
 }
 
-// The lattice decode's own error on a conformant device, carried to the stored value. The PQ
-// shaper's decode (devices 3-9; lut_shaper.glsl lut_decode, ST2084ToLinear: pow(e, 1/m2), the
-// subtraction of c1 and c2 − c3·np, a division, pow(·, 1/m1) = 6.28) of the lattice coordinate
-// (combine_luts.glsl lut_lattice_coordinate: texel/(N − 1), a 2.5 ULP division, plus the unwrapped
-// layout's bias add, 0.5 ULP) is evaluated op by op with the precision table's bounds
-// (ue_pixel_device.h lut_decode): relative to the decoded value ±5.2e-5 at lattice 1/31, ±9.6e-5
-// at 15/31, ±1.7e-4 at 30/31, 2 to 6 times kShaderNoise, which noise_range.h's convention (the
-// arithmetic's noise at the end of the upstream steps, relative to the largest channel) does not
-// hold: each channel's error enters before the working colour space and AP1 matrices, so a
-// cancelling row turns it into a larger relative error of a dark output channel. Carried through
-// the rest of the texel function (combine_luts_texel_decoded) to first order: the function's
-// change for each decoded channel moved on its own to its range's farther end, summed in
-// absolute value per output channel (the hull of a linear map over the decode's box). Returns
-// those sums (stored units); zero for a lattice channel at 0 (0/(N − 1) and its decode are
-// exact) and for the log shaper (devices 0-2), not derived here: its exp2 errs by about 2.5e-6
-// relative at mid-grey, but near black LogToLin(e) − LogToLin(0) cancels, an absolute ~1e-8
-// (1.3e-4 relative at lattice 0.0023) that exceeds 2^-15 of a texel whose channels are all within
-// ~3e-4 of black (docs/precision.md, "What is left": open).
+// The lattice decode's own error on a conformant device, carried to the stored value. The shaper's
+// decode of the lattice coordinate (combine_luts.glsl lut_lattice_coordinate: texel/(N − 1), a 2.5
+// ULP division, plus the unwrapped layout's bias add, 0.5 ULP) is evaluated op by op with the
+// precision table's bounds (ue_pixel_device.h lut_decode). PQ (devices 3-9; lut_shaper.glsl
+// lut_decode, ST2084ToLinear: pow(e, 1/m2), the subtraction of c1 and c2 − c3·np, a division,
+// pow(·, 1/m1) = 6.28): relative to the decoded value ±5.2e-5 at lattice 1/31, ±9.6e-5 at 15/31,
+// ±1.7e-4 at 30/31, 2 to 6 times kShaderNoise. Log (devices 0-2, LogToLin(e) − LogToLin(0)):
+// 2.5e-6 relative at mid-grey, but near black the subtraction cancels and leaves an absolute
+// ~1e-8 (1.3e-4 relative at lattice 0.0023). noise_range.h's convention (the arithmetic's noise at
+// the end of the upstream steps, relative to the largest channel) holds neither: each channel's
+// error enters before the working colour space and AP1 matrices, so a cancelling row turns it
+// into a larger relative error of a dark output channel, and a texel near black has no large
+// channel. Carried through the rest of the texel function (combine_luts_texel_decoded) to first
+// order: the function's change for each decoded channel moved on its own to its range's farther
+// end, summed in absolute value per output channel (the hull of a linear map over the decode's
+// box). Returns those sums (stored units); zero for a lattice channel at 0 (0/(N − 1) and its
+// decode are exact).
 Vec3 decode_device_spread(const ParamBlock& p, const CombineLutsTrace& t, const UeLutSet* luts) {
   Vec3 spread{0.0, 0.0, 0.0};
-  if (!uses_pq_shaper(p.output_device)) return spread;
   const Vec3& v = t.stored;
   for (int c = 0; c < 3; ++c) {
     if (!(t.lattice[c] > 0) || !std::isfinite(t.decoded[c])) continue;

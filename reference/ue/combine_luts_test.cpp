@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "color/st2084.h"
 #include "reference/ue/cpp/resolve.h"
@@ -456,4 +457,34 @@ TEST(CombineLuts, TexelDeviceRangeTakesThePqLatticeDecodesError) {
   EXPECT_NEAR(largest, std::fabs(t.graded[0]), 0.0);  // red is the largest channel
   EXPECT_NEAR((v[0] - r.lo[0]) / v[0], 0x1p-15 + 9.55e-5, 0.3e-5);
   EXPECT_NEAR((r.hi[0] - v[0]) / v[0], 0x1p-15 + 9.55e-5, 0.3e-5);
+}
+
+// The log shaper's lattice decode near black (devices 0-2), by hand at lattice e = 0.00233034487:
+// lin_from_log(e) = exp2(t)·0.18, t = (e − 444/1023)·14 = −6.0436, exp2 within 3 + 2|t| = 15.09
+// ULP of 0.01517 (2^-30 each), times 0.18: 2.53e-9; LogToLin(0) (t = −6.0763) the same, 2.54e-9;
+// t's roundings (the grey constant's float32 neighbours, the subtraction, the multiply by
+// 14: 6.6e-7 and 4.5e-7 in t, times ln 2 and the values 0.00273 and 0.00266): 1.25e-9 and 0.83e-9;
+// the 0.18 constant and its multiplies, 0.5e-9: 7.6e-9 to first order on a decoded value of 6.1e-5
+// (the interval evaluation, which widens at each end, 8.0e-9): 1.3e-4 relative, where kShaderNoise
+// of the texel's largest channel (all three equal) is 3.05e-5: the texel's range takes the decode's
+// error (decode_device_spread) for the log shaper as for PQ.
+TEST(CombineLuts, LogLatticeDecodeNearBlackOutgrowsTheConvention) {
+  const double e = 0.00233034487;
+  const Interval d = hdrc::ref::ue_device::lut_decode(0, spirv::widen_ulp(Interval::point(e), 3.0));
+  const double decoded = hdrc::ref::lut_decode(0, e);
+  EXPECT_NEAR(decoded, 6.10146e-5, 1e-10);
+  EXPECT_NEAR(decoded - d.lo, 8.0e-9, 0.3e-9);
+  EXPECT_NEAR(d.hi - decoded, 8.0e-9, 0.3e-9);
+  EXPECT_GT((d.hi - decoded) / decoded, 4 * 0x1p-15);
+  // Device 0 (sRGB, linear segment near black), a grey texel at e: the convention alone gives the
+  // stored value 2^-15 (FilmColor's largest channel) plus the encode's 2^-17, 3.8e-5 relative; the
+  // decode's 1.3e-4 through the film curve's toe (log-log slope above 1/2 here) adds more than
+  // that.
+  const hdrc::ParamBlock p = lut_params(0, 0, 32, 2, 0);
+  const Vec3 v = hdrc::ref::combine_luts_texel(p, {e, e, e});
+  const hdrc::ref::Range3 r = hdrc::ref::combine_luts_texel_device_range(p, {e, e, e});
+  std::printf("[ measured ] device 0 grey texel at %.9g: %.9g, range -%.3g +%.3g relative\n", e,
+              v[0], (v[0] - r.lo[0]) / v[0], (r.hi[0] - v[0]) / v[0]);
+  EXPECT_GT((v[0] - r.lo[0]) / v[0], 2 * 0x1p-15);
+  EXPECT_GT((r.hi[0] - v[0]) / v[0], 2 * 0x1p-15);
 }
