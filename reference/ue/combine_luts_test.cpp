@@ -478,8 +478,7 @@ TEST(CombineLuts, LogLatticeDecodeNearBlackOutgrowsTheConvention) {
   EXPECT_GT((d.hi - decoded) / decoded, 4 * 0x1p-15);
   // Device 0 (sRGB, linear segment near black), a grey texel at e: the convention alone gives the
   // stored value 2^-15 (FilmColor's largest channel) plus the encode's 2^-17, 3.8e-5 relative; the
-  // decode's 1.3e-4 through the film curve's toe (log-log slope above 1/2 here) adds more than
-  // that.
+  // decode's 1.3e-4 through the film curve's toe (log-log slope about 2.5 here) adds 3.3e-4.
   const hdrc::ParamBlock p = lut_params(0, 0, 32, 2, 0);
   const Vec3 v = hdrc::ref::combine_luts_texel(p, {e, e, e});
   const hdrc::ref::Range3 r = hdrc::ref::combine_luts_texel_device_range(p, {e, e, e});
