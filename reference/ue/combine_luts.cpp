@@ -21,6 +21,7 @@
 #include "reference/ue/grading/hlsl_ops.h"
 #include "reference/ue/lut_shaper.h"
 #include "reference/ue/lut_store_range.h"
+#include "reference/ue/ue_pixel_device.h"
 
 namespace hdrc::ref {
 
@@ -92,13 +93,17 @@ aces::AcesShaderParams aces_params(const ParamBlock& p) {
   return aces::compute_aces_tonemap_params(packed);
 }
 
-Vec3 combine_luts_texel(const ParamBlock& p, const Vec3& lattice, CombineLutsTrace* trace,
-                        const UeLutSet* luts) {
+namespace {
+
+// combine_luts_texel from its decoded LinearColor on (§4.4 onwards): `decoded` is
+// lut_decode(lattice) there, or that value moved within the decode's device range
+// (decode_device_spread).
+Vec3 combine_luts_texel_decoded(const ParamBlock& p, const Vec3& lattice, const Vec3& decoded,
+                                CombineLutsTrace* trace, const UeLutSet* luts) {
   CombineLutsTrace t;
   t.lattice = lattice;
   const int device = p.output_device;
-  // §4.3 decode.
-  for (int c = 0; c < 3; ++c) t.decoded[c] = lut_decode(device, lattice[c]);
+  t.decoded = decoded;
   // §4.4 white balance (skipped by the SKIP_TEMPERATURE permutation).
   t.white_balanced = p.white_balance_enabled ? p.white_balance * t.decoded : t.decoded;
   // §4.5 to AP1 and fake wide gamut.
@@ -174,6 +179,16 @@ Vec3 combine_luts_texel(const ParamBlock& p, const Vec3& lattice, CombineLutsTra
   for (int c = 0; c < 3; ++c) t.stored[c] = t.device[c] / kLutScale;
   if (trace) *trace = t;
   return t.stored;
+}
+
+}  // namespace
+
+Vec3 combine_luts_texel(const ParamBlock& p, const Vec3& lattice, CombineLutsTrace* trace,
+                        const UeLutSet* luts) {
+  // §4.3 decode.
+  Vec3 decoded;
+  for (int c = 0; c < 3; ++c) decoded[c] = lut_decode(p.output_device, lattice[c]);
+  return combine_luts_texel_decoded(p, lattice, decoded, trace, luts);
 }
 
 // FilmColor's gamma, the output matrices and the SDR encodes of devices 0 and 1 over a range of
@@ -538,6 +553,48 @@ Range3 device_texel_range(const ParamBlock& p, const grading::InverseGamma& inve
   return r;
 }
 
+// The lattice decode's own error on a conformant device, carried to the stored value. The shaper's
+// decode of the lattice coordinate (combine_luts.glsl lut_lattice_coordinate: texel/(N − 1), a 2.5
+// ULP division, plus the unwrapped layout's bias add, 0.5 ULP) is evaluated op by op with the
+// precision table's bounds (ue_pixel_device.h lut_decode). PQ (devices 3-9; lut_shaper.glsl
+// lut_decode, ST2084ToLinear: pow(e, 1/m2), the subtraction of c1 and c2 − c3·np, a division,
+// pow(·, 1/m1) = 6.28): relative to the decoded value ±5.2e-5 at lattice 1/31, ±9.6e-5 at 15/31,
+// ±1.7e-4 at 30/31, 2 to 6 times kShaderNoise. Log (devices 0-2, LogToLin(e) − LogToLin(0)):
+// 2.5e-6 relative at mid-grey, but near black the subtraction cancels and leaves an absolute
+// ~1e-8 (1.3e-4 relative at lattice 0.0023). noise_range.h's convention (the arithmetic's noise at
+// the end of the upstream steps, relative to the largest channel) holds neither: each channel's
+// error enters before the working colour space and AP1 matrices, so a cancelling row turns it
+// into a larger relative error of a dark output channel, and a texel near black has no large
+// channel. Carried through the rest of the texel function (combine_luts_texel_decoded) to first
+// order: the function's change for each decoded channel moved on its own to its range's farther
+// end, summed in absolute value per output channel (the hull of a linear map over the decode's
+// box). Returns those sums (stored units); zero for a lattice channel at 0 (0/(N − 1) and its
+// decode are exact).
+Vec3 decode_device_spread(const ParamBlock& p, const CombineLutsTrace& t, const UeLutSet* luts) {
+  Vec3 spread{0.0, 0.0, 0.0};
+  const Vec3& v = t.stored;
+  for (int c = 0; c < 3; ++c) {
+    if (!(t.lattice[c] > 0) || !std::isfinite(t.decoded[c])) continue;
+    const spirv::Interval e = spirv::widen_ulp(spirv::Interval::point(t.lattice[c]), 3.0);
+    const spirv::Interval d = ue_device::lut_decode(p.output_device, e);
+    const double h = std::fmax(d.hi - t.decoded[c], t.decoded[c] - d.lo);
+    if (!(h > 0)) continue;
+    Vec3 moved = t.decoded;
+    moved[c] += h;
+    const Vec3 w = combine_luts_texel_decoded(p, t.lattice, moved, nullptr, luts);
+    for (int k = 0; k < 3; ++k)
+      if (std::isfinite(w[k]) && std::isfinite(v[k])) spread[k] += std::fabs(w[k] - v[k]);
+  }
+  return spread;
+}
+
+void widen_by(const Vec3& spread, Range3* r) {
+  for (int c = 0; c < 3; ++c) {
+    r->lo[c] -= spread[c];
+    r->hi[c] += spread[c];
+  }
+}
+
 }  // namespace
 
 void store_either_way(int lut_format, bool fp16_rte, const Range3& r, Vec3* lo, Vec3* hi,
@@ -644,6 +701,7 @@ BakedLut bake_lut_device(const ParamBlock& p, const DevicePrecision& device, con
           blend_film = blend_film_range(p, *luts, device.sub_texel_bits, film, wcs, fade, t);
         Range3 range = scale(device_texel_range(p, inverse_gamma, t, blend ? &blend_film : nullptr),
                              1.0 / kLutScale);
+        widen_by(decode_device_spread(p, t, luts), &range);
         range.include(v);
         store_either_way(p.lut_format, device.fp16_rte, range, &lo[i], &hi[i], &flags[i]);
         // The tight range (and the stored point) stay admissible.
@@ -670,6 +728,7 @@ Range3 combine_luts_texel_device_range(const ParamBlock& p, const Vec3& lattice)
   CombineLutsTrace t;
   const Vec3 v = combine_luts_texel(p, lattice, &t);
   Range3 range = scale(device_texel_range(p, inverse_gamma, t), 1.0 / kLutScale);
+  widen_by(decode_device_spread(p, t, nullptr), &range);
   range.include(v);
   return range;
 }
@@ -781,13 +840,31 @@ bool sample_lut_range(const BakedLut& lut, const Vec3& encoded, Range3* out) {
   return true;
 }
 
-bool sample_lut_device_range(const BakedLut& lut, const Vec3& encoded, int bits, Range3* out) {
+bool sample_lut_device_range(const BakedLut& lut, const Vec3& encoded, int bits, Range3* out,
+                             const spirv::Interval* encoded_range) {
   Vec3 uvw;
   if (!lut.has_ranges() || !lookup_uvw(lut, encoded, &uvw)) return false;
   const int n = lut.size;
-  // The shader's coordinate (its encode and the scale/offset) carries its own float32 error: the
-  // derived arithmetic noise of the encode, kShaderNoise of the coordinate, in texel units.
+  // The shader's coordinate (its encode and the scale/offset) carries its own float32 error:
+  // kShaderNoise of the coordinate (noise_range.h's convention for the steps before the encode),
+  // and with `encoded_range` the encode's own range on a conformant device, derived op by op
+  // (ue_pixel_device.h lut_encode_clamped), then lut_sample.glsl lut_uvw (enc · ((N − 1)/N) +
+  // 0.5/N: a multiply and an add, fused or not, the constants as float32 neighbours). Per axis the
+  // hull of both, in texel units t = uvw·N − 0.5: [t_lo[c], t_hi[c]].
   const double coord_noise = kShaderNoise * n;
+  double t_lo[3], t_hi[3];
+  for (int c = 0; c < 3; ++c) {
+    const double t = uvw[c] * n - 0.5;
+    t_lo[c] = t - coord_noise;
+    t_hi[c] = t + coord_noise;
+    if (!encoded_range) continue;
+    const spirv::Interval u = spirv::mul_add(
+        encoded_range[c],
+        spirv::Interval{float_round_down((n - 1.0) / n), float_round_up((n - 1.0) / n)},
+        spirv::Interval{float_round_down(0.5 / n), float_round_up(0.5 / n)});
+    t_lo[c] = std::fmin(t_lo[c], u.lo * n - 0.5);
+    t_hi[c] = std::fmax(t_hi[c], u.hi * n - 0.5);
+  }
   // The filter's own arithmetic in the storage format's precision (device_allowance.h
   // FilterArithmetic, VK-GL-CTS's filtering precision): 10-bit UNORM, RGBA16F or float32; each
   // tap's weight on the sub-texel grid (filter_taps' weight_bits).
@@ -848,9 +925,9 @@ bool sample_lut_device_range(const BakedLut& lut, const Vec3& encoded, int bits,
     }
   };
   if (lut.layout == 0) {
-    const std::vector<TapBox> taps[3] = {linear_tap_boxes(uvw[0] * n - 0.5, n, bits, coord_noise),
-                                         linear_tap_boxes(uvw[1] * n - 0.5, n, bits, coord_noise),
-                                         linear_tap_boxes(uvw[2] * n - 0.5, n, bits, coord_noise)};
+    const std::vector<TapBox> taps[3] = {linear_tap_boxes_over(t_lo[0], t_hi[0], n, bits),
+                                         linear_tap_boxes_over(t_lo[1], t_hi[1], n, bits),
+                                         linear_tap_boxes_over(t_lo[2], t_hi[2], n, bits)};
     filter_extremes(
         taps, 3, [&](const int* i) { return lut.index(i[0], i[1], i[2]); }, &r.lo, &r.hi);
   } else {
@@ -863,20 +940,25 @@ bool sample_lut_device_range(const BakedLut& lut, const Vec3& encoded, int bits,
     // linear_tap_boxes reads (the strip's clamp-to-edge only at its ends). The lerp's own float32
     // rounding: a + t·(b − a), three correctly rounded steps, 2.5 ULP of the larger sample
     // (spirv_precision.h; as strip_device_range.h).
-    const double w = uvw[2] * n - 0.5;
-    std::vector<double> ws = {w - coord_noise};
-    for (double k = std::floor(w - coord_noise) + 1; k < w + coord_noise; k += 1) ws.push_back(k);
-    ws.push_back(w + coord_noise);
-    const std::vector<TapBox> ty = linear_tap_boxes(uvw[1] * n - 0.5, n, bits, coord_noise);
+    std::vector<double> ws = {t_lo[2]};
+    for (double k = std::floor(t_lo[2]) + 1; k < t_hi[2]; k += 1) ws.push_back(k);
+    ws.push_back(t_hi[2]);
+    const std::vector<TapBox> ty = linear_tap_boxes_over(t_lo[1], t_hi[1], n, bits);
     for (const double wc : ws) {
       const double int_w = std::floor(wc);
       const double frac_w = wc - int_w;
-      const double u0 = (uvw[0] + int_w) / n;
       Vec3 s_lo[2], s_hi[2];
       for (int s = 0; s < 2; ++s) {
-        const double u = u0 + s * (1.0 / n);
+        // The strip's x in texels, (uvw.r + floor(w) + s)·N − 0.5: the red coordinate's noise as
+        // coord_noise·N strip texels (the sum and the division included), widened by the
+        // derived encode's reach beyond kShaderNoise (t_lo/t_hi) where that is larger.
+        const double x = uvw[0] * n + (int_w + s) * n - 0.5;
+        const double below = (uvw[0] * n - 0.5 - coord_noise) - t_lo[0];
+        const double above = t_hi[0] - (uvw[0] * n - 0.5 + coord_noise);
         const std::vector<TapBox> taps[2] = {
-            linear_tap_boxes(u * n * n - 0.5, n * n, bits, coord_noise * n), ty};
+            linear_tap_boxes_over(x - coord_noise * n - below, x + coord_noise * n + above, n * n,
+                                  bits),
+            ty};
         filter_extremes(
             taps, 2, [&](const int* i) { return lut.index(i[0] % n, i[1], i[0] / n); }, &s_lo[s],
             &s_hi[s]);

@@ -11,6 +11,7 @@
 #include "core/device_precision.h"
 #include "core/shader_interface.h"
 #include "reference/color/noise_range.h"
+#include "reference/color/spirv_precision.h"
 #include "reference/color/ue_matrices.h"
 #include "reference/ue/aces/aces_output.h"
 #include "reference/ue/grading/color_correct.h"
@@ -139,9 +140,11 @@ Range3 combine_luts_texel_device_range(const ParamBlock& p, const Vec3& lattice)
 // per channel, the filter's products and sums rounded outward in the storage format's precision
 // (device_allowance.h filter_taps: VK-GL-CTS's filtering precision of lut_format); the 2-D layout's
 // shader lerp between its two bilinear samples is exact. Output scaled by 1.05 as sample_lut's.
-// False for a NaN coordinate.
+// False for a NaN coordinate. `encoded_range` (3 intervals, or none): the encoded coordinate's
+// range on a conformant device, derived op by op (the Tonemap pass's encode, tonemap.cpp); the
+// lookup's coordinate then spans the hull of that and kShaderNoise around `encoded`.
 bool sample_lut_device_range(const BakedLut& device_lut, const Vec3& encoded, int sub_texel_bits,
-                             Range3* out);
+                             Range3* out, const spirv::Interval* encoded_range = nullptr);
 
 // The bake of only the texels that lookups read, each once, for a pass over fewer pixels than the
 // LUT has texels (a Tonemap case of a few hundred pixels reads a few thousand of a 32³ LUT's

@@ -5,14 +5,18 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "color/st2084.h"
 #include "reference/ue/cpp/resolve.h"
 #include "reference/ue/lut_shaper.h"
+#include "reference/ue/ue_pixel_device.h"
 
 namespace {
 
 using hdrc::ref::Vec3;
+namespace spirv = hdrc::ref::spirv;
+using spirv::Interval;
 
 hdrc::ParamBlock params(int device, int gamut, bool hdr = true) {
   hdrc::Case c;
@@ -376,4 +380,110 @@ TEST(SampleLutDeviceRange, VolumeLatticePointReadsTheLowerNeighbour) {
     EXPECT_EQ(r.lo[c], 0.0);
     EXPECT_DOUBLE_EQ(r.hi[c], 1.05 / 256);
   }
+}
+
+// The Tonemap lookup's coordinate takes the shader's encode op by op (issue 25: the device-3
+// VisualizeHDR cases' saturated red, 3143 nits, missed its range by 0.76 PQ codes with kShaderNoise
+// alone). The PQ encode of 1000 nits (x = 10) as lut_shaper.glsl writes it, by hand: the
+// quotient (c1 + c2·lm)·(1/(1 + c3·lm)) at lm = 0.1^m1 = 0.6933 carries four roundings of ~3.4e-8
+// relative (the multiply-adds, unfused), the reciprocal's 2.5 ULP of 0.0717 (2.6e-7) and the
+// product's 3e-8: 4.3e-7 relative (lm's own error enters with d ln q / d lm = 0.0167 only); pow(q,
+// m2) multiplies that by m2 = 78.84 (3.4e-5) and adds log2's 2^-21 absolute inside [0.5, 2] times
+// m2·ln 2 (2.6e-5) and exp2's 3.8 ULP: 6.0e-5 relative of 0.7518, ±4.5e-5 — 1.49× kShaderNoise.
+// A LUT that is the identity in red (texel r holds r/(N − 1)) looked up at N = 32 gives back the
+// coordinate: uvw·N − 0.5 = e·(N − 1), so red = e·1.05 over the coordinate's range (24 sub-texel
+// bits: the boxes and the weight snap within 1e-7). Without the derived range the red range is
+// kShaderNoise·N/(N − 1) = 3.15e-5 wide each side, plus the CTS's 16-bit coordinate rounding (at
+// most 2^-12 texel, 7.9e-6 of e): under 4.2e-5.
+TEST(SampleLutDeviceRange, CoordinateTakesTheEncodesDeviceRange) {
+  const spirv::Interval enc = hdrc::ref::ue_device::lut_encode_clamped(3, Interval::point(10.0));
+  const double e = hdrc::ref::lut_encode(3, 10.0);
+  EXPECT_NEAR(e, 0.7518271, 1e-7);
+  EXPECT_NEAR(e - enc.lo, 4.55e-5, 0.1e-5);
+  EXPECT_NEAR(enc.hi - e, 4.55e-5, 0.1e-5);
+  const int n = 32;
+  hdrc::ref::BakedLut lut;
+  lut.size = n;
+  lut.layout = 0;
+  lut.lut_format = 2;
+  lut.texels.resize(static_cast<size_t>(n) * n * n);
+  for (int b = 0; b < n; ++b)
+    for (int g = 0; g < n; ++g)
+      for (int r = 0; r < n; ++r) lut.texels[lut.index(r, g, b)] = Vec3{r / (n - 1.0), 0, 0};
+  lut.lo = lut.texels;
+  lut.hi = lut.texels;
+  lut.flags.assign(lut.texels.size(), hdrc::ref::BakedLut::kAmbiguous);
+  const Vec3 encoded{e, 0.5, 0.5};
+  const Interval ranges[3] = {enc, Interval::point(0.5), Interval::point(0.5)};
+  hdrc::ref::Range3 with, without;
+  ASSERT_TRUE(hdrc::ref::sample_lut_device_range(lut, encoded, 24, &with, ranges));
+  ASSERT_TRUE(hdrc::ref::sample_lut_device_range(lut, encoded, 24, &without));
+  EXPECT_LE(with.lo[0], 1.05 * (e - 4.5e-5));
+  EXPECT_GE(with.hi[0], 1.05 * (e + 4.5e-5));
+  EXPECT_GT(with.lo[0], 1.05 * (e - 5.4e-5));  // plus the CTS rounding's 7.9e-6 at most
+  EXPECT_LT(with.hi[0], 1.05 * (e + 5.4e-5));
+  EXPECT_GT(without.lo[0], 1.05 * (e - 4.2e-5));
+  EXPECT_LT(without.hi[0], 1.05 * (e + 4.2e-5));
+}
+
+// The bake's texel range takes the PQ lattice decode's device error (issue 25: the model's bake of
+// tonemap/working_color_space/hdr1_dev8_gamut2_lut32_workingcolorspace3_fmt0_log_ramp stored
+// texel (15, 0, 0) red as code 825 where the range was codes [826, 827]). The decode of lattice
+// 15/31 (texel/(N − 1), 2.5 ULP, widened to 3) as ST2084ToLinear, by hand: np = e^(1/m2) = 0.99084
+// within exp2's 3.03 ULP (1.8e-7); the ratio (np − c1)/(c2 − c3·np) = 0.1549/0.3353 moves by
+// (1/0.1549 + 18.69/0.3353)·1.8e-7 = 62.2·1.8e-7 = 1.1e-5 relative, plus c3·np's rounding
+// (9.5e-7 of the 0.3353 difference, 2.8e-6) and the division's 2.5 ULP (1.6e-7): 1.4e-5; pow(·,
+// 1/m1 = 6.2773) multiplies that (8.9e-5) and adds its own log2 (3 ULP outside [0.5, 2]) and exp2
+// (17 ULP) errors, 3.6e-6, and the lattice's division 1.4e-6: 9.4e-5, against 2^-15 = 3.05e-5 of
+// noise_range.h's convention. Device 8 stores GradedColor (the working colour space, sRGB, through
+// AP1 and back; with ExpandGamut 0 the stored red's derivative in its own decoded channel is 1,
+// the default 1 makes it 1.063 for this saturated red), so the stored red's range is the
+// convention's 2^-15 of the largest channel (red itself) plus the decode's 9.55e-5, relative.
+TEST(CombineLuts, TexelDeviceRangeTakesThePqLatticeDecodesError) {
+  hdrc::ParamBlock p = lut_params(8, 2, 32, 0, 0);
+  p.expand_gamut = 0.0;
+  const double lattice = 15.0 / 31.0;
+  const Interval d =
+      hdrc::ref::ue_device::lut_decode(8, spirv::widen_ulp(Interval::point(lattice), 3.0));
+  const double decoded = hdrc::ref::lut_decode(8, lattice);
+  EXPECT_NEAR(decoded, 0.784067, 1e-6);
+  EXPECT_NEAR((decoded - d.lo) / decoded, 9.55e-5, 0.2e-5);
+  EXPECT_NEAR((d.hi - decoded) / decoded, 9.55e-5, 0.2e-5);
+  hdrc::ref::CombineLutsTrace t;
+  const Vec3 v = hdrc::ref::combine_luts_texel(p, {lattice, 0, 0}, &t);
+  const hdrc::ref::Range3 r = hdrc::ref::combine_luts_texel_device_range(p, {lattice, 0, 0});
+  const double largest =
+      std::fmax(std::fabs(t.graded[0]), std::fmax(std::fabs(t.graded[1]), std::fabs(t.graded[2])));
+  EXPECT_NEAR(largest, std::fabs(t.graded[0]), 0.0);  // red is the largest channel
+  EXPECT_NEAR((v[0] - r.lo[0]) / v[0], 0x1p-15 + 9.55e-5, 0.3e-5);
+  EXPECT_NEAR((r.hi[0] - v[0]) / v[0], 0x1p-15 + 9.55e-5, 0.3e-5);
+}
+
+// The log shaper's lattice decode near black (devices 0-2), by hand at lattice e = 0.00233034487:
+// lin_from_log(e) = exp2(t)·0.18, t = (e − 444/1023)·14 = −6.0436, exp2 within 3 + 2|t| = 15.09
+// ULP of 0.01517 (2^-30 each), times 0.18: 2.53e-9; LogToLin(0) (t = −6.0763) the same, 2.54e-9;
+// t's roundings (the grey constant's float32 neighbours, the subtraction, the multiply by
+// 14: 6.6e-7 and 4.5e-7 in t, times ln 2 and the values 0.00273 and 0.00266): 1.25e-9 and 0.83e-9;
+// the 0.18 constant and its multiplies, 0.5e-9: 7.6e-9 to first order on a decoded value of 6.1e-5
+// (the interval evaluation, which widens at each end, 8.0e-9): 1.3e-4 relative, where kShaderNoise
+// of the texel's largest channel (all three equal) is 3.05e-5: the texel's range takes the decode's
+// error (decode_device_spread) for the log shaper as for PQ.
+TEST(CombineLuts, LogLatticeDecodeNearBlackOutgrowsTheConvention) {
+  const double e = 0.00233034487;
+  const Interval d = hdrc::ref::ue_device::lut_decode(0, spirv::widen_ulp(Interval::point(e), 3.0));
+  const double decoded = hdrc::ref::lut_decode(0, e);
+  EXPECT_NEAR(decoded, 6.10146e-5, 1e-10);
+  EXPECT_NEAR(decoded - d.lo, 8.0e-9, 0.3e-9);
+  EXPECT_NEAR(d.hi - decoded, 8.0e-9, 0.3e-9);
+  EXPECT_GT((d.hi - decoded) / decoded, 4 * 0x1p-15);
+  // Device 0 (sRGB, linear segment near black), a grey texel at e: the convention alone gives the
+  // stored value 2^-15 (FilmColor's largest channel) plus the encode's 2^-17, 3.8e-5 relative; the
+  // decode's 1.3e-4 through the film curve's toe (log-log slope about 2.5 here) adds 3.3e-4.
+  const hdrc::ParamBlock p = lut_params(0, 0, 32, 2, 0);
+  const Vec3 v = hdrc::ref::combine_luts_texel(p, {e, e, e});
+  const hdrc::ref::Range3 r = hdrc::ref::combine_luts_texel_device_range(p, {e, e, e});
+  std::printf("[ measured ] device 0 grey texel at %.9g: %.9g, range -%.3g +%.3g relative\n", e,
+              v[0], (v[0] - r.lo[0]) / v[0], (r.hi[0] - v[0]) / v[0]);
+  EXPECT_GT((v[0] - r.lo[0]) / v[0], 2 * 0x1p-15);
+  EXPECT_GT((r.hi[0] - v[0]) / v[0], 2 * 0x1p-15);
 }

@@ -5,10 +5,11 @@
 #include <optional>
 
 #include "color/d3d_math.h"
-#include "reference/color/device_allowance.h"
 #include "color/st2084.h"
+#include "reference/color/device_allowance.h"
 #include "reference/color/ue_matrices.h"
 #include "reference/ue/lut_shaper.h"
+#include "reference/ue/ue_pixel_device.h"
 
 namespace hdrc::ref {
 
@@ -232,8 +233,9 @@ Image tonemap_image(const ParamBlock& p, const Image& scene, const Image* bloom,
       Vec3 final_linear;
       for (int c = 0; c < 3; ++c)
         final_linear[c] = s[c] * p.scene_color_tint[c] * (p.exposure * vignette);
+      Vec3 b{};
       if (bloom) {
-        Vec3 b = sample_bilinear(*bloom, u, v);
+        b = sample_bilinear(*bloom, u, v);
         if (dirt) {
           const Vec3 d = sample_bilinear(*dirt, u, v);
           for (int c = 0; c < 3; ++c) b[c] *= 1.0 + d[c] * p.bloom_dirt_tint[c];
@@ -262,8 +264,32 @@ Image tonemap_image(const ParamBlock& p, const Image& scene, const Image* bloom,
                                                lum[0], lum[1],
                                                range.nan[0] || range.nan[1] || range.nan[2]));
       }
+      // The lookup's coordinate on a conformant device: tonemap_effects.glsl
+      // tonemap_final_linear's products, scene · tint · (exposure · vignette) (+ bloom ·
+      // (exposure · vignette)), each correctly rounded, the operands as their float32 neighbours,
+      // then the shaper's encode op by op (ue_pixel_device.h lut_encode_clamped: PQ's divide, two
+      // pows, the multiply-adds and the reciprocal with the precision table's bounds). PQ's m2 =
+      // 78.84 amplifies the quotient's few roundings: from 100 nits up the encode's range is wider
+      // than kShaderNoise (±4.55e-5 at 1000 nits, ±4.80e-5 at 3143 nits: 1.49× and 1.57×);
+      // docs/precision.md, "The worst-case device with the allowances".
+      // The effects' own arithmetic before the products (the fringe's and bloom's filters, the
+      // sharpen, the vignette mask) stays under kShaderNoise (sample_lut_device_range).
+      spirv::Interval encoded_range[3];
+      if (device_lut) {
+        using ue_device::constant;
+        const spirv::Interval k =
+            spirv::mul(constant(p.exposure),
+                       vignette == 1.0 ? spirv::Interval::point(1.0) : constant(vignette));
+        for (int c = 0; c < 3; ++c) {
+          spirv::Interval x =
+              spirv::mul(spirv::mul(constant(s[c]), constant(p.scene_color_tint[c])), k);
+          if (bloom) x = spirv::add(x, spirv::mul(constant(b[c]), k));
+          encoded_range[c] = ue_device::lut_encode_clamped(p.output_device, x);
+        }
+      }
       Range3 device;
-      if (device_lut && sample_lut_device_range(*device_lut, encoded, sub_texel_bits, &device)) {
+      if (device_lut &&
+          sample_lut_device_range(*device_lut, encoded, sub_texel_bits, &device, encoded_range)) {
         Range3 post = post_convert_device_range(p, device);
         post.include(o);
         if (ambiguous) {  // the tight range stays admissible
