@@ -152,7 +152,8 @@ const BadCase kBadCases[] = {
      "LUTLayout, WhiteTemp"},
     {"bloom_outside_tonemap",
      R"({"stage": "shaper", "input": {"stimulus": "log_ramp"}, "bloom": {"stimulus": "bloom"}})",
-     "t.json: /bloom: bloom is an input of the tonemap stage only; valid choices: tonemap"},
+     "t.json: /bloom: bloom is an input of a Tonemap stage only; valid choices: tonemap, "
+     "ue58_tonemap"},
     {"input_name_with_slash",
      R"({"stage": "shaper", "input": {"stimulus": "log_ramp", "name": "a/b"}})",
      "t.json: /input/name: an input name is a non-empty string without '/', ' ' or glob "
