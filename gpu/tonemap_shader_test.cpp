@@ -15,17 +15,17 @@
 #include <string>
 #include <vector>
 
+#include "color/gamma_correction.h"
+#include "color/st2084.h"
 #include "core/shader_interface.h"
 #include "gpu/device_bounds_test.h"
 #include "gpu/shader_probe.h"
 #include "gpu/vulkan_engine.h"
-#include "color/gamma_correction.h"
-#include "color/st2084.h"
 #include "reference/color/ue_matrices.h"
-#include "reference/ue/combine_luts.h"
 #include "reference/reference_engine.h"
-#include "reference/ue/tonemap.h"
+#include "reference/ue/combine_luts.h"
 #include "reference/ue/cpp/resolve.h"
+#include "reference/ue/tonemap.h"
 
 namespace {
 
