@@ -16,7 +16,9 @@
 // (docs/ue58-differences.md L12); inverse_gamma.y is 1 for device 9 (L11). The Tonemap pass
 // (ue58_tonemap) reads the aux image sizes (bloom, dirt mask), exposure, sharpen, SceneColorTint,
 // the dirt tint and the colour fringe with 5.5's meaning (docs/ue58-differences.md T4); its
-// vignette and LUT scale are 5.8's own fields below (T2, T3).
+// vignette and LUT scale are 5.8's own fields below (T2, T3). lut_layout (0: 5.8 bakes a volume
+// only) and 5.5's vignette_intensity are read by the shared GLSL the pass includes
+// (tonemap_variant.glsl, tonemap_effects.glsl: 5.5's tonemap_vignette, which 5.8 does not call).
 #define HDRC_UE58_SHARED_PARAMS(Y) \
   Y(width)                         \
   Y(height)                        \
@@ -83,7 +85,9 @@
   Y(sharpen_div6)                  \
   Y(scene_color_tint)              \
   Y(bloom_dirt_tint)               \
-  Y(fringe)
+  Y(fringe)                        \
+  Y(lut_layout)                    \
+  Y(vignette_intensity)
 
 // The ACES 2.0 parameter block (reference/ue/aces2/aces2.h ParamsT: init_ODTParams' values, 76
 // scalars = 19 vec4 in ParamsT's std430 order) and the three host tables UE binds as R32F
