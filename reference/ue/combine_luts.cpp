@@ -781,7 +781,8 @@ bool sample_lut_range(const BakedLut& lut, const Vec3& encoded, Range3* out) {
   return true;
 }
 
-bool sample_lut_device_range(const BakedLut& lut, const Vec3& encoded, int bits, Range3* out) {
+bool sample_lut_device_range(const BakedLut& lut, const Vec3& encoded, int bits, Range3* out,
+                             double lut_max) {
   Vec3 uvw;
   if (!lut.has_ranges() || !lookup_uvw(lut, encoded, &uvw)) return false;
   const int n = lut.size;
@@ -894,8 +895,8 @@ bool sample_lut_device_range(const BakedLut& lut, const Vec3& encoded, int bits,
     }
   }
   for (int c = 0; c < 3; ++c) {
-    r.lo[c] *= kLutScale;
-    r.hi[c] *= kLutScale;
+    r.lo[c] *= lut_max;
+    r.hi[c] *= lut_max;
     r.nan[c] = (nan & (1u << c)) != 0 || std::isnan(r.lo[c]) || std::isnan(r.hi[c]);
   }
   *out = r;

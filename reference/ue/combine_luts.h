@@ -138,10 +138,10 @@ Range3 combine_luts_texel_device_range(const ParamBlock& p, const Vec3& lattice)
 // the lower texel bounds at the box corner that minimises, the upper at the one that maximises,
 // per channel, the filter's products and sums rounded outward in the storage format's precision
 // (device_allowance.h filter_taps: VK-GL-CTS's filtering precision of lut_format); the 2-D layout's
-// shader lerp between its two bilinear samples is exact. Output scaled by 1.05 as sample_lut's.
-// False for a NaN coordinate.
+// shader lerp between its two bilinear samples is exact. Output scaled by LUTMax as sample_lut's
+// (1.05 in UE 5.5). False for a NaN coordinate.
 bool sample_lut_device_range(const BakedLut& device_lut, const Vec3& encoded, int sub_texel_bits,
-                             Range3* out);
+                             Range3* out, double lut_max = 1.05);
 
 // The bake of only the texels that lookups read, each once, for a pass over fewer pixels than the
 // LUT has texels (a Tonemap case of a few hundred pixels reads a few thousand of a 32³ LUT's

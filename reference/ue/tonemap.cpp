@@ -85,9 +85,11 @@ Range3 post_convert_range(const ParamBlock& p, const Range3& r) {
 }
 
 // post_convert_range with the decode's own error on a conformant device (pq_decode_on_device) and
-// the scRGB matrix's rounding (kFloat32Noise of the largest channel).
-Range3 post_convert_device_range(const ParamBlock& p, const Range3& r) {
+// the scRGB matrix's rounding (kFloat32Noise of the largest channel); `scrgb_in_pass` as
+// post_convert's (UE 5.8 writes devices 5/6 unchanged).
+Range3 post_convert_device_range(const ParamBlock& p, const Range3& r, bool scrgb_in_pass) {
   if (p.output_device < 5 || p.output_device > 7) return r;
+  if (p.output_device != 7 && !scrgb_in_pass) return r;
   Range3 nits = r;
   for (int c = 0; c < 3; ++c) {
     if (std::isnan(r.lo[c]) || std::isnan(r.hi[c])) continue;
@@ -111,6 +113,30 @@ Range3 post_convert_device_range(const ParamBlock& p, const Range3& r) {
   }
   return out;
 }
+
+}  // namespace
+
+bool tonemap_device_range(const ParamBlock& p, const BakedLut& device_lut, const Vec3& encoded,
+                          int sub_texel_bits, double lut_max, bool scrgb_in_pass, const Vec3& rgb,
+                          double alpha, size_t pixel, const AdmissibleRange* tight,
+                          AdmissibleRange* out) {
+  Range3 device;
+  if (!sample_lut_device_range(device_lut, encoded, sub_texel_bits, &device, lut_max)) return false;
+  Range3 post = post_convert_device_range(p, device, scrgb_in_pass);
+  post.include(rgb);
+  if (tight) {  // the tight range stays admissible
+    for (int c = 0; c < 3; ++c) {
+      post.lo[c] = std::fmin(post.lo[c], tight->lo[c]);
+      post.hi[c] = std::fmax(post.hi[c], tight->hi[c]);
+    }
+  }
+  const auto lum = luminance_range(device);
+  *out = to_admissible(pixel, post, std::fmin(lum[0], alpha), std::fmax(lum[1], alpha),
+                       device.nan[0] || device.nan[1] || device.nan[2]);
+  return true;
+}
+
+namespace {
 
 // Bilinear sample of `img` at buffer UV with clamp-to-edge addressing.
 Vec3 sample_bilinear(const Image& img, double u, double v, double* alpha = nullptr) {
@@ -307,22 +333,11 @@ Image tonemap_image(const ParamBlock& p, const Image& scene, const Image* bloom,
                                                lum[0], lum[1],
                                                range.nan[0] || range.nan[1] || range.nan[2]));
       }
-      Range3 device;
-      if (device_lut && sample_lut_device_range(*device_lut, encoded, sub_texel_bits, &device)) {
-        Range3 post = post_convert_device_range(p, device);
-        post.include(o);
-        if (ambiguous) {  // the tight range stays admissible
-          const AdmissibleRange& t = out.admissible.back();
-          for (int c = 0; c < 3; ++c) {
-            post.lo[c] = std::fmin(post.lo[c], t.lo[c]);
-            post.hi[c] = std::fmax(post.hi[c], t.hi[c]);
-          }
-        }
-        const auto lum = luminance_range(device);
-        out.device_admissible.push_back(to_admissible(
-            static_cast<size_t>(y) * scene.width + x, post, std::fmin(lum[0], dst[3]),
-            std::fmax(lum[1], dst[3]), device.nan[0] || device.nan[1] || device.nan[2]));
-      }
+      AdmissibleRange device;
+      if (device_lut && tonemap_device_range(p, *device_lut, encoded, sub_texel_bits, 1.05, true, o,
+                                             dst[3], static_cast<size_t>(y) * scene.width + x,
+                                             ambiguous ? &out.admissible.back() : nullptr, &device))
+        out.device_admissible.push_back(device);
     }
   }
   if (device_lut)

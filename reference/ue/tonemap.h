@@ -50,6 +50,16 @@ Vec3 tonemap_final_linear(const ParamBlock& p, const Image& scene, const Image* 
 // docs/ue58-differences.md T1); every other device unchanged.
 Vec3 post_convert(const ParamBlock& p, const Vec3& out_device, bool scrgb_in_pass);
 
+// One pixel's range on a conformant device (the pass's lookup of `device_lut`, a device bake with
+// ranges, at the shader-encoded coordinate `encoded`): sample_lut_device_range × `lut_max` with
+// `sub_texel_bits`, then the post conversion on the device (post_convert's, `scrgb_in_pass`),
+// holding the reference's own output `rgb` / luminance `alpha` and, where set, the pixel's tight
+// range `tight`. False for a NaN coordinate (no range). UE 5.5's and 5.8's pass alike.
+bool tonemap_device_range(const ParamBlock& p, const BakedLut& device_lut, const Vec3& encoded,
+                          int sub_texel_bits, double lut_max, bool scrgb_in_pass, const Vec3& rgb,
+                          double alpha, size_t pixel, const AdmissibleRange* tight,
+                          AdmissibleRange* out);
+
 // One pixel at the centre of the screen (no vignette, fringe, sharpen or bloom), as `probe` uses
 // it. `lut` null: CombineLUTs evaluated analytically at the encoded coordinate (clamped as the
 // sampler addresses it); else the baked LUT sampled as UE samples it.

@@ -358,7 +358,12 @@ Result<Image> reference(const ResolvedCase& c, bool) {
   if (c.spec.stage && c.spec.stage->name == "ue58_tonemap") {
     const Image* bloom = c.bloom.data.empty() ? nullptr : &c.bloom;
     const Image* dirt = c.bloom_dirt.data.empty() ? nullptr : &c.bloom_dirt;
-    return tonemap_image(p, c.input, bloom, dirt, baked_outer_lut(luts, p));
+    if (!c.device_allowances)
+      return tonemap_image(p, c.input, bloom, dirt, baked_outer_lut(luts, p));
+    // What a conformant device may return (docs/ue58-decisions.md G9): the device bake's ranges
+    // (E8) through the pass's lookup and post conversion as UE 5.5's pass derives them.
+    const BakedLut device = baked_outer_lut_device(luts, p, c.device);
+    return tonemap_image(p, c.input, bloom, dirt, device, &device, c.device.sub_texel_bits);
   }
   const std::vector<Vec3> lut = bake_outer_lut(luts, p);
   const int n = p.lut_size;

@@ -2,6 +2,8 @@
 // this file holds what 5.8 changed (docs/ue58-differences.md T1-T3).
 #include "reference/ue/ue58/ue58_tonemap.h"
 
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "color/vec.h"
@@ -44,8 +46,25 @@ BakedLut baked_outer_lut(const CombineLuts58& luts, const ParamBlock& p) {
   return lut;
 }
 
+BakedLut baked_outer_lut_device(const CombineLuts58& luts, const ParamBlock& p,
+                                const DevicePrecision& device) {
+  BakedLut lut = baked_outer_lut(luts, p);
+  DeviceLutRanges d = bake_outer_lut_device(luts, p, device);
+  lut.lo = std::move(d.lo);
+  lut.hi = std::move(d.hi);
+  lut.flags.resize(lut.texels.size());
+  for (size_t i = 0; i < lut.flags.size(); ++i)
+    lut.flags[i] = static_cast<uint8_t>(BakedLut::kAmbiguous | (d.nan[i] & 0x7));
+  return lut;
+}
+
 Image tonemap_image(const ParamBlock& p, const Image& scene, const Image* bloom, const Image* dirt,
                     const BakedLut& lut) {
+  return tonemap_image(p, scene, bloom, dirt, lut, nullptr, 0);
+}
+
+Image tonemap_image(const ParamBlock& p, const Image& scene, const Image* bloom, const Image* dirt,
+                    const BakedLut& lut, const BakedLut* device_lut, int sub_texel_bits) {
   Image out(scene.width, scene.height);
   const Vignette vignette = tonemap_vignette(p);
   const LutShaper shaper = tonemap_lut_shaper(p);
@@ -63,8 +82,18 @@ Image tonemap_image(const ParamBlock& p, const Image& scene, const Image* bloom,
       dst[1] = o[1];
       dst[2] = o[2];
       dst[3] = device[0] * 0.299 + device[1] * 0.587 + device[2] * 0.114;
+      AdmissibleRange range;
+      if (device_lut &&
+          tonemap_device_range(p, *device_lut, encoded, sub_texel_bits, p.ue58_lut_max, false, o,
+                               dst[3], static_cast<size_t>(y) * scene.width + x, nullptr, &range))
+        out.device_admissible.push_back(range);
     }
   }
+  if (device_lut)
+    out.device_allowances = {
+        "filter weights (" + std::to_string(sub_texel_bits) + " sub-texel bits)",
+        "LUT storage rounding (either neighbour; inner and outer LUT)",
+        "shader arithmetic (the Vulkan precision table's bounds)"};
   return out;
 }
 

@@ -37,4 +37,18 @@ BakedLut baked_outer_lut(const CombineLuts58& luts, const ParamBlock& p);
 Image tonemap_image(const ParamBlock& p, const Image& scene, const Image* bloom, const Image* dirt,
                     const BakedLut& lut);
 
+// The outer LUT as a conformant device with precision `device` may store it, as the tonemapper
+// samples it: the texels of baked_outer_lut and per texel bake_outer_lut_device's range (flags:
+// kAmbiguous, the NaN bits), for sample_lut_device_range.
+BakedLut baked_outer_lut_device(const CombineLuts58& luts, const ParamBlock& p,
+                                const DevicePrecision& device);
+
+// The same pass, and with `device_lut` (baked_outer_lut_device of `p`) the device allowances too
+// (Image::device_admissible), as UE 5.5's pass derives them (reference/ue/tonemap.h
+// tonemap_device_range): the lookup of the device LUT's ranges through the hardware filter with
+// `sub_texel_bits` (filter_taps) at the shader's coordinate (its encode's noise), × LUTMax, then
+// device 7's PQ decode on the device (pq_decode_on_device); devices 5/6 unchanged (T1).
+Image tonemap_image(const ParamBlock& p, const Image& scene, const Image* bloom, const Image* dirt,
+                    const BakedLut& lut, const BakedLut* device_lut, int sub_texel_bits);
+
 }  // namespace hdrc::ref::ue58

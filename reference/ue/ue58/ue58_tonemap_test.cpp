@@ -8,10 +8,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
 #include "core/pipeline.h"
+#include "reference/color/ue_log_shaper.h"
 #include "reference/ue/tonemap.h"
 #include "reference/ue/ue58/ue58_pipeline.h"
 
@@ -20,6 +22,7 @@ namespace {
 using hdrc::ref::Vec3;
 using hdrc::ref::Vignette;
 namespace ue58 = hdrc::ref::ue58;
+namespace ue_log = hdrc::ref::ue_log;
 
 // A ue58_tonemap case with `settings` and `cvars` (values by name; VignetteColor as {r, g, b, a}).
 hdrc::ParamBlock resolved(
@@ -166,6 +169,48 @@ TEST(Ue58Tonemap, PostConversionOnlyForLinearExr) {
     const Vec3 out = hdrc::ref::post_convert(p, in, false);
     for (int c = 0; c < 3; ++c) EXPECT_EQ(out[c], in[c]);
     EXPECT_EQ(p.lut_format, 1);  // RGBA16F (AddCombineLUTPass: bUseFloatOutput)
+  }
+}
+
+// Device allowances (docs/ue58-decisions.md G9): a grey scene at LogToLin(8/15) − LogToLin(0)
+// reads the outer LUT's texel (8, 8, 8) (the log shaper's coordinate 8/15 of a 16³ LUT, UVW on the
+// texel centre). A conformant device may store either neighbouring 10-bit code of that texel's
+// value (Vulkan, Fixed-Point Data Conversions) and the pass multiplies the sample by LUTMax: every
+// pixel's range holds floor(v · 1023) / 1023 · LUTMax and ceil(v · 1023) / 1023 · LUTMax, v the
+// unrounded texel (CombineLUTsCommon), and the tight output. LUTMax 1.05 for Filmic on device 0,
+// 1 for StandardACES (GetTonemappingMax).
+TEST(Ue58Tonemap, DeviceRangesHoldBothCodesTimesLutMax) {
+  for (const int method : {0, 1}) {
+    SCOPED_TRACE(method);
+    const auto p = resolved({{"TonemappingMethod", v1(method)},
+                             {"r.LUT.Inner.Size", v1(10)},
+                             {"VignetteIntensity", v1(0)}},
+                            {{"r.HDR.Display.OutputDevice", 0}, {"r.LUT.Size", 16}});
+    ASSERT_EQ(p.lut_format, 0);
+    const double lut_max = method == 0 ? static_cast<double>(1.05f) : 1.0;
+    hdrc::DevicePrecision device;
+    device.sub_texel_bits = 4;
+    const ue58::CombineLuts58 luts(p);
+    const hdrc::ref::BakedLut dev = ue58::baked_outer_lut_device(luts, p, device);
+    hdrc::Image grey(8, 4);
+    const double x = ue_log::lin_from_log(8.0 / 15) - ue_log::lin_from_log(0);
+    for (int i = 0; i < 32; ++i)
+      for (int c = 0; c < 3; ++c) grey.data[i * 4 + c] = x;
+    const hdrc::Image tight = ue58::tonemap_image(p, grey, nullptr, nullptr, dev);
+    const hdrc::Image out =
+        ue58::tonemap_image(p, grey, nullptr, nullptr, dev, &dev, device.sub_texel_bits);
+    ASSERT_EQ(out.device_admissible.size(), 32u);
+    const Vec3 v = luts.outer_texel({8.0 / 15, 8.0 / 15, 8.0 / 15});
+    for (const hdrc::AdmissibleRange& a : out.device_admissible) {
+      const double* t = tight.px(static_cast<int>(a.pixel % 8), static_cast<int>(a.pixel / 8));
+      for (int c = 0; c < 3; ++c) {
+        const double code = std::clamp(v[c], 0.0, 1.0) * 1023;
+        EXPECT_LE(a.lo[c], std::floor(code) / 1023 * lut_max + 1e-12) << a.pixel << " " << c;
+        EXPECT_GE(a.hi[c], std::ceil(code) / 1023 * lut_max - 1e-12) << a.pixel << " " << c;
+        EXPECT_LE(a.lo[c], t[c]);
+        EXPECT_GE(a.hi[c], t[c]);
+      }
+    }
   }
 }
 
