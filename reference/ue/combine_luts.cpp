@@ -811,12 +811,12 @@ bool lookup_uvw(const BakedLut& lut, const Vec3& encoded, Vec3* uvw) {
 
 }  // namespace
 
-Vec3 sample_lut(const BakedLut& lut, const Vec3& encoded) {
+Vec3 sample_lut(const BakedLut& lut, const Vec3& encoded, double lut_max) {
   Vec3 uvw;
   if (!lookup_uvw(lut, encoded, &uvw)) return {d3d::kNaN, d3d::kNaN, d3d::kNaN};
   const Vec3 s = sample_texels(
       lut, uvw, [&](int r, int g, int b) -> Vec3 { return lut.at(r, g, b); }, mix);
-  return {s[0] * kLutScale, s[1] * kLutScale, s[2] * kLutScale};
+  return {s[0] * lut_max, s[1] * lut_max, s[2] * lut_max};
 }
 
 bool sample_lut_range(const BakedLut& lut, const Vec3& encoded, Range3* out) {
@@ -841,7 +841,7 @@ bool sample_lut_range(const BakedLut& lut, const Vec3& encoded, Range3* out) {
 }
 
 bool sample_lut_device_range(const BakedLut& lut, const Vec3& encoded, int bits, Range3* out,
-                             const spirv::Interval* encoded_range) {
+                             double lut_max, const spirv::Interval* encoded_range) {
   Vec3 uvw;
   if (!lut.has_ranges() || !lookup_uvw(lut, encoded, &uvw)) return false;
   const int n = lut.size;
@@ -976,8 +976,8 @@ bool sample_lut_device_range(const BakedLut& lut, const Vec3& encoded, int bits,
     }
   }
   for (int c = 0; c < 3; ++c) {
-    r.lo[c] *= kLutScale;
-    r.hi[c] *= kLutScale;
+    r.lo[c] *= lut_max;
+    r.hi[c] *= lut_max;
     r.nan[c] = (nan & (1u << c)) != 0 || std::isnan(r.lo[c]) || std::isnan(r.hi[c]);
   }
   *out = r;

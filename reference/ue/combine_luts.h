@@ -139,12 +139,14 @@ Range3 combine_luts_texel_device_range(const ParamBlock& p, const Vec3& lattice)
 // the lower texel bounds at the box corner that minimises, the upper at the one that maximises,
 // per channel, the filter's products and sums rounded outward in the storage format's precision
 // (device_allowance.h filter_taps: VK-GL-CTS's filtering precision of lut_format); the 2-D layout's
-// shader lerp between its two bilinear samples is exact. Output scaled by 1.05 as sample_lut's.
-// False for a NaN coordinate. `encoded_range` (3 intervals, or none): the encoded coordinate's
-// range on a conformant device, derived op by op (the Tonemap pass's encode, tonemap.cpp); the
-// lookup's coordinate then spans the hull of that and kShaderNoise around `encoded`.
+// shader lerp between its two bilinear samples is exact. Output scaled by LUTMax as sample_lut's
+// (1.05 in UE 5.5). False for a NaN coordinate. `encoded_range` (3 intervals, or none): the encoded
+// coordinate's range on a conformant device, derived op by op (the Tonemap pass's encode,
+// tonemap.cpp); the lookup's coordinate then spans the hull of that and kShaderNoise around
+// `encoded`.
 bool sample_lut_device_range(const BakedLut& device_lut, const Vec3& encoded, int sub_texel_bits,
-                             Range3* out, const spirv::Interval* encoded_range = nullptr);
+                             Range3* out, double lut_max = 1.05,
+                             const spirv::Interval* encoded_range = nullptr);
 
 // The bake of only the texels that lookups read, each once, for a pass over fewer pixels than the
 // LUT has texels (a Tonemap case of a few hundred pixels reads a few thousand of a 32³ LUT's
@@ -172,8 +174,9 @@ Vec3 lattice_coordinate(int layout, int size, int r, int g, int b);
 
 // The tonemapper's lookup of an encoded colour (`ColorLookupTable` after the shaper encode):
 // UVW = enc·(N−1)/N + 0.5/N, exact trilinear for the volume LUT or UE's two-tap
-// UnwrappedTexture3DSample for the 2-D LUT, clamp-to-edge addressing; returns the sample × 1.05.
-Vec3 sample_lut(const BakedLut& lut, const Vec3& encoded);
+// UnwrappedTexture3DSample for the 2-D LUT, clamp-to-edge addressing; returns the sample × LUTMax:
+// 1.05 in UE 5.5, GetTonemappingMax's 1.05 or 1 in UE 5.8 (docs/ue58-differences.md L8, T2).
+Vec3 sample_lut(const BakedLut& lut, const Vec3& encoded, double lut_max = 1.05);
 
 // The same lookup over the LUT's admissible ranges (BakedLut::lo/hi, the same taps and weights:
 // a convex combination keeps the bounds); NaN is admissible where any tap may hold it. Returns

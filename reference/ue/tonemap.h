@@ -20,6 +20,60 @@ struct TonemapTrace {
   double luminance = 0;  // OutLuminance = dot(OutDevice, (0.299, 0.587, 0.114))
 };
 
+// The vignette's parameters (PostProcessTonemap.usf: VignetteType, VignetteParams0/1/2, set by
+// PostProcessTonemap.cpp AddTonemapPass; PostProcessCommon.ush ComputeVignetteMask, UE 5.8). UE
+// 5.5's vignette (the cosine-fourth law on VignetteSpace · Intensity, a scalar) is 5.8's at type
+// CosineFourthLaw, centre (0.5, 0.5) and black colour, to the bit (Centre − 0.5 = 0, lerp(0, 1, w)
+// = w): ue55_vignette (docs/ue58-differences.md T3).
+struct Vignette {
+  int type = 0;                     // EVignetteType: 0 CosineFourthLaw, 1 Texture, 2 Oval
+  bool advanced = false;            // USE_ADVANCED_VIGNETTE: type != CosineFourthLaw
+  double intensity = 0.0;           // VignetteParams0.x
+  Vec3 color{};                     // VignetteParams0.yzw
+  double center[2] = {0.5, 0.5};    // VignetteParams1.xy
+  double inv_size[2] = {1.0, 1.0};  // VignetteParams1.zw: 1 / max(0.001, VignetteSize)
+  double softness = 1.0;            // VignetteParams2
+};
+Vignette ue55_vignette(const ParamBlock& p);  // UE 5.5: p.vignette_intensity, the rest default
+// ComputeVignetteMask(VignetteSpace(pos, type, aspect), ...) at screen position (pos_x, pos_y) in
+// [-1, 1] (y up), aspect = ViewportHeight / ViewportWidth.
+Vec3 vignette_mask(const Vignette& v, double pos_x, double pos_y, double aspect);
+
+// Steps 1-5 of TonemapCommonPS at pixel (x, y) of `scene` (UE 5.5 and 5.8 alike): colour fringe,
+// sharpen, FinalLinearColor = S · SceneColorTint · (exposure · VignetteMask) + Bloom · (exposure ·
+// VignetteMask); `bloom`/`dirt` as tonemap_image's.
+// `parts`, where set, receives the operands of steps 4-5 (for tonemap_encoded_device_range).
+struct FinalLinearParts {
+  Vec3 scene;      // S after the fringe and the sharpen
+  Vec3 bloom_rgb;  // the bloom sample with its dirt (zero without bloom)
+  Vec3 vignette;   // the vignette mask per channel
+  bool bloom = false;
+};
+Vec3 tonemap_final_linear(const ParamBlock& p, const Image& scene, const Image* bloom,
+                          const Image* dirt, int x, int y, const Vignette& vignette,
+                          FinalLinearParts* parts = nullptr);
+
+// UE 5.5's lookup coordinate (the log or PQ shaper of `p.output_device`) on a conformant device,
+// per channel: steps 4-5's products and the shaper's encode op by op with the Vulkan precision
+// table's bounds (for sample_lut_device_range's `encoded_range`).
+void tonemap_encoded_device_range(const ParamBlock& p, const FinalLinearParts& parts,
+                                  spirv::Interval out[3]);
+
+// Step 9, the per-device post conversion: device 7 ST2084ToLinear; devices 5/6 ST2084ToScRGB when
+// `scrgb_in_pass` (UE 5.5; 5.8's LUT already holds scRGB and the pass writes it unchanged,
+// docs/ue58-differences.md T1); every other device unchanged.
+Vec3 post_convert(const ParamBlock& p, const Vec3& out_device, bool scrgb_in_pass);
+
+// One pixel's range on a conformant device (the pass's lookup of `device_lut`, a device bake with
+// ranges, at the shader-encoded coordinate `encoded`): sample_lut_device_range × `lut_max` with
+// `sub_texel_bits`, then the post conversion on the device (post_convert's, `scrgb_in_pass`),
+// holding the reference's own output `rgb` / luminance `alpha` and, where set, the pixel's tight
+// range `tight`. False for a NaN coordinate (no range). UE 5.5's and 5.8's pass alike.
+bool tonemap_device_range(const ParamBlock& p, const BakedLut& device_lut, const Vec3& encoded,
+                          int sub_texel_bits, double lut_max, bool scrgb_in_pass, const Vec3& rgb,
+                          double alpha, size_t pixel, const AdmissibleRange* tight,
+                          AdmissibleRange* out, const spirv::Interval* encoded_range = nullptr);
+
 // One pixel at the centre of the screen (no vignette, fringe, sharpen or bloom), as `probe` uses
 // it. `lut` null: CombineLUTs evaluated analytically at the encoded coordinate (clamped as the
 // sampler addresses it); else the baked LUT sampled as UE samples it.
