@@ -13,7 +13,9 @@
 // ColorCorrectAll, the film path (blue correction, FilmToneMap, r.Color.*, fade), the ACES 1.3
 // parameters (r.HDR.Aces.Version 1) and the output gamut matrix. No user-LUT blend fields: the
 // stage takes no user LUT (docs/ue58-decisions.md E5). output_max_luminance is the display's peak
-// (docs/ue58-differences.md L12); inverse_gamma.y is 1 for device 9 (L11).
+// (docs/ue58-differences.md L12); inverse_gamma.y is 1 for device 9 (L11). The UI composite's
+// (CompositeUIPixelShader.usf) level, mode and colour-deficiency fields are 5.5's; ui_luminance
+// holds 5.8's UILuminance as resolved (r.HDR.UI.Luminance.Mode: paper white or the cvar, U1).
 #define HDRC_UE58_SHARED_PARAMS(Y) \
   Y(width)                         \
   Y(height)                        \
@@ -71,7 +73,14 @@
   Y(wcs_from_ap1)                  \
   Y(wcs_to_ap0)                    \
   Y(white_balance)                 \
-  Y(ap1_to_output)
+  Y(ap1_to_output)                 \
+  Y(ui_composite_mode)             \
+  Y(ui_level)                      \
+  Y(ui_luminance)                  \
+  Y(cvd_type)                      \
+  Y(cvd_severity)                  \
+  Y(cvd_correct)                   \
+  Y(cvd_show_correction)
 
 // The ACES 2.0 parameter block (reference/ue/aces2/aces2.h ParamsT: init_ODTParams' values, 76
 // scalars = 19 vec4 in ParamsT's std430 order) and the three host tables UE binds as R32F
@@ -102,5 +111,10 @@
   X(F, ue58_total_scene_color_multiplier,                                                          \
     "TotalSceneColorMultiplier = PaperWhite / 203 * ACESSceneColorMultiplier")                     \
   X(M3, ue58_wcs_from_ap0, "WorkingColorSpace.FromAP0 (ACESInvOutputTransform)")                   \
+  X(I, ue58_ui_eotf, "UICompositeEOTF: 0 pow(x, UICompositeEOTFGamma), 1 sRGBToLinear")            \
+  X(F, ue58_ui_eotf_gamma, "UICompositeEOTFGamma (r.HDR.UI.CompositeEOTF.Gamma)")                  \
+  X(I, ue58_ui_blend, "UICompositeBlend: 0 gamma-space blend, 1 linear (Reinhard, lerp)")          \
+  X(F, ue58_ui_blend_gamma, "UICompositeBlendGamma (r.HDR.UI.CompositeBlend.Gamma)")               \
+  X(F, ue58_ui_blend_inv_gamma, "UICompositeBlendInvGamma = 1.f / UICompositeBlendGamma (host)")   \
   HDRC_UE58_ACES2_SET(X, , "forward ACES 2.0 at OutputMaxLuminance, limiting primaries")           \
   HDRC_UE58_ACES2_SET(X, _sdr, "SDR inverse ACES 2.0 at 100 nits, working primaries")

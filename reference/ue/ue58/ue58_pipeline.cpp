@@ -17,7 +17,9 @@
 #include "reference/ue/aces/aces_params.h"
 #include "reference/ue/aces2/aces2.h"
 #include "reference/ue/cpp/resolve.h"
+#include "reference/ue/ue55/ue55_pipeline.h"
 #include "reference/ue/ue58/ue58_combine_luts.h"
+#include "reference/ue/ue58/ue58_ui_composite.h"
 
 namespace hdrc::ref::ue58 {
 
@@ -57,6 +59,25 @@ const std::vector<SettingInfo>& settings() {
          "cvar r.LUT.Shaper (PostProcessTonemap.cpp, default 0): 0 log lattice, 1 PQ lattice, "
          "every device"},
         {"r.LUT.Inner.Size", 1, s(64), 2, 128, "cvar r.LUT.Inner.Size: the inner LUT's edge"},
+        // The UI composite's 5.8 console variables (SlateRHIRenderer.cpp: CVarHDRUILuminanceMode,
+        // CVarHDRUICompositeEOTF/Gamma, CVarHDRUICompositeBlend/Gamma; docs/ue58-differences.md
+        // U1-U3). The gammas have no range in UE; here (0, 10], a pow of 0 being meaningless.
+        {"r.HDR.UI.Luminance.Mode", 1, s(0), 0, 1,
+         "cvar r.HDR.UI.Luminance.Mode (SlateRHIRenderer.cpp, default 0): UILuminance = 0 the "
+         "viewport's paper white (HDRMetaData.HDRPaperWhiteInNits: r.HDR.PaperWhite here), 1 "
+         "r.HDR.UI.Luminance (5.8 default 203)"},
+        {"r.HDR.UI.CompositeEOTF", 1, s(0), 0, 1,
+         "cvar r.HDR.UI.CompositeEOTF (default 0): the UI's EOTF in the composite, 0 pow(x, "
+         "r.HDR.UI.CompositeEOTF.Gamma), 1 sRGB (CompositeUIPixelShader.usf: LinearizeColor)"},
+        {"r.HDR.UI.CompositeEOTF.Gamma", 1, s(2.4), 0.01, 10,
+         "cvar r.HDR.UI.CompositeEOTF.Gamma (default 2.4, BT.1886 per BT.2408)"},
+        {"r.HDR.UI.CompositeBlend", 1, s(0), 0, 1,
+         "cvar r.HDR.UI.CompositeBlend (default 0): translucent UI blended 0 in a gamma space "
+         "(pow(saturate(x / 10000), 1 / gamma)), 1 linearly after a Reinhard "
+         "(CompositeUIPixelShader.usf: ComposeUIAndScene)"},
+        {"r.HDR.UI.CompositeBlend.Gamma", 1, s(2.4), 0.01, 10,
+         "cvar r.HDR.UI.CompositeBlend.Gamma (default 2.4); the host passes 1.f / gamma as "
+         "UICompositeBlendInvGamma"},
         {"LimitingGamut", 1, s(-1), -1, 4,
          "the display's limiting colour space (RenderTarget->GetLimitingColorSpace), an "
          "EDisplayColorGamut; -1: P3-D65 for devices 3-6 (HDR without a listed display), sRGB "
@@ -183,6 +204,22 @@ Result<Resolution> resolve58(const Case& c, int width, int height) {
   // The block holds only what a ue58 case carries (param_carried_by): UE 5.5's fields that 5.5's
   // derivation set and no ue58 shader reads (Tonemap, UI, dither, the user-LUT blend) go back to
   // their defaults, so params.json and the engines see the same block.
+  // The UI composite (SlateRHIRenderer.cpp: DrawWindowViewport_RenderThread): UILuminance is the
+  // paper white unless r.HDR.UI.Luminance.Mode is 1, then r.HDR.UI.Luminance, whose 5.8 default is
+  // 203 (the shared cvar table holds 5.5's 300: an unset cvar reads 203 here;
+  // docs/ue58-decisions.md G1). Level, mode and colour deficiency are 5.5's resolution (resolve
+  // above).
+  if (static_cast<int>(st.get("r.HDR.UI.Luminance.Mode")) == 1)
+    p.ui_luminance = cv.is_set("r.HDR.UI.Luminance") ? cv.get("r.HDR.UI.Luminance") : 203.0;
+  else
+    p.ui_luminance = p.ue58_paper_white;
+  p.ue58_ui_eotf = static_cast<int>(st.get("r.HDR.UI.CompositeEOTF"));
+  p.ue58_ui_eotf_gamma = static_cast<float>(st.get("r.HDR.UI.CompositeEOTF.Gamma"));
+  p.ue58_ui_blend = static_cast<int>(st.get("r.HDR.UI.CompositeBlend"));
+  const float blend_gamma = static_cast<float>(st.get("r.HDR.UI.CompositeBlend.Gamma"));
+  p.ue58_ui_blend_gamma = blend_gamma;
+  p.ue58_ui_blend_inv_gamma = 1.f / blend_gamma;  // the host's float division
+
   const ParamBlock defaults;
   for_each_param(p, [&](FieldKind, const char* name, auto& field) {
     if (!param_carried_by(name, "ue58")) {
@@ -213,6 +250,17 @@ const std::vector<StageInfo>& stages() {
        {0, 1, 2, 3, 4, 5, 6, 7, 8, 9},
        false,
        "ue58"},
+      {StageId::kUiComposite,
+       "ue58_ui_composite",
+       {{"ue58/stages/ui_composite.comp"}},
+       "UE 5.8's HDR UI composite (CompositeUIPixelShader.usf): the input is the back buffer (PQ "
+       "signals for devices 3/4, scRGB for 5/6), the UI is the ui_overlay stimulus of the same "
+       "size; un-premultiply, the UI EOTF (gamma or sRGB), UILuminance (paper white or "
+       "r.HDR.UI.Luminance), translucent UI blended in a gamma space or linearly after a "
+       "Reinhard, opaque UI replacing the scene, colour deficiency, encode; alpha = the UI's",
+       {3, 4, 5, 6},
+       true,
+       "ue58"},
   };
   return table;
 }
@@ -225,7 +273,9 @@ std::array<double, 3> lattice(const ParamBlock& p, int r, int g, int b) {
 // How a stored texel becomes nits: divided by LUTInvMax (PostProcessTonemap.usf multiplies by
 // LUTMax), then the device's encoding; the gamut is the output gamut, except device 8's working
 // colour space and Filmic's UE-29935 shortcut (sRGB working space and output gamut: the same).
-OutputEncoding encoding(const StageInfo&, const ParamBlock& p) {
+OutputEncoding encoding(const StageInfo& stage, const ParamBlock& p) {
+  // The UI composite writes the back buffer as UE 5.5's does (PQ Rec.2020 or scRGB).
+  if (stage.id == StageId::kUiComposite) return ue55_pipeline().output_encoding(stage, p);
   using T = OutputEncoding::Transfer;
   OutputEncoding e;
   e.stage = StageId::kOther;
@@ -286,7 +336,19 @@ OutputEncoding encoding(const StageInfo&, const ParamBlock& p) {
   return e;
 }
 
+// The UI composite stage (ue58_ui_composite.h), with its device ranges.
+Result<Image> ui_reference(const ResolvedCase& c) {
+  const UiComposite58Params u = ui_composite58_params(c.params);
+  auto out = composite_ui58(c.input, c.ui, u);
+  if (out && c.device_allowances) {
+    out->device_admissible = ui_composite58_device_ranges(u, c.input, c.ui, *out);
+    out->device_allowances = {"shader arithmetic (the Vulkan precision table's bounds)"};
+  }
+  return out;
+}
+
 Result<Image> reference(const ResolvedCase& c, bool) {
+  if (c.spec.stage->id == StageId::kUiComposite) return ui_reference(c);
   const ParamBlock& p = c.params;
   const CombineLuts58 luts(p);  // one evaluator: the device ranges reuse its inner texels
   const std::vector<Vec3> lut = bake_outer_lut(luts, p);
@@ -340,10 +402,10 @@ const std::vector<SettingInfo>& ue58_setting_table() {
 const Pipeline& ue58_pipeline() {
   static const Pipeline pipeline{
       "ue58",
-      "Unreal Engine 5.8 HDR output (CombineLUTs)",
+      "Unreal Engine 5.8 HDR output (CombineLUTs, UI composite)",
       "docs/ue58-decisions.md",
-      "UE 5.8's CombineLUTs with its inner LUT: Filmic and StandardACES, ACES 1.3 and 2.0 "
-      "(docs/ue58-differences.md, docs/ue58-decisions.md)",
+      "UE 5.8's CombineLUTs with its inner LUT: Filmic and StandardACES, ACES 1.3 and 2.0; the "
+      "HDR UI composite (docs/ue58-differences.md, docs/ue58-decisions.md)",
       &stages,
       &cvar_table,
       &settings,
