@@ -496,11 +496,13 @@ TEST(CaseLoader, TheDefaultSuiteLoads) {
                                                   {"ue58/grading", 9},
                                                   {"ue58/hdr_display", 24},
                                                   {"ue58/shaper_eotf", 14},
+                                                  {"ue58/ui_composite", 17},
+                                                  {"ue58/ui_composite_cvd", 4},
                                                   {"visualize/pre_exposure", 8},
                                                   {"visualize/visualize_hdr", 30},
                                                   {"visualize/working_color_space", 21}};
   EXPECT_EQ(per_file, expected);
-  EXPECT_EQ(loaded.cases.size(), 1663u);
+  EXPECT_EQ(loaded.cases.size(), 1684u);
   for (const auto& c : loaded.cases) EXPECT_NE(c.tolerance.source, "default") << c.id;
 }
 

@@ -190,7 +190,9 @@ Result<Resolution> resolve58(const Case& c, int width, int height) {
 
   // ACES 2.0: forward at OutputMaxLuminance with the limiting primaries (GetTransformResources),
   // the SDR set at 100 nits with the working colour space (GetTransformResourcesSDR).
-  if (p.ue58_aces_version > 1 && p.ue58_inner_needed) {
+  // The UI composite bakes no LUT: its cases carry no ACES tables (nor their degenerate peaks).
+  const bool bakes_luts = c.stage == nullptr || c.stage->id != StageId::kUiComposite;
+  if (bakes_luts && p.ue58_aces_version > 1 && p.ue58_inner_needed) {
     if (!(p.output_max_luminance >= 100.0)) {
       r.degenerate = "ACES 2.0 at OutputMaxLuminance " + std::to_string(p.output_max_luminance) +
                      " nits (the tonescale needs a peak of at least 100 nits)";
@@ -230,7 +232,7 @@ Result<Resolution> resolve58(const Case& c, int width, int height) {
       });
     }
   });
-  if (p.ue58_aces_version == 1 && p.ue58_inner_needed && !aces13.status.ok())
+  if (bakes_luts && p.ue58_aces_version == 1 && p.ue58_inner_needed && !aces13.status.ok())
     r.degenerate =
         "ACES 1.3 with degenerate tone-scale parameters: " + aces13.status.error().message;
   return r;
@@ -260,7 +262,12 @@ const std::vector<StageInfo>& stages() {
        "Reinhard, opaque UI replacing the scene, colour deficiency, encode; alpha = the UI's",
        {3, 4, 5, 6},
        true,
-       "ue58"},
+       "ue58",
+       0,
+       false,
+       1,
+       false,
+       "docs/spec/ue58.md#1-hdr-ui-composite-compositeuipixelshaderusf-58"},
   };
   return table;
 }

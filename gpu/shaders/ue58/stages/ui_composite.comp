@@ -13,10 +13,7 @@ layout(local_size_x = HDRC_LOCAL_SIZE_X) in;
 void main() {
   uint i = gl_GlobalInvocationID.x;
   if (i >= uint(P.width * P.height)) return;
-  int x = int(i) % P.width;
-  int y = int(i) / P.width;
-  // A texel outside a smaller UI layer reads as transparent black (as stages/ui_composite.comp).
-  vec4 ui = vec4(0.0);
-  if (x < P.aux0_width && y < P.aux0_height) ui = aux0_px[y * P.aux0_width + x];
-  out_px[i] = ue58_ui_composite_pixel(in_px[i], ui);
+  // The engine binds a UI layer of the back buffer's size (it refuses another), so pixel i of
+  // both is the same texel.
+  out_px[i] = ue58_ui_composite_pixel(in_px[i], aux0_px[i]);
 }
