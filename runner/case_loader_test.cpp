@@ -46,9 +46,17 @@ const BadCase kBadCases[] = {
      "dither, ui_composite, visualize_hdr"},
     {"unknown_key", R"({"stage": "shaper", "inptu": 1, "input": {"stimulus": "log_ramp"}})",
      "t.json: /inptu: unknown key 'inptu', did you mean 'input'?; valid choices: $schema, "
-     "description, pipeline, stage, preset, cvars, settings, input, bloom, bloom_dirt, lut, "
+     "description, pipeline, stage, preset, cvars, settings, input, bloom, bloom_dirt, ui, lut, "
      "lut_blend, "
      "matrix, tolerance, pins_nonfinite, tier"},
+    {"ui_on_another_stage",
+     R"({"stage": "shaper", "ui": {"stimulus": "ui_overlay"}, "input": {"stimulus": "log_ramp"}})",
+     "t.json: /ui: ui is an input of a UI composite stage only; valid choices: ui_composite, "
+     "ue58_ui_composite"},
+    {"ui_overlay_parameter_out_of_range",
+     R"({"stage": "ui_composite", "ui": {"stimulus": "ui_overlay", "transparent_rgb": 2}, "input": {"stimulus": "pq_codes", "width": 32, "height": 32}})",
+     "t.json: /ui/transparent_rgb: parameter transparent_rgb = 2 is out of range; valid choices: 0 "
+     "to 1"},
     {"unknown_cvar",
      R"({"stage": "shaper", "cvars": {"r.HDR.Display.OutputDevise": 3}, "input": {"stimulus": "log_ramp"}})",
      "t.json: /cvars/r.HDR.Display.OutputDevise: unknown cvar 'r.HDR.Display.OutputDevise'; valid "
