@@ -165,6 +165,8 @@ struct Case {
   InputSpec input;
   InputSpec bloom;       // tonemap: the bloom texture (stimulus "" and file "": no bloom)
   InputSpec bloom_dirt;  // tonemap: the bloom dirt mask texture (empty: none)
+  // A UI composite stage's UI layer (stimulus "": the ui_overlay stimulus at its defaults).
+  InputSpec ui;
   // The user LUT (null: none); only for a stage whose StageInfo::user_lut allows one.
   std::shared_ptr<const UserLut> lut;
   // Further LUTs blended in order (only for a stage with StageInfo::user_lut_slots > 1).

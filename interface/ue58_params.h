@@ -19,6 +19,9 @@
 // vignette and LUT scale are 5.8's own fields below (T2, T3). lut_layout (0: 5.8 bakes a volume
 // only) and 5.5's vignette_intensity are read by the shared GLSL the pass includes
 // (tonemap_variant.glsl, tonemap_effects.glsl: 5.5's tonemap_vignette, which 5.8 does not call).
+// The UI composite's (CompositeUIPixelShader.usf) level, mode and colour-deficiency fields are
+// 5.5's; ui_luminance holds 5.8's UILuminance as resolved (r.HDR.UI.Luminance.Mode: paper white
+// or the cvar, U1).
 #define HDRC_UE58_SHARED_PARAMS(Y) \
   Y(width)                         \
   Y(height)                        \
@@ -87,7 +90,14 @@
   Y(bloom_dirt_tint)               \
   Y(fringe)                        \
   Y(lut_layout)                    \
-  Y(vignette_intensity)
+  Y(vignette_intensity)            \
+  Y(ui_composite_mode)             \
+  Y(ui_level)                      \
+  Y(ui_luminance)                  \
+  Y(cvd_type)                      \
+  Y(cvd_severity)                  \
+  Y(cvd_correct)                   \
+  Y(cvd_show_correction)
 
 // The ACES 2.0 parameter block (reference/ue/aces2/aces2.h ParamsT: init_ODTParams' values, 76
 // scalars = 19 vec4 in ParamsT's std430 order) and the three host tables UE binds as R32F
@@ -123,5 +133,10 @@
   X(V4, ue58_vignette_params0, "VignetteParams0: (VignetteIntensity, VignetteColor.rgb)")          \
   X(V4, ue58_vignette_params1, "VignetteParams1: (VignetteCenter, 1 / max(0.001, VignetteSize))")  \
   X(F, ue58_vignette_params2, "VignetteParams2: VignetteSoftness")                                 \
+  X(I, ue58_ui_eotf, "UICompositeEOTF: 0 pow(x, UICompositeEOTFGamma), 1 sRGBToLinear")            \
+  X(F, ue58_ui_eotf_gamma, "UICompositeEOTFGamma (r.HDR.UI.CompositeEOTF.Gamma)")                  \
+  X(I, ue58_ui_blend, "UICompositeBlend: 0 gamma-space blend, 1 linear (Reinhard, lerp)")          \
+  X(F, ue58_ui_blend_gamma, "UICompositeBlendGamma (r.HDR.UI.CompositeBlend.Gamma)")               \
+  X(F, ue58_ui_blend_inv_gamma, "UICompositeBlendInvGamma = 1.f / UICompositeBlendGamma (host)")   \
   HDRC_UE58_ACES2_SET(X, , "forward ACES 2.0 at OutputMaxLuminance, limiting primaries")           \
   HDRC_UE58_ACES2_SET(X, _sdr, "SDR inverse ACES 2.0 at 100 nits, working primaries")

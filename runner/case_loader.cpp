@@ -152,6 +152,11 @@ std::string id_name(const std::string& name) {
       {"r.HDR.UI.CompositeMode", "uimode"},
       {"r.HDR.UI.Level", "uilevel"},
       {"r.HDR.UI.Luminance", "uinits"},
+      {"r.HDR.UI.Luminance.Mode", "uinitsmode"},  // UE 5.8's UI cvars (pipeline ue58: settings)
+      {"r.HDR.UI.CompositeEOTF", "uieotf"},
+      {"r.HDR.UI.CompositeEOTF.Gamma", "uieotfgamma"},
+      {"r.HDR.UI.CompositeBlend", "uiblend"},
+      {"r.HDR.UI.CompositeBlend.Gamma", "uiblendgamma"},
       {"r.EyeAdaptation.VisualizeDebugType", "debug"},
       {"LUTFormat", "fmt"},
       {"LUTLayout", "layout"},
@@ -771,10 +776,10 @@ std::vector<Case> parse_case_file(const std::string& file, const std::string& te
     p.fail("", "a case file is a JSON object, got " + json_type(doc));
     return out;
   }
-  p.check_keys(
-      doc, "",
-      {"$schema", "description", "pipeline", "stage", "preset", "cvars", "settings", "input",
-       "bloom", "bloom_dirt", "lut", "lut_blend", "matrix", "tolerance", "pins_nonfinite", "tier"});
+  p.check_keys(doc, "",
+               {"$schema", "description", "pipeline", "stage", "preset", "cvars", "settings",
+                "input", "bloom", "bloom_dirt", "ui", "lut", "lut_blend", "matrix", "tolerance",
+                "pins_nonfinite", "tier"});
 
   Case base;
   base.file = file;
@@ -882,6 +887,15 @@ std::vector<Case> parse_case_file(const std::string& file, const std::string& te
     }
     p.input(doc[key], std::string("/") + key,
             std::string(key) == "bloom" ? &base.bloom : &base.bloom_dirt);
+  }
+  if (doc.contains("ui")) {
+    // The UI layer of a UI composite stage: a stimulus at the input's size (ui_overlay with its
+    // parameters) or an image.
+    if (base.stage && base.stage->id != StageId::kUiComposite)
+      p.fail("/ui", "ui is an input of a UI composite stage only",
+             "ui_composite, ue58_ui_composite");
+    else
+      p.input(doc["ui"], "/ui", &base.ui);
   }
   if (doc.contains("lut")) {
     if (base.stage && base.stage->user_lut == 0)
@@ -1494,9 +1508,16 @@ Result<ResolvedCase> resolve_case(const Case& c) {
     }
   }
   if (c.stage->id == StageId::kUiComposite) {
-    auto ui = make_stimulus("ui_overlay", r.input.width, r.input.height);
-    if (!ui) return ui.error();
-    r.ui = std::move(*ui);
+    if (!c.ui.file.empty()) {
+      auto ui = read_image(c.ui.file);
+      if (!ui) return ui.error();
+      r.ui = std::move(*ui);
+    } else {
+      auto ui = make_stimulus(c.ui.stimulus.empty() ? "ui_overlay" : c.ui.stimulus, r.input.width,
+                              r.input.height, c.ui.params);
+      if (!ui) return ui.error();
+      r.ui = std::move(*ui);
+    }
   }
   auto resolution = pipeline.resolve(c, r.input.width, r.input.height);
   if (!resolution) return resolution.error();

@@ -46,9 +46,17 @@ const BadCase kBadCases[] = {
      "dither, ui_composite, visualize_hdr"},
     {"unknown_key", R"({"stage": "shaper", "inptu": 1, "input": {"stimulus": "log_ramp"}})",
      "t.json: /inptu: unknown key 'inptu', did you mean 'input'?; valid choices: $schema, "
-     "description, pipeline, stage, preset, cvars, settings, input, bloom, bloom_dirt, lut, "
+     "description, pipeline, stage, preset, cvars, settings, input, bloom, bloom_dirt, ui, lut, "
      "lut_blend, "
      "matrix, tolerance, pins_nonfinite, tier"},
+    {"ui_on_another_stage",
+     R"({"stage": "shaper", "ui": {"stimulus": "ui_overlay"}, "input": {"stimulus": "log_ramp"}})",
+     "t.json: /ui: ui is an input of a UI composite stage only; valid choices: ui_composite, "
+     "ue58_ui_composite"},
+    {"ui_overlay_parameter_out_of_range",
+     R"({"stage": "ui_composite", "ui": {"stimulus": "ui_overlay", "transparent_rgb": 2}, "input": {"stimulus": "pq_codes", "width": 32, "height": 32}})",
+     "t.json: /ui/transparent_rgb: parameter transparent_rgb = 2 is out of range; valid choices: 0 "
+     "to 1"},
     {"unknown_cvar",
      R"({"stage": "shaper", "cvars": {"r.HDR.Display.OutputDevise": 3}, "input": {"stimulus": "log_ramp"}})",
      "t.json: /cvars/r.HDR.Display.OutputDevise: unknown cvar 'r.HDR.Display.OutputDevise'; valid "
@@ -125,7 +133,7 @@ const BadCase kBadCases[] = {
      "defined in CASES/defaults.json: /tolerances); valid choices: combine_luts, "
      "combine_luts_storage, combine_luts_storage_linear, dither, "
      "linear_dev7, linear_dev8, operators, pq_grading, shaper_log, shaper_pq, tonemap, "
-     "ue58_combine_luts, ue58_tonemap, ui_composite, "
+     "ue58_combine_luts, ue58_tonemap, ue58_ui_composite, ui_composite, "
      "unity_urp_grading, unity_urp_lut, visualize_hdr"},
     {"unknown_preset",
      R"({"stage": "shaper", "preset": "hdr01", "input": {"stimulus": "log_ramp"}})",
@@ -501,11 +509,13 @@ TEST(CaseLoader, TheDefaultSuiteLoads) {
                                                   {"ue58/tonemap_effects", 4},
                                                   {"ue58/tonemap_stimuli", 33},
                                                   {"ue58/tonemap_vignette", 10},
+                                                  {"ue58/ui_composite", 17},
+                                                  {"ue58/ui_composite_cvd", 4},
                                                   {"visualize/pre_exposure", 8},
                                                   {"visualize/visualize_hdr", 30},
                                                   {"visualize/working_color_space", 21}};
   EXPECT_EQ(per_file, expected);
-  EXPECT_EQ(loaded.cases.size(), 1790u);
+  EXPECT_EQ(loaded.cases.size(), 1811u);
   for (const auto& c : loaded.cases) EXPECT_NE(c.tolerance.source, "default") << c.id;
 }
 

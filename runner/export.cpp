@@ -466,9 +466,11 @@ json case_export_json(const ResolvedCase& rc) {
          stage == StageId::kOther ? std::string(c.stage->description) : output_value(stage)},
         {"alpha", output_alpha(stage)},
         {"encoding", enc.describe()},
-        {"formula", stage != StageId::kOther        ? formula_name(stage, rc.params.output_device)
-                    : !c.stage->output_spec.empty() ? std::string(c.stage->output_spec)
-                                                    : std::string(pipeline_of(*c.stage).sources)},
+        // A stage's own specification section first (every stage of a pipeline other than
+        // UE 5.5 names a docs page, also one of the UE family's stage ids: ue58_ui_composite).
+        {"formula", !c.stage->output_spec.empty() ? std::string(c.stage->output_spec)
+                    : stage != StageId::kOther    ? formula_name(stage, rc.params.output_device)
+                                                  : std::string(pipeline_of(*c.stage).sources)},
         {"quantisation", quantisation(stage, rc.params)},
         {"layout", layout(stage, rc)}}},
       {"user_lut", user_lut_json(rc)},

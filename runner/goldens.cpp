@@ -245,6 +245,7 @@ std::string case_hash(const Case& c) {
   j["input"] = input_json(c.input);
   j["bloom"] = input_json(c.bloom);
   j["bloom_dirt"] = input_json(c.bloom_dirt);
+  if (!c.ui.stimulus.empty() || !c.ui.file.empty()) j["ui"] = input_json(c.ui);  // likewise
   if (c.lut) j["lut"] = c.lut->name;  // only when present: the hashes of LUT-free cases stay
   if (!c.lut_blend.empty()) {         // likewise
     json steps = json::array();

@@ -50,8 +50,14 @@ TEST(Pipelines, StageNamesAreUniqueAndOwnedAndTheirShadersExist) {
       EXPECT_EQ(hdrc::find_stage(s.name), &s) << s.name;
       EXPECT_TRUE(hdrc::missing_shaders(s, std::string(HDRC_SOURCE_DIR) + "/gpu/shaders").empty())
           << s.name;
-      // UE 5.5's stages are its own enumerators; every other pipeline's are kOther.
-      EXPECT_EQ(s.id == hdrc::StageId::kOther, p->name != "ue55") << s.name;
+      // UE 5.5's stages are its own enumerators; UE 5.8's are kOther or the UE family's
+      // enumerator whose loader and engine path they share (ue58_ui_composite: kUiComposite,
+      // docs/ue58-decisions.md H2); every other pipeline's are kOther.
+      if (p->name == "ue55") {
+        EXPECT_NE(s.id, hdrc::StageId::kOther) << s.name;
+      } else if (p->name != "ue58") {
+        EXPECT_EQ(s.id, hdrc::StageId::kOther) << s.name;
+      }
     }
   }
 }
@@ -680,6 +686,58 @@ TEST(Pipelines, PlantedUe58TonemapLutMaxEverywhereFailsTheUnscaledCases) {
                                             "color_lookup_encoded(encoded, 1.05)", "dev0", &out);
   EXPECT_EQ(failing.size(), 4u) << out;
   for (const auto& id : failing) EXPECT_NE(id.find("tonemappingmethod1"), std::string::npos) << id;
+}
+
+// Three cases of cases/ue58/ui_composite.json: 5.8's defaults on device 3 (gamma blend, gamma
+// EOTF, paper white 203), and a linear-blend one.
+constexpr const char* kUe58UiDefaults =
+    "ue58/ui_composite/dev3_uilevel1_uinits203_uimode1_uiblend0_uieotf0_uinitsmode0_paperwhite203_"
+    "uiblendgamma2.4_uieotfgamma2.4_pq_codes";
+constexpr const char* kUe58UiLinear =
+    "ue58/ui_composite/dev4_uilevel0.5_uinits203_uimode1_uiblend1_uieotf1_uinitsmode0_"
+    "paperwhite203_uiblendgamma2.4_uieotfgamma2.2_pq_codes";
+
+// UE 5.8's UI composite (cases/ue58/ui_composite.json): a planted defect in its GLSL
+// (gpu/shaders/ue58/lib/ui_composite58.glsl) fails the cases whose pixels take the planted step.
+std::vector<std::string> ue58_ui_planted(const std::string& from, const std::string& to,
+                                         std::string* out) {
+  return hdrc::test::planted_shader_failures("ue58/lib/ui_composite58.glsl", from, to,
+                                             "--pipeline ue58 --filter 'ue58/ui_composite/*'", out);
+}
+
+// The gamma-space blend done linearly (lerp of the nits): the shader-composite cases with
+// r.HDR.UI.CompositeBlend 0 fail at their translucent texels; none with 1 or with CompositeMode 0.
+TEST(Pipelines, PlantedUe58UiGammaBlendDoneLinearlyFailsTheGammaBlendCases) {
+  std::string out;
+  const auto failing = ue58_ui_planted(
+      "  return pow_d3d(lerp_d3d(gs, gu, ui.a), P.ue58_ui_blend_gamma) * UE58_PQ_WHITE_NITS;",
+      "  return lerp_d3d(scene, u, ui.a);", &out);
+  EXPECT_TRUE(contains(failing, kUe58UiDefaults)) << out;
+  EXPECT_GE(failing.size(), 6u) << out;
+  for (const auto& id : failing) {
+    EXPECT_NE(id.find("_uiblend0_"), std::string::npos) << id;
+    EXPECT_EQ(id.find("_uimode0_"), std::string::npos) << id;
+  }
+}
+
+// UILuminance 300 (5.5's r.HDR.UI.Luminance default) instead of the host's value (the paper white
+// 203 by default): the shader-composite cases whose UILuminance is not 300 fail.
+TEST(Pipelines, PlantedUe58UiLuminance300FailsThePaperWhiteCases) {
+  std::string out;
+  const auto failing = ue58_ui_planted("* p.ui_luminance, ui.a);", "* 300.0, ui.a);", &out);
+  EXPECT_TRUE(contains(failing, kUe58UiDefaults)) << out;
+  for (const auto& id : failing) EXPECT_EQ(id.find("_uimode0_"), std::string::npos) << id;
+}
+
+// No un-premultiply (5.5's EOTF of the premultiplied code): the shader-composite cases fail at
+// their translucent texels, with either blend space.
+TEST(Pipelines, PlantedUe58UiNoUnpremultiplyFailsTheTranslucentCases) {
+  std::string out;
+  const auto failing =
+      ue58_ui_planted("vec3 c = ui.a > 0.0 ? ui.rgb / ui.a : vec3(0.0);", "vec3 c = ui.rgb;", &out);
+  EXPECT_TRUE(contains(failing, kUe58UiDefaults)) << out;
+  EXPECT_TRUE(contains(failing, kUe58UiLinear)) << out;
+  for (const auto& id : failing) EXPECT_EQ(id.find("_uimode0_"), std::string::npos) << id;
 }
 
 }  // namespace

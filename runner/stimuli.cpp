@@ -6,8 +6,8 @@
 #include <limits>
 #include <sstream>
 
-#include "core/nearest.h"
 #include "color/st2084.h"
+#include "core/nearest.h"
 #include "reference/color/ue_matrices.h"
 
 namespace hdrc {
@@ -101,7 +101,14 @@ const std::vector<StimulusInfo>& stimulus_table() {
        8,
        "premultiplied sRGB-encoded UI: alpha ramps 0..1 along x, rows white, red, green, blue, "
        "grey, a hard-edged opaque/transparent checker, and alpha 0 and 1 rows",
-       {}},
+       {{"transparent_rgb",
+         PK::kNumber,
+         {0.0},
+         0.0,
+         1.0,
+         {},
+         "colour of the alpha-0 row, x (1, 0.5, 0.25): 0 premultiplied black; > 0 a colour "
+         "a premultiplied texel cannot hold (UE 5.8's composite zeroes it)"}}},
       {"bloom",
        64,
        16,
@@ -267,7 +274,7 @@ double special_ramp_value(int x, int width, double lo, double hi) {
 }
 
 // UI overlay rows (premultiplied alpha, sRGB-encoded colour as Slate renders it).
-void ui_overlay_pixel(int x, int y, int width, double* p) {
+void ui_overlay_pixel(int x, int y, int width, double transparent_rgb, double* p) {
   const double ramp = along(x, width);
   static const double colours[5][3] = {{1, 1, 1}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0.5, 0.5, 0.5}};
   const int row = y % 8;
@@ -278,6 +285,10 @@ void ui_overlay_pixel(int x, int y, int width, double* p) {
   if (row == 7) a = 1.0;
   for (int k = 0; k < 3; ++k) p[k] = c[k] * a;
   p[3] = a;
+  if (row == 6 && transparent_rgb != 0.0) {
+    static const double kTint[3] = {1.0, 0.5, 0.25};
+    for (int k = 0; k < 3; ++k) p[k] = transparent_rgb * kTint[k];
+  }
 }
 
 // HSV (value 1) to RGB, hue in degrees [0, 360).
@@ -416,7 +427,8 @@ Result<Image> make_stimulus(std::string_view name, int width, int height,
     }
   } else if (name == "ui_overlay") {
     for (int y = 0; y < height; ++y)
-      for (int x = 0; x < width; ++x) ui_overlay_pixel(x, y, width, img.px(x, y));
+      for (int x = 0; x < width; ++x)
+        ui_overlay_pixel(x, y, width, param("transparent_rgb")[0], img.px(x, y));
   } else if (name == "bloom") {
     struct Glow {
       double cx, cy, sigma, r, g, b, peak;

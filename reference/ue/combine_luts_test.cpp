@@ -416,7 +416,7 @@ TEST(SampleLutDeviceRange, CoordinateTakesTheEncodesDeviceRange) {
   const Vec3 encoded{e, 0.5, 0.5};
   const Interval ranges[3] = {enc, Interval::point(0.5), Interval::point(0.5)};
   hdrc::ref::Range3 with, without;
-  ASSERT_TRUE(hdrc::ref::sample_lut_device_range(lut, encoded, 24, &with, ranges));
+  ASSERT_TRUE(hdrc::ref::sample_lut_device_range(lut, encoded, 24, &with, 1.05, ranges));
   ASSERT_TRUE(hdrc::ref::sample_lut_device_range(lut, encoded, 24, &without));
   EXPECT_LE(with.lo[0], 1.05 * (e - 4.5e-5));
   EXPECT_GE(with.hi[0], 1.05 * (e + 4.5e-5));

@@ -2,13 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
+#include "color/st2084.h"
 #include "reference/color/device_allowance.h"
 #include "reference/color/noise_range.h"
-#include "color/st2084.h"
 #include "reference/color/ue_log_shaper.h"
-#include "reference/ue/lut_shaper.h"
 #include "reference/reference_engine.h"
+#include "reference/ue/lut_shaper.h"
 #include "reference/ue/ui/composite.h"
 
 namespace hdrc::ref::ue_device {
@@ -211,10 +212,22 @@ std::vector<AdmissibleRange> per_pixel_device_ranges(StageId stage, const ParamB
 
 std::vector<AdmissibleRange> ui_composite_device_ranges(const ParamBlock& p, const Image& scene,
                                                         const Image& ui, const Image& reference) {
-  std::vector<AdmissibleRange> out;
   const ui::UiCompositeParams u = ui_composite_params(p);
-  if (u.composite_mode == 0) return out;
-  if (ui::back_buffer_encoding(u.output_device) == ui::BackBufferEncoding::kScRgb) {
+  if (u.composite_mode == 0) return {};
+  return ui_composite_device_ranges_of(
+      u.output_device, scene, reference, [&](size_t i, const Vec3& scene_nits) {
+        const double* t = &ui.data[i * 4];
+        const ui::Vec4 ui_nits = ui::compute_hdr_ui_color({t[0], t[1], t[2], t[3]}, u);
+        return ui::apply_color_deficiency(ui::compose_ui_and_scene(scene_nits, ui_nits, u.ui_level),
+                                          u.cvd);
+      });
+}
+
+std::vector<AdmissibleRange> ui_composite_device_ranges_of(
+    int output_device, const Image& scene, const Image& reference,
+    const std::function<Vec3(size_t, const Vec3&)>& composed) {
+  std::vector<AdmissibleRange> out;
+  if (ui::back_buffer_encoding(output_device) == ui::BackBufferEncoding::kScRgb) {
     // scRGB: every step is linear (srgb_to_rec2020 · scene · 80, the compose, the CVD matrices,
     // rec2020_to_srgb · (x / 80)): no transfer function amplifies, the float32 arithmetic's
     // documented allowance kShaderNoise × the largest |channel| bounds it.
@@ -235,7 +248,6 @@ std::vector<AdmissibleRange> ui_composite_device_ranges(const ParamBlock& p, con
   }
   for (size_t i = 0; i < scene.pixel_count(); ++i) {
     const double* s = &scene.data[i * 4];
-    const double* t = &ui.data[i * 4];
     const double* ref = &reference.data[i * 4];
     bool finite = true;
     Interval nits[3];
@@ -244,14 +256,12 @@ std::vector<AdmissibleRange> ui_composite_device_ranges(const ParamBlock& p, con
       if (finite) nits[c] = nits_from_pq(Interval::point(s[c]));
     }
     if (!finite) continue;
-    const ui::Vec4 ui_nits = ui::compute_hdr_ui_color({t[0], t[1], t[2], t[3]}, u);
     Range3 r;
     bool first = true;
     for (int corner = 0; corner < 8; ++corner) {
       Vec3 at;
       for (int c = 0; c < 3; ++c) at[c] = (corner >> c & 1) ? nits[c].hi : nits[c].lo;
-      const Vec3 v =
-          ui::apply_color_deficiency(ui::compose_ui_and_scene(at, ui_nits, u.ui_level), u.cvd);
+      const Vec3 v = composed(i, at);
       if (first) {
         r = Range3::point(v);
         first = false;
@@ -270,7 +280,7 @@ std::vector<AdmissibleRange> ui_composite_device_ranges(const ParamBlock& p, con
     bool wider = false;
     for (int c = 0; c < 4; ++c) {
       a.lo[c] = a.hi[c] = ref[c];
-      if (c == 3 || noisy.hi[c] < 0.0) continue;  // alpha 1; a negative range: NaN alone
+      if (c == 3 || noisy.hi[c] < 0.0) continue;  // alpha as written; a negative range: NaN alone
       Interval v{noisy.lo[c], noisy.hi[c]};
       if (v.lo < 0.0) {
         a.nan_ok |= static_cast<uint8_t>(1u << c);

@@ -12,6 +12,8 @@
 // exact value (a conversion to float32 is correctly rounded: 0.5 ULP either way).
 #pragma once
 
+#include <functional>
+
 #include "color/vec.h"
 #include "core/image.h"
 #include "core/shader_interface.h"
@@ -63,5 +65,13 @@ std::vector<AdmissibleRange> per_pixel_device_ranges(StageId stage, const ParamB
 // reference. Mode 0 (the fixed-function blend) has no ranges here.
 std::vector<AdmissibleRange> ui_composite_device_ranges(const ParamBlock& p, const Image& scene,
                                                         const Image& ui, const Image& reference);
+
+// The same scheme for any composite over the same back-buffer decode and encode (UE 5.5's above,
+// UE 5.8's reference/ue/ue58/ue58_ui_composite.cpp): `composed(i, scene_nits)` is the pass's colour
+// after ApplyColorDeficiency for pixel i's UI texel over a scene colour in nits; it must be
+// monotone in each scene channel or smooth over the box (its extremes at the box's corners).
+std::vector<AdmissibleRange> ui_composite_device_ranges_of(
+    int output_device, const Image& scene, const Image& reference,
+    const std::function<Vec3(size_t, const Vec3&)>& composed);
 
 }  // namespace hdrc::ref::ue_device

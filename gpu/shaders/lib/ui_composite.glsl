@@ -61,16 +61,21 @@ vec3 ui_hdr_scene_color(vec3 scene, bool scrgb) {
   return srgb_to_rec2020(scene) * UI_SCRGB_SCALE_FACTOR;
 }
 
-// ComposeUIAndScene(SceneColor, UIColor, UILevel). Under translucent UI (0 < a < 1; NaN alpha
-// fails the test) the scene is clamped with HLSL max (maxNum: NaN → 0) and Reinhard-compressed
-// towards UILevel, faded in by the UI's alpha: scene *= lerp(1, level / (L + 1), a).
+// ComposeUIAndScene's Reinhard under translucent UI (shared with UE 5.8's linear blend,
+// ../ue58/lib/ui_composite58.glsl): the scene is clamped with HLSL max (maxNum: NaN → 0) and
+// Reinhard-compressed towards UILevel, faded in by the UI's alpha: scene *= lerp(1, level / (L +
+// 1), a).
+vec3 ui_reinhard_under_ui(vec3 scene, float a, float level) {
+  scene = max_d3d(scene, 0.0);
+  float luminance = dot(scene, UI_REC2020_LUMA_WEIGHTS) / level;
+  float out_l = 1.0 / (luminance + 1.0);
+  return scene * lerp_d3d(1.0, out_l * level, a);
+}
+
+// ComposeUIAndScene(SceneColor, UIColor, UILevel): the Reinhard only under translucent UI (0 < a
+// < 1; NaN alpha fails the test), then the premultiplied over.
 vec3 ui_compose(vec3 scene, vec4 ui, float level) {
-  if (ui.a > 0.0 && ui.a < 1.0) {
-    scene = max_d3d(scene, 0.0);
-    float luminance = dot(scene, UI_REC2020_LUMA_WEIGHTS) / level;
-    float out_l = 1.0 / (luminance + 1.0);
-    scene *= lerp_d3d(1.0, out_l * level, ui.a);
-  }
+  if (ui.a > 0.0 && ui.a < 1.0) scene = ui_reinhard_under_ui(scene, ui.a, level);
   return scene * (1.0 - ui.a) + ui.rgb * level;
 }
 

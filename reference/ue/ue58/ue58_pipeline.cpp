@@ -17,8 +17,10 @@
 #include "reference/ue/aces/aces_params.h"
 #include "reference/ue/aces2/aces2.h"
 #include "reference/ue/cpp/resolve.h"
+#include "reference/ue/ue55/ue55_pipeline.h"
 #include "reference/ue/ue58/ue58_combine_luts.h"
 #include "reference/ue/ue58/ue58_tonemap.h"
+#include "reference/ue/ue58/ue58_ui_composite.h"
 
 namespace hdrc::ref::ue58 {
 
@@ -80,6 +82,25 @@ const std::vector<SettingInfo>& settings() {
          100,
          "FPostProcessSettings::VignetteColor, rgb (VignetteParams0.yzw; alpha unused): mask = "
          "lerp(colour, 1, weight)"},
+        // The UI composite's 5.8 console variables (SlateRHIRenderer.cpp: CVarHDRUILuminanceMode,
+        // CVarHDRUICompositeEOTF/Gamma, CVarHDRUICompositeBlend/Gamma; docs/ue58-differences.md
+        // U1-U3). The gammas have no range in UE; here (0, 10], a pow of 0 being meaningless.
+        {"r.HDR.UI.Luminance.Mode", 1, s(0), 0, 1,
+         "cvar r.HDR.UI.Luminance.Mode (SlateRHIRenderer.cpp, default 0): UILuminance = 0 the "
+         "viewport's paper white (HDRMetaData.HDRPaperWhiteInNits: r.HDR.PaperWhite here), 1 "
+         "r.HDR.UI.Luminance (5.8 default 203)"},
+        {"r.HDR.UI.CompositeEOTF", 1, s(0), 0, 1,
+         "cvar r.HDR.UI.CompositeEOTF (default 0): the UI's EOTF in the composite, 0 pow(x, "
+         "r.HDR.UI.CompositeEOTF.Gamma), 1 sRGB (CompositeUIPixelShader.usf: LinearizeColor)"},
+        {"r.HDR.UI.CompositeEOTF.Gamma", 1, s(2.4), 0.01, 10,
+         "cvar r.HDR.UI.CompositeEOTF.Gamma (default 2.4, BT.1886 per BT.2408)"},
+        {"r.HDR.UI.CompositeBlend", 1, s(0), 0, 1,
+         "cvar r.HDR.UI.CompositeBlend (default 0): translucent UI blended 0 in a gamma space "
+         "(pow(saturate(x / 10000), 1 / gamma)), 1 linearly after a Reinhard "
+         "(CompositeUIPixelShader.usf: ComposeUIAndScene)"},
+        {"r.HDR.UI.CompositeBlend.Gamma", 1, s(2.4), 0.01, 10,
+         "cvar r.HDR.UI.CompositeBlend.Gamma (default 2.4); the host passes 1.f / gamma as "
+         "UICompositeBlendInvGamma"},
         {"LimitingGamut", 1, s(-1), -1, 4,
          "the display's limiting colour space (RenderTarget->GetLimitingColorSpace), an "
          "EDisplayColorGamut; -1: P3-D65 for devices 3-6 (HDR without a listed display), sRGB "
@@ -207,7 +228,9 @@ Result<Resolution> resolve58(const Case& c, int width, int height) {
 
   // ACES 2.0: forward at OutputMaxLuminance with the limiting primaries (GetTransformResources),
   // the SDR set at 100 nits with the working colour space (GetTransformResourcesSDR).
-  if (p.ue58_aces_version > 1 && p.ue58_inner_needed) {
+  // The UI composite bakes no LUT: its cases carry no ACES tables (nor their degenerate peaks).
+  const bool bakes_luts = c.stage == nullptr || c.stage->id != StageId::kUiComposite;
+  if (bakes_luts && p.ue58_aces_version > 1 && p.ue58_inner_needed) {
     if (!(p.output_max_luminance >= 100.0)) {
       r.degenerate = "ACES 2.0 at OutputMaxLuminance " + std::to_string(p.output_max_luminance) +
                      " nits (the tonescale needs a peak of at least 100 nits)";
@@ -221,6 +244,22 @@ Result<Resolution> resolve58(const Case& c, int width, int height) {
   // The block holds only what a ue58 case carries (param_carried_by): UE 5.5's fields that 5.5's
   // derivation set and no ue58 shader reads (Tonemap, UI, dither, the user-LUT blend) go back to
   // their defaults, so params.json and the engines see the same block.
+  // The UI composite (SlateRHIRenderer.cpp: DrawWindowViewport_RenderThread): UILuminance is the
+  // paper white unless r.HDR.UI.Luminance.Mode is 1, then r.HDR.UI.Luminance, whose 5.8 default is
+  // 203 (the shared cvar table holds 5.5's 300: an unset cvar reads 203 here;
+  // docs/ue58-decisions.md H1). Level, mode and colour deficiency are 5.5's resolution (resolve
+  // above).
+  if (static_cast<int>(st.get("r.HDR.UI.Luminance.Mode")) == 1)
+    p.ui_luminance = cv.is_set("r.HDR.UI.Luminance") ? cv.get("r.HDR.UI.Luminance") : 203.0;
+  else
+    p.ui_luminance = p.ue58_paper_white;
+  p.ue58_ui_eotf = static_cast<int>(st.get("r.HDR.UI.CompositeEOTF"));
+  p.ue58_ui_eotf_gamma = static_cast<float>(st.get("r.HDR.UI.CompositeEOTF.Gamma"));
+  p.ue58_ui_blend = static_cast<int>(st.get("r.HDR.UI.CompositeBlend"));
+  const float blend_gamma = static_cast<float>(st.get("r.HDR.UI.CompositeBlend.Gamma"));
+  p.ue58_ui_blend_gamma = blend_gamma;
+  p.ue58_ui_blend_inv_gamma = 1.f / blend_gamma;  // the host's float division
+
   const ParamBlock defaults;
   for_each_param(p, [&](FieldKind, const char* name, auto& field) {
     if (!param_carried_by(name, "ue58")) {
@@ -231,7 +270,7 @@ Result<Resolution> resolve58(const Case& c, int width, int height) {
       });
     }
   });
-  if (p.ue58_aces_version == 1 && p.ue58_inner_needed && !aces13.status.ok())
+  if (bakes_luts && p.ue58_aces_version == 1 && p.ue58_inner_needed && !aces13.status.ok())
     r.degenerate =
         "ACES 1.3 with degenerate tone-scale parameters: " + aces13.status.error().message;
   return r;
@@ -269,6 +308,22 @@ const std::vector<StageInfo>& stages() {
        false,
        "",
        true},
+      {StageId::kUiComposite,
+       "ue58_ui_composite",
+       {{"ue58/stages/ui_composite.comp"}},
+       "UE 5.8's HDR UI composite (CompositeUIPixelShader.usf): the input is the back buffer (PQ "
+       "signals for devices 3/4, scRGB for 5/6), the UI is the ui_overlay stimulus of the same "
+       "size; un-premultiply, the UI EOTF (gamma or sRGB), UILuminance (paper white or "
+       "r.HDR.UI.Luminance), translucent UI blended in a gamma space or linearly after a "
+       "Reinhard, opaque UI replacing the scene, colour deficiency, encode; alpha = the UI's",
+       {3, 4, 5, 6},
+       true,
+       "ue58",
+       0,
+       false,
+       1,
+       false,
+       "docs/spec/ue58.md#1-hdr-ui-composite-compositeuipixelshaderusf-58"},
   };
   return table;
 }
@@ -283,6 +338,8 @@ std::array<double, 3> lattice(const ParamBlock& p, int r, int g, int b) {
 // colour space and Filmic's UE-29935 shortcut (sRGB working space and output gamut: the same).
 // The Tonemap pass's output is the texel · LUTMax (no pre-scale), device 7's decoded to nits.
 OutputEncoding encoding(const StageInfo& stage, const ParamBlock& p) {
+  // The UI composite writes the back buffer as UE 5.5's does (PQ Rec.2020 or scRGB).
+  if (stage.id == StageId::kUiComposite) return ue55_pipeline().output_encoding(stage, p);
   using T = OutputEncoding::Transfer;
   const bool tonemap = stage.name == "ue58_tonemap";
   OutputEncoding e;
@@ -352,7 +409,19 @@ OutputEncoding encoding(const StageInfo& stage, const ParamBlock& p) {
   return e;
 }
 
+// The UI composite stage (ue58_ui_composite.h), with its device ranges.
+Result<Image> ui_reference(const ResolvedCase& c) {
+  const UiComposite58Params u = ui_composite58_params(c.params);
+  auto out = composite_ui58(c.input, c.ui, u);
+  if (out && c.device_allowances) {
+    out->device_admissible = ui_composite58_device_ranges(u, c.input, c.ui, *out);
+    out->device_allowances = {"shader arithmetic (the Vulkan precision table's bounds)"};
+  }
+  return out;
+}
+
 Result<Image> reference(const ResolvedCase& c, bool) {
+  if (c.spec.stage->id == StageId::kUiComposite) return ui_reference(c);
   const ParamBlock& p = c.params;
   const CombineLuts58 luts(p);  // one evaluator: the device ranges reuse its inner texels
   if (c.spec.stage && c.spec.stage->name == "ue58_tonemap") {
@@ -416,10 +485,10 @@ const std::vector<SettingInfo>& ue58_setting_table() {
 const Pipeline& ue58_pipeline() {
   static const Pipeline pipeline{
       "ue58",
-      "Unreal Engine 5.8 HDR output (CombineLUTs, Tonemap)",
+      "Unreal Engine 5.8 HDR output (CombineLUTs, Tonemap, UI composite)",
       "docs/ue58-decisions.md",
       "UE 5.8's CombineLUTs with its inner LUT: Filmic and StandardACES, ACES 1.3 and 2.0; its "
-      "Tonemap pass (docs/ue58-differences.md, docs/ue58-decisions.md)",
+      "Tonemap pass; the HDR UI composite (docs/ue58-differences.md, docs/ue58-decisions.md)",
       &stages,
       &cvar_table,
       &settings,

@@ -21,6 +21,8 @@ Error param_error(const std::string& pointer, const std::string& message,
   return Error{"", pointer, message, choices};
 }
 
+}  // namespace
+
 // Mode 0: the fixed-function premultiplied blend (BF_One, BF_InverseSourceAlpha for colour and
 // alpha) into the back buffer. UNORM targets clamp blender inputs and the result to [0, 1].
 Vec4 standard_blend(const Vec4& scene, const Vec4& ui, BackBufferEncoding encoding) {
@@ -35,8 +37,6 @@ Vec4 standard_blend(const Vec4& scene, const Vec4& ui, BackBufferEncoding encodi
   }
   return out;
 }
-
-}  // namespace
 
 Status validate(const UiCompositeParams& p) {
   if (!std::isfinite(p.ui_level)) {
@@ -107,17 +107,20 @@ Vec3 compute_hdr_scene_color(const Vec3& scene, BackBufferEncoding encoding) {
           rec2020[2] * kScRgbScaleFactor};
 }
 
+Vec3 reinhard_under_ui(Vec3 scene, double a, double ui_level) {
+  // "Clamp gamut to sRGB as extended gamut colors bleeding into the UI can look funny".
+  for (double& c : scene) c = std::fmax(c, 0.0);
+  // Reinhard to the UI's level, faded in with the UI's opacity.
+  const double luminance = dot(scene, kRec2020LumaWeights) / ui_level;
+  const double out_l = 1.0 / (luminance + 1.0);
+  const double scale = 1.0 + (out_l * ui_level - 1.0) * a;  // lerp(1, OutL · Level, a)
+  for (double& c : scene) c *= scale;
+  return scene;
+}
+
 Vec3 compose_ui_and_scene(Vec3 scene, const Vec4& ui, double ui_level) {
   const double a = ui[3];
-  if (a > 0.0 && a < 1.0) {
-    // "Clamp gamut to sRGB as extended gamut colors bleeding into the UI can look funny".
-    for (double& c : scene) c = std::fmax(c, 0.0);
-    // Reinhard to the UI's level, faded in with the UI's opacity.
-    const double luminance = dot(scene, kRec2020LumaWeights) / ui_level;
-    const double out_l = 1.0 / (luminance + 1.0);
-    const double scale = 1.0 + (out_l * ui_level - 1.0) * a;  // lerp(1, OutL · Level, a)
-    for (double& c : scene) c *= scale;
-  }
+  if (a > 0.0 && a < 1.0) scene = reinhard_under_ui(scene, a, ui_level);
   return {scene[0] * (1.0 - a) + ui[0] * ui_level, scene[1] * (1.0 - a) + ui[1] * ui_level,
           scene[2] * (1.0 - a) + ui[2] * ui_level};
 }

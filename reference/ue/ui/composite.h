@@ -104,6 +104,11 @@ Vec4 compute_hdr_ui_color(const Vec4& ui, const UiCompositeParams& p);
 // back buffer's own gamut, Rec.2020 for devices 3/4); scRGB: srgb_to_rec2020 · scene · 80.
 Vec3 compute_hdr_scene_color(const Vec3& scene, BackBufferEncoding encoding);
 
+// ComposeUIAndScene's Reinhard under translucent UI (the part UE 5.8's linear blend keeps, shared
+// with reference/ue/ue58/ue58_ui_composite.cpp): scene = max(scene, 0);
+// L = dot(scene, kRec2020LumaWeights) / level; scene *= lerp(1, level / (L + 1), a).
+Vec3 reinhard_under_ui(Vec3 scene, double a, double ui_level);
+
 // ComposeUIAndScene(scene, ui, level), nits in and out. Only when 0 < ui.a < 1 (NaN alpha fails
 // the test): scene = max(scene, 0); L = dot(scene, kRec2020LumaWeights) / level;
 // scene *= lerp(1, level / (L + 1), ui.a). Always: scene · (1 − ui.a) + ui.rgb · level.
@@ -128,6 +133,10 @@ struct UiCompositeTrace {
   Vec3 after_cvd{};  // ApplyColorDeficiency
   Vec4 output{};     // back-buffer code, alpha 1
 };
+
+// r.HDR.UI.CompositeMode 0: Slate's fixed-function premultiplied blend into the back buffer's
+// code values (documented at the top; UE 5.8 unchanged: CompositeUIWithSceneHDR() is false).
+Vec4 standard_blend(const Vec4& scene, const Vec4& ui, BackBufferEncoding encoding);
 
 // One back-buffer pixel after the UI pass. `scene` is the back-buffer code (alpha used only by
 // mode 0's blend), `ui` the premultiplied UI texel. Mode != 0: the shader (alpha out = 1);

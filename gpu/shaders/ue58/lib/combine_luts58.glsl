@@ -22,6 +22,7 @@
 #include "../../lib/st2084.glsl"
 #include "../../lib/ue_log_shaper.glsl"
 #include "../../lib/white_balance.glsl"
+#include "srgb_to_linear58.glsl"
 
 // Which ACES 2.0 set the table hooks read: 0 the forward set (peak, limiting primaries), 1 the SDR
 // set (100 nits, working primaries), as ComputeOutputACES / ComputeInvOutputACES bind them.
@@ -64,10 +65,6 @@ vec3 ue58_pq(vec3 nits) {
 }
 vec3 ue58_pq_inv(vec3 e) { return vec3(nits_from_pq(e.r), nits_from_pq(e.g), nits_from_pq(e.b)); }
 
-// sRGBToLinear as 5.8 has it: no min-normal clamp (docs/ue58-differences.md L16).
-float ue58_srgb_to_linear(float c) {
-  return c > 0.04045 ? pow_d3d(c * (1.0 / 1.055) + 0.0521327, 2.4) : c * (1.0 / 12.92);
-}
 
 // The storage rounding of a LUT texel (reference: quantize_lut_value): 10-bit UNORM (NaN → 0,
 // clamp, nearest k/1023), half (round to nearest even), float32.
