@@ -472,12 +472,58 @@ def verdict_note(row):
         "case's tolerance" % (1 + ratio)
 
 
+def merge_runs(a, b):
+    """One constant's runs at the same digits on two case selections (--filter: a selection that
+    left it uncaught tried on more of the suite) as one: the FAILs of both, per metric the case
+    whose largest error the plant moved most. A rerun on the same selection replaces the first."""
+    if a.get("exact") or b.get("exact") or a.get("filter") == b.get("filter"):
+        return b
+    out = dict(a)
+    out["filter"] = a["filter"] + "," + b["filter"]
+    out["fail"] = a["fail"] + [i for i in b["fail"] if i not in a["fail"]]
+    out["fail_count"] = len(out["fail"])
+    largest = dict(a.get("largest", {}))
+    for k, e in b.get("largest", {}).items():
+        if k not in largest or \
+                e["planted"] - e["baseline"] > largest[k]["planted"] - largest[k]["baseline"]:
+            largest[k] = e
+    out["largest"] = largest
+    return out
+
+
+def counts(constants, results):
+    """Per pipeline, the number of constants per verdict of the table's 4-digit column."""
+    rows = markdown_rows(constants, results, {})
+    kinds = ("exact", "caught", "none", "noise", "uncaught", "not")
+    out = {}
+    for line in rows:
+        cells = [c.strip() for c in line.split("|")]
+        c4, note = cells[4], cells[6]
+        if c4.startswith("exact"):
+            k = "exact"
+        elif c4 == "not swept":
+            k = "not"
+        elif "FAIL**" in c4:
+            k = "caught"
+        elif "no metric moved" in c4:
+            k = "none"
+        elif "**uncaught**" in note:
+            k = "uncaught"
+        else:
+            k = "noise"
+        out.setdefault(cells[1].strip("`").split(".")[0], dict.fromkeys(kinds, 0))[k] += 1
+    return ["| `%s` | %d | %s |" % (p, sum(c.values()), " | ".join(str(c[k]) for k in kinds))
+            for p, c in out.items()]
+
+
 def markdown_rows(constants, results, notes):
     """One table row per enumerated constant, from the sweep's JSON lines (both digit counts); a
     constant typed exactly needs no run, one without results is "not swept"."""
     by_id = {}
     for r in results:
-        by_id.setdefault(r["id"], {})[r["digits"]] = r
+        per = by_id.setdefault(r["id"], {})
+        d = r["digits"]
+        per[d] = merge_runs(per[d], r) if d in per else r
     lines = []
     for c in constants:
         cid = c.id
@@ -539,6 +585,9 @@ def main():
     ap.add_argument("--markdown", metavar="JSONL[,JSONL...]",
                     help="print the table rows of the enumerated constants from sweeps' --json "
                     "output and exit")
+    ap.add_argument("--counts", action="store_true",
+                    help="with --markdown: print the counts table's rows (constants per pipeline "
+                    "and verdict) instead")
     ap.add_argument("--check-table", action="store_true",
                     help="exit 1 unless docs/constant-sweep.md has a row for every constant")
     ap.add_argument("--pinned", action="store_true",
@@ -556,7 +605,8 @@ def main():
     if args.markdown:
         results = [json.loads(l) for f in args.markdown.split(",")
                    for l in open(f, encoding="utf-8") if l.strip()]
-        print("\n".join(markdown_rows(constants, results, {})))
+        print("\n".join(counts(constants, results) if args.counts else
+                        markdown_rows(constants, results, {})))
         return 0
     if args.check_table:
         return check_table(constants)
