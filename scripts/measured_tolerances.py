@@ -6,7 +6,9 @@ cases/tolerance_overlays.json: one overlay per passing case whose measured maxim
 lie under its group tolerance. Each overlay selects the case by its id, the vulkan engine and the
 llvmpipe device only (another GPU keeps the group sets of cases/defaults.json), sets each judged
 metric's max to MARGIN x its measured maximum and records the measurement in its reason.
-Hand-written overlays (whose reason does not start with PREFIX) are kept, in front.
+Hand-written overlays (whose reason does not start with PREFIX) are kept, in front. A run of part
+of the suite (--filter) replaces the measured overlays of its own cases only: those of the cases it
+did not run are kept.
 
 Not touched: metrics measured at exactly 0 (bit-exact: a max of 0 would fail on any change of
 rounding; the group set keeps judging them) and metrics with an allowed fraction where some value
@@ -65,7 +67,11 @@ def main():
         sys.exit(f"{a.results}: measured on '{device}', not lavapipe (llvmpipe)")
     path = os.path.join(a.cases, "tolerance_overlays.json")
     doc = json.load(open(path))
+    ran = {c["id"] for c in results["cases"]}
     kept = [o for o in doc["overlays"] if not o["tolerance"]["reason"].startswith(PREFIX)]
+    # The measured overlays of cases this run did not measure (a --filter run), in their order.
+    others = [o for o in doc["overlays"]
+              if o["tolerance"]["reason"].startswith(PREFIX) and o["cases"] not in ran]
     made = []
     for c in results["cases"]:
         if c["verdict"] != "PASS" or not c.get("stats"):
@@ -102,12 +108,12 @@ def main():
                            f"changes (docs/tolerances.md)")
         made.append({"engine": "vulkan", "device": "llvmpipe*", "cases": c["id"],
                      "tolerance": patch})
-    doc["overlays"] = kept + made
+    doc["overlays"] = kept + others + made
     with open(path, "w") as f:
         json.dump(doc, f, indent=2)
         f.write("\n")
-    print(f"{path}: {len(kept)} hand-written overlays kept, {len(made)} measured per case "
-          f"(margin {a.margin:g})")
+    print(f"{path}: {len(kept)} hand-written overlays kept, {len(others)} measured ones of cases "
+          f"not in this run kept, {len(made)} measured per case (margin {a.margin:g})")
 
 
 if __name__ == "__main__":
