@@ -380,6 +380,22 @@ PINNED = [
 ]
 
 
+# Verdicts the JSON lines alone cannot give: a constant no case catches, measured against what
+# bounds it (float32 noise, a storage step), with the numbers (docs/constant-sweep.md "Findings").
+# "within float32 noise" or "**uncaught**" in the text sets the counts table's column.
+NOTES = {
+    "ue58.ACES2_AP0_2_AP1_2":
+        "within float32 noise: the row typed (0.008316, -0.006032, 0.9977) moves AP1 blue by at "
+        "most 1.6e-5 of itself, under ACES 2.0's float32 error (OCIO's criterion 3e-5, "
+        "docs/ue58-decisions.md D); no case's error grows 3 x (its measured limit)",
+    "ue58.ACES_RAD_TO_DEG":
+        "**uncaught**: 57.3 moves the RRT's hue by at most 7.4e-5 of itself (0.027 degrees), the "
+        "red modifier by about 1e-4 of a channel: a tenth of the LUT's 10-bit step, so only the "
+        "share of texels off by a code moves, under 3 x its measured share; ue55's copy of the "
+        "function is caught by 3 Tonemap cases, which read the LUT before it is stored",
+}
+
+
 def table_rows():
     """{constant id: the table's row text} of docs/constant-sweep.md (rows start with | `id`)."""
     rows = {}
@@ -498,7 +514,7 @@ def merge_runs(a, b):
 
 def counts(constants, results):
     """Per pipeline, the number of constants per verdict of the table's 4-digit column."""
-    rows = markdown_rows(constants, results, {})
+    rows = markdown_rows(constants, results, NOTES)
     kinds = ("exact", "caught", "none", "noise", "uncaught", "not")
     out = {}
     for line in rows:
@@ -611,7 +627,7 @@ def main():
         results = [json.loads(l) for f in args.markdown.split(",")
                    for l in open(f, encoding="utf-8") if l.strip()]
         print("\n".join(counts(constants, results) if args.counts else
-                        markdown_rows(constants, results, {})))
+                        markdown_rows(constants, results, NOTES)))
         return 0
     if args.check_table:
         return check_table(constants)
