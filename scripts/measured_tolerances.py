@@ -53,7 +53,8 @@ def main():
     ap.add_argument("cases", nargs="?", default=os.path.join(os.path.dirname(__file__), "..", "cases"))
     ap.add_argument("--margin", type=float, default=3.0)
     ap.add_argument("--fractions", action="store_true",
-                    help="also tighten allowed fractions to MARGIN x the measured fraction over max")
+                    help="also tighten allowed fractions to MARGIN x the measured fraction "
+                    "over max")
     ap.add_argument("--worst", help="with --fractions: results.json of the same cases under "
                     "--device-model worst; the larger fraction of the two is measured")
     a = ap.parse_args()
