@@ -64,6 +64,9 @@ struct StageInfo {
   // params.json's output.formula names ("docs/spec/pq_grading.md#output-encoding"); "": the
   // pipeline's `sources` page. UE 5.5's stages name their UE function instead (runner/export.cpp).
   std::string_view output_spec = "";
+  // The Tonemap pass of a UE version: a case may give "bloom" and "bloom_dirt" images, which the
+  // engines bind as aux0 / aux1 (docs/gpu-interface.md).
+  bool bloom_inputs = false;
 };
 
 // The pass shaders of `stage` that do not exist under `shader_dir` (empty: the stage has a complete

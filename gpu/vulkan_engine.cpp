@@ -1472,7 +1472,7 @@ Result<Image> VulkanEngine::State::run_passes(const ResolvedCase& c, const std::
   ParamBlock params = c.params;
   const Image* aux0 = nullptr;
   const Image* aux1 = nullptr;
-  if (stage.id == StageId::kTonemap) {
+  if (stage.bloom_inputs) {
     if (!c.bloom.data.empty()) aux0 = &c.bloom;
     if (!c.bloom_dirt.data.empty()) aux1 = &c.bloom_dirt;
   } else if (stage.id == StageId::kUiComposite) {

@@ -13,7 +13,12 @@
 // ColorCorrectAll, the film path (blue correction, FilmToneMap, r.Color.*, fade), the ACES 1.3
 // parameters (r.HDR.Aces.Version 1) and the output gamut matrix. No user-LUT blend fields: the
 // stage takes no user LUT (docs/ue58-decisions.md E5). output_max_luminance is the display's peak
-// (docs/ue58-differences.md L12); inverse_gamma.y is 1 for device 9 (L11).
+// (docs/ue58-differences.md L12); inverse_gamma.y is 1 for device 9 (L11). The Tonemap pass
+// (ue58_tonemap) reads the aux image sizes (bloom, dirt mask), exposure, sharpen, SceneColorTint,
+// the dirt tint and the colour fringe with 5.5's meaning (docs/ue58-differences.md T4); its
+// vignette and LUT scale are 5.8's own fields below (T2, T3). lut_layout (0: 5.8 bakes a volume
+// only) and 5.5's vignette_intensity are read by the shared GLSL the pass includes
+// (tonemap_variant.glsl, tonemap_effects.glsl: 5.5's tonemap_vignette, which 5.8 does not call).
 #define HDRC_UE58_SHARED_PARAMS(Y) \
   Y(width)                         \
   Y(height)                        \
@@ -71,7 +76,18 @@
   Y(wcs_from_ap1)                  \
   Y(wcs_to_ap0)                    \
   Y(white_balance)                 \
-  Y(ap1_to_output)
+  Y(ap1_to_output)                 \
+  Y(aux0_width)                    \
+  Y(aux0_height)                   \
+  Y(aux1_width)                    \
+  Y(aux1_height)                   \
+  Y(exposure)                      \
+  Y(sharpen_div6)                  \
+  Y(scene_color_tint)              \
+  Y(bloom_dirt_tint)               \
+  Y(fringe)                        \
+  Y(lut_layout)                    \
+  Y(vignette_intensity)
 
 // The ACES 2.0 parameter block (reference/ue/aces2/aces2.h ParamsT: init_ODTParams' values, 76
 // scalars = 19 vec4 in ParamsT's std430 order) and the three host tables UE binds as R32F
@@ -102,5 +118,10 @@
   X(F, ue58_total_scene_color_multiplier,                                                          \
     "TotalSceneColorMultiplier = PaperWhite / 203 * ACESSceneColorMultiplier")                     \
   X(M3, ue58_wcs_from_ap0, "WorkingColorSpace.FromAP0 (ACESInvOutputTransform)")                   \
+  X(F, ue58_lut_max, "LUTMax: 1.05 (Filmic, devices 0, 1, 9) or 1 (GetTonemappingMax), Tonemap")   \
+  X(I, ue58_vignette_type, "VignetteType: 0 CosineFourthLaw, 1 Texture, 2 Oval (EVignetteType)")   \
+  X(V4, ue58_vignette_params0, "VignetteParams0: (VignetteIntensity, VignetteColor.rgb)")          \
+  X(V4, ue58_vignette_params1, "VignetteParams1: (VignetteCenter, 1 / max(0.001, VignetteSize))")  \
+  X(F, ue58_vignette_params2, "VignetteParams2: VignetteSoftness")                                 \
   HDRC_UE58_ACES2_SET(X, , "forward ACES 2.0 at OutputMaxLuminance, limiting primaries")           \
   HDRC_UE58_ACES2_SET(X, _sdr, "SDR inverse ACES 2.0 at 100 nits, working primaries")

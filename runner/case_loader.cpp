@@ -673,6 +673,15 @@ std::string user_lut_stage_names() {
   return out.empty() ? "no stage takes one" : "stages that take one: " + out;
 }
 
+// The stages that take a case's bloom and bloom dirt images (StageInfo::bloom_inputs).
+std::string bloom_stage_names() {
+  std::string out;
+  for (const Pipeline* pl : pipeline_table())
+    for (const StageInfo& st : pl->stages())
+      if (st.bloom_inputs) out += (out.empty() ? "" : ", ") + std::string(st.name);
+  return out;
+}
+
 std::string value_label(const json& v) {
   if (v.is_array()) {
     std::string s;
@@ -865,9 +874,9 @@ std::vector<Case> parse_case_file(const std::string& file, const std::string& te
   if (doc.contains("settings")) p.setting_object(doc["settings"], "/settings", &base.settings);
   for (const char* key : {"bloom", "bloom_dirt"}) {
     if (!doc.contains(key)) continue;
-    if (base.stage && base.stage->id != StageId::kTonemap) {
-      p.fail(std::string("/") + key, std::string(key) + " is an input of the tonemap stage only",
-             "tonemap");
+    if (base.stage && !base.stage->bloom_inputs) {
+      p.fail(std::string("/") + key, std::string(key) + " is an input of a Tonemap stage only",
+             bloom_stage_names());
       continue;
     }
     p.input(doc[key], std::string("/") + key,

@@ -125,7 +125,7 @@ const BadCase kBadCases[] = {
      "defined in CASES/defaults.json: /tolerances); valid choices: combine_luts, "
      "combine_luts_storage, combine_luts_storage_linear, dither, "
      "linear_dev7, linear_dev8, operators, pq_grading, shaper_log, shaper_pq, tonemap, "
-     "ue58_combine_luts, ui_composite, "
+     "ue58_combine_luts, ue58_tonemap, ui_composite, "
      "unity_urp_grading, unity_urp_lut, visualize_hdr"},
     {"unknown_preset",
      R"({"stage": "shaper", "preset": "hdr01", "input": {"stimulus": "log_ramp"}})",
@@ -152,7 +152,8 @@ const BadCase kBadCases[] = {
      "LUTLayout, WhiteTemp"},
     {"bloom_outside_tonemap",
      R"({"stage": "shaper", "input": {"stimulus": "log_ramp"}, "bloom": {"stimulus": "bloom"}})",
-     "t.json: /bloom: bloom is an input of the tonemap stage only; valid choices: tonemap"},
+     "t.json: /bloom: bloom is an input of a Tonemap stage only; valid choices: tonemap, "
+     "ue58_tonemap"},
     {"input_name_with_slash",
      R"({"stage": "shaper", "input": {"stimulus": "log_ramp", "name": "a/b"}})",
      "t.json: /input/name: an input name is a non-empty string without '/', ' ' or glob "
@@ -496,11 +497,15 @@ TEST(CaseLoader, TheDefaultSuiteLoads) {
                                                   {"ue58/grading", 9},
                                                   {"ue58/hdr_display", 24},
                                                   {"ue58/shaper_eotf", 14},
+                                                  {"ue58/tonemap_devices", 80},
+                                                  {"ue58/tonemap_effects", 4},
+                                                  {"ue58/tonemap_stimuli", 33},
+                                                  {"ue58/tonemap_vignette", 10},
                                                   {"visualize/pre_exposure", 8},
                                                   {"visualize/visualize_hdr", 30},
                                                   {"visualize/working_color_space", 21}};
   EXPECT_EQ(per_file, expected);
-  EXPECT_EQ(loaded.cases.size(), 1663u);
+  EXPECT_EQ(loaded.cases.size(), 1790u);
   for (const auto& c : loaded.cases) EXPECT_NE(c.tolerance.source, "default") << c.id;
 }
 

@@ -653,6 +653,35 @@ TEST(Pipelines, PlantedUe58ReachTableHueResolutionFailsTheAces2Cases) {
                "  if (i < 0 || i >= 360) return 0.0;\n  i = i / 2 * 2;\n  return", "dev3_gamut2");
 }
 
+// UE 5.8's Tonemap pass (cases/ue58/tonemap_devices.json at one device: r.LUT.Shaper x LUT format x
+// method): a planted defect fails exactly the cases where the changed value matters.
+std::vector<std::string> ue58_tonemap_planted(const std::string& from, const std::string& to,
+                                              const std::string& device, std::string* out) {
+  return hdrc::test::planted_shader_failures(
+      "ue58/stages/tonemap.comp", from, to,
+      "--pipeline ue58 --filter 'ue58/tonemap_devices/" + device + "_*'", out);
+}
+
+// r.LUT.Shaper ignored (the log address for every case, as 5.5's SDR devices): every PQ-shaper
+// case of the HDR device 3 fails, no log-shaper case.
+TEST(Pipelines, PlantedUe58TonemapShaperIgnoredFailsThePqShaperCases) {
+  std::string out;
+  const auto failing = ue58_tonemap_planted("lut_encode_shaper(P.ue58_lut_shaper == 1, true,",
+                                            "lut_encode_shaper(false, true,", "dev3", &out);
+  EXPECT_EQ(failing.size(), 4u) << out;
+  for (const auto& id : failing) EXPECT_NE(id.find("_shaper1_"), std::string::npos) << id;
+}
+
+// 5.5's LUT scale 1.05 applied on every device (5.8 multiplies by GetTonemappingMax, 1 except for
+// Filmic on devices 0, 1, 9): on device 0 every StandardACES case fails, no Filmic case.
+TEST(Pipelines, PlantedUe58TonemapLutMaxEverywhereFailsTheUnscaledCases) {
+  std::string out;
+  const auto failing = ue58_tonemap_planted("color_lookup_encoded(encoded, P.ue58_lut_max)",
+                                            "color_lookup_encoded(encoded, 1.05)", "dev0", &out);
+  EXPECT_EQ(failing.size(), 4u) << out;
+  for (const auto& id : failing) EXPECT_NE(id.find("tonemappingmethod1"), std::string::npos) << id;
+}
+
 }  // namespace
 
 // The planted shader defects every conformant device must fail (runner/planted_shader_defects.json,

@@ -752,12 +752,12 @@ bool lookup_uvw(const BakedLut& lut, const Vec3& encoded, Vec3* uvw) {
 
 }  // namespace
 
-Vec3 sample_lut(const BakedLut& lut, const Vec3& encoded) {
+Vec3 sample_lut(const BakedLut& lut, const Vec3& encoded, double lut_max) {
   Vec3 uvw;
   if (!lookup_uvw(lut, encoded, &uvw)) return {d3d::kNaN, d3d::kNaN, d3d::kNaN};
   const Vec3 s = sample_texels(
       lut, uvw, [&](int r, int g, int b) -> Vec3 { return lut.at(r, g, b); }, mix);
-  return {s[0] * kLutScale, s[1] * kLutScale, s[2] * kLutScale};
+  return {s[0] * lut_max, s[1] * lut_max, s[2] * lut_max};
 }
 
 bool sample_lut_range(const BakedLut& lut, const Vec3& encoded, Range3* out) {

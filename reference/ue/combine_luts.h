@@ -169,8 +169,9 @@ Vec3 lattice_coordinate(int layout, int size, int r, int g, int b);
 
 // The tonemapper's lookup of an encoded colour (`ColorLookupTable` after the shaper encode):
 // UVW = enc·(N−1)/N + 0.5/N, exact trilinear for the volume LUT or UE's two-tap
-// UnwrappedTexture3DSample for the 2-D LUT, clamp-to-edge addressing; returns the sample × 1.05.
-Vec3 sample_lut(const BakedLut& lut, const Vec3& encoded);
+// UnwrappedTexture3DSample for the 2-D LUT, clamp-to-edge addressing; returns the sample × LUTMax:
+// 1.05 in UE 5.5, GetTonemappingMax's 1.05 or 1 in UE 5.8 (docs/ue58-differences.md L8, T2).
+Vec3 sample_lut(const BakedLut& lut, const Vec3& encoded, double lut_max = 1.05);
 
 // The same lookup over the LUT's admissible ranges (BakedLut::lo/hi, the same taps and weights:
 // a convex combination keeps the bounds); NaN is admissible where any tap may hold it. Returns

@@ -5,8 +5,8 @@
 #include <optional>
 
 #include "color/d3d_math.h"
-#include "reference/color/device_allowance.h"
 #include "color/st2084.h"
+#include "reference/color/device_allowance.h"
 #include "reference/color/ue_matrices.h"
 #include "reference/ue/lut_shaper.h"
 
@@ -45,10 +45,13 @@ Vec3 lookup(const ParamBlock& p, const Vec3& final_linear, const BakedLut* lut, 
   return {stored[0] * 1.05, stored[1] * 1.05, stored[2] * 1.05};
 }
 
-Vec3 post_convert(const ParamBlock& p, const Vec3& out_device) {
+}  // namespace
+
+Vec3 post_convert(const ParamBlock& p, const Vec3& out_device, bool scrgb_in_pass) {
   switch (p.output_device) {
     case 5:
     case 6:
+      if (!scrgb_in_pass) return out_device;
       return st2084_to_scrgb(out_device, p.output_max_luminance);
     case 7:
       return {st2084::nits_from_pq(out_device[0]), st2084::nits_from_pq(out_device[1]),
@@ -57,6 +60,8 @@ Vec3 post_convert(const ParamBlock& p, const Vec3& out_device) {
       return out_device;
   }
 }
+
+namespace {
 
 // post_convert over an admissible range: per-channel nondecreasing decodes, then (devices 5/6) a
 // matrix.
@@ -149,6 +154,100 @@ Vec3 st2084_to_scrgb(const Vec3& pq, double max_odt_nits) {
   return {s[0] * k, s[1] * k, s[2] * k};
 }
 
+Vignette ue55_vignette(const ParamBlock& p) {
+  Vignette v;
+  v.intensity = p.vignette_intensity;
+  return v;
+}
+
+Vec3 vignette_mask(const Vignette& v, double pos_x, double pos_y, double aspect) {
+  // PostProcessCommon.ush (5.8) ComputeVignetteMask: Weight 1 for Intensity <= 0; cosine-fourth
+  // law Square(rcp(|(V − (Centre − 0.5)) · Intensity|² + 1)); without USE_ADVANCED_VIGNETTE
+  // every type is the cosine-fourth law. Advanced, not Texture (or Texture without
+  // USE_VIGNETTE_TEXTURE, which RemapPermutation turns off at feature level SM5 and below):
+  // Position = InvSize · V, Distance = length2(Position − (Centre − 0.5)) for Oval, else 0;
+  // Weight = lerp(1, pow(saturate(1 − Distance), Softness), Intensity). Result lerp(Colour, 1,
+  // Weight). V is VignetteSpace's: Pos · (1, AspectRatio) · sqrt(2)/sqrt(1 + AspectRatio²) (the
+  // Texture type's own VignetteSpace feeds only the texture sample, not modelled).
+  const double k = std::sqrt(2.0) / std::sqrt(1.0 + aspect * aspect);
+  double vx = pos_x * 1.0 * k, vy = pos_y * aspect * k;
+  const double cx = v.center[0] - 0.5, cy = v.center[1] - 0.5;
+  const int type = v.advanced ? v.type : 0;
+  double weight = 1.0;
+  if (v.intensity <= 0.0) {
+  } else if (type == 0) {
+    vx = (vx - cx) * v.intensity;
+    vy = (vy - cy) * v.intensity;
+    const double m = 1.0 / (vx * vx + vy * vy + 1.0);
+    weight = m * m;
+  } else {
+    double distance = 0.0;
+    if (type == 2) {
+      const double dx = v.inv_size[0] * vx - cx, dy = v.inv_size[1] * vy - cy;
+      distance = dx * dx + dy * dy;
+    }
+    const double w = d3d::pow(d3d::saturate(1.0 - distance), v.softness);
+    weight = 1.0 + v.intensity * (w - 1.0);  // HLSL lerp(1, w, I) = 1 + I·(w − 1)
+  }
+  Vec3 out;
+  for (int c = 0; c < 3; ++c) out[c] = v.color[c] + weight * (1.0 - v.color[c]);
+  return out;
+}
+
+Vec3 tonemap_final_linear(const ParamBlock& p, const Image& scene, const Image* bloom,
+                          const Image* dirt, int x, int y, const Vignette& vignette_params) {
+  const double w = scene.width, h = scene.height;
+  const double aspect = h / w;  // ViewportHeight / ViewportWidth
+  const double u = (x + 0.5) / w, v = (y + 0.5) / h;
+  const double pos_x = u * 2.0 - 1.0, pos_y = 1.0 - v * 2.0;  // screen position, y up
+  const double* px = scene.px(x, y);
+  Vec3 s{px[0], px[1], px[2]};
+  // 1. Colour fringe: R (and alpha) and G from shifted lens positions, B in place.
+  if (p.fringe[3] != 0.0) {
+    auto shifted = [&](double scale) {
+      const double lx =
+          pos_x - sign_d3d(pos_x) * d3d::saturate(std::fabs(pos_x) - p.fringe[2]) * scale;
+      const double ly =
+          pos_y - sign_d3d(pos_y) * d3d::saturate(std::fabs(pos_y) - p.fringe[2]) * scale;
+      return sample_bilinear(scene, lx * 0.5 + 0.5, 0.5 - ly * 0.5);
+    };
+    s[0] = shifted(p.fringe[0])[0];
+    s[1] = shifted(p.fringe[1])[1];
+  }
+  // 2. Sharpen against the four neighbours.
+  if (p.sharpen_div6 > 0.0) {
+    auto at = [&](int dx, int dy) {
+      const double* q =
+          scene.px(std::clamp(x + dx, 0, scene.width - 1), std::clamp(y + dy, 0, scene.height - 1));
+      return Vec3{q[0], q[1], q[2]};
+    };
+    const Vec3 n[4] = {at(-1, 0), at(1, 0), at(0, -1), at(0, 1)};
+    const double a0 = luminance_sharpen(s);
+    double edge = 0.0;
+    for (const Vec3& c : n) edge = std::fmax(edge, std::fabs(a0 - luminance_sharpen(c)));
+    const double mask = d3d::saturate(1.0 - p.exposure * edge);
+    for (int c = 0; c < 3; ++c) {
+      const double sum = n[0][c] + n[1][c] + n[2][c] + n[3][c];
+      s[c] += (sum - 4.0 * s[c]) * (-mask * p.sharpen_div6);
+    }
+  }
+  // 3. Vignette (in the viewport's aspect).
+  const Vec3 vignette = vignette_mask(vignette_params, pos_x, pos_y, aspect);
+  // 4–5. Tint, exposure, vignette; bloom.
+  Vec3 final_linear;
+  for (int c = 0; c < 3; ++c)
+    final_linear[c] = s[c] * p.scene_color_tint[c] * (p.exposure * vignette[c]);
+  if (bloom) {
+    Vec3 b = sample_bilinear(*bloom, u, v);
+    if (dirt) {
+      const Vec3 d = sample_bilinear(*dirt, u, v);
+      for (int c = 0; c < 3; ++c) b[c] *= 1.0 + d[c] * p.bloom_dirt_tint[c];
+    }
+    for (int c = 0; c < 3; ++c) final_linear[c] += b[c] * (p.exposure * vignette[c]);
+  }
+  return final_linear;
+}
+
 Vec3 tonemap_centre_pixel(const ParamBlock& p, const Vec3& scene, const BakedLut* lut,
                           TonemapTrace* trace) {
   return tonemap_centre_pixel(p, scene, lut, trace, nullptr);
@@ -161,7 +260,7 @@ Vec3 tonemap_centre_pixel(const ParamBlock& p, const Vec3& scene, const BakedLut
   for (int c = 0; c < 3; ++c) t.exposed[c] = scene[c] * p.scene_color_tint[c] * p.exposure;
   t.lut = lookup(p, t.exposed, lut, &t.encoded, texel);
   t.luminance = t.lut[0] * 0.299 + t.lut[1] * 0.587 + t.lut[2] * 0.114;
-  t.output = post_convert(p, t.lut);
+  t.output = post_convert(p, t.lut, true);
   if (trace) *trace = t;
   return t.output;
 }
@@ -182,71 +281,17 @@ Image tonemap_image(const ParamBlock& p, const Image& scene, const Image* bloom,
   Image out(scene.width, scene.height);
   std::optional<TexelEvaluator> texel;  // the analytic lookup's parameters, unpacked once
   if (!lut && !lazy) texel.emplace(p);
-  const double w = scene.width, h = scene.height;
-  const double aspect = h / w;  // ViewportHeight / ViewportWidth
+  const Vignette vignette = ue55_vignette(p);
   for (int y = 0; y < scene.height; ++y) {
     for (int x = 0; x < scene.width; ++x) {
-      const double u = (x + 0.5) / w, v = (y + 0.5) / h;
-      const double pos_x = u * 2.0 - 1.0, pos_y = 1.0 - v * 2.0;  // screen position, y up
-      const double* px = scene.px(x, y);
-      Vec3 s{px[0], px[1], px[2]};
-      // 1. Colour fringe: R (and alpha) and G from shifted lens positions, B in place.
-      if (p.fringe[3] != 0.0) {
-        auto shifted = [&](double scale) {
-          const double lx =
-              pos_x - sign_d3d(pos_x) * d3d::saturate(std::fabs(pos_x) - p.fringe[2]) * scale;
-          const double ly =
-              pos_y - sign_d3d(pos_y) * d3d::saturate(std::fabs(pos_y) - p.fringe[2]) * scale;
-          return sample_bilinear(scene, lx * 0.5 + 0.5, 0.5 - ly * 0.5);
-        };
-        s[0] = shifted(p.fringe[0])[0];
-        s[1] = shifted(p.fringe[1])[1];
-      }
-      // 2. Sharpen against the four neighbours.
-      if (p.sharpen_div6 > 0.0) {
-        auto at = [&](int dx, int dy) {
-          const double* q = scene.px(std::clamp(x + dx, 0, scene.width - 1),
-                                     std::clamp(y + dy, 0, scene.height - 1));
-          return Vec3{q[0], q[1], q[2]};
-        };
-        const Vec3 n[4] = {at(-1, 0), at(1, 0), at(0, -1), at(0, 1)};
-        const double a0 = luminance_sharpen(s);
-        double edge = 0.0;
-        for (const Vec3& c : n) edge = std::fmax(edge, std::fabs(a0 - luminance_sharpen(c)));
-        const double mask = d3d::saturate(1.0 - p.exposure * edge);
-        for (int c = 0; c < 3; ++c) {
-          const double sum = n[0][c] + n[1][c] + n[2][c] + n[3][c];
-          s[c] += (sum - 4.0 * s[c]) * (-mask * p.sharpen_div6);
-        }
-      }
-      // 3. Vignette (cos⁴ law in the viewport's aspect).
-      double vignette = 1.0;
-      if (p.vignette_intensity > 0.0) {
-        const double k = std::sqrt(2.0) / std::sqrt(1.0 + aspect * aspect);
-        const double vx = pos_x * k * p.vignette_intensity,
-                     vy = pos_y * aspect * k * p.vignette_intensity;
-        const double m = 1.0 / (vx * vx + vy * vy + 1.0);
-        vignette = m * m;
-      }
-      // 4–5. Tint, exposure, vignette; bloom.
-      Vec3 final_linear;
-      for (int c = 0; c < 3; ++c)
-        final_linear[c] = s[c] * p.scene_color_tint[c] * (p.exposure * vignette);
-      if (bloom) {
-        Vec3 b = sample_bilinear(*bloom, u, v);
-        if (dirt) {
-          const Vec3 d = sample_bilinear(*dirt, u, v);
-          for (int c = 0; c < 3; ++c) b[c] *= 1.0 + d[c] * p.bloom_dirt_tint[c];
-        }
-        for (int c = 0; c < 3; ++c) final_linear[c] += b[c] * (p.exposure * vignette);
-      }
+      const Vec3 final_linear = tonemap_final_linear(p, scene, bloom, dirt, x, y, vignette);
       // 7–9. LUT, luminance, per-device post conversion.
       Range3 range;
       bool ambiguous = false;
       Vec3 encoded;
       const Vec3 lut_out = lookup(p, final_linear, lut, &encoded, texel ? &*texel : nullptr, &range,
                                   &ambiguous, lazy);
-      const Vec3 o = post_convert(p, lut_out);
+      const Vec3 o = post_convert(p, lut_out, true);
       double* dst = out.px(x, y);
       dst[0] = o[0];
       dst[1] = o[1];

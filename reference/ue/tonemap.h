@@ -20,6 +20,36 @@ struct TonemapTrace {
   double luminance = 0;  // OutLuminance = dot(OutDevice, (0.299, 0.587, 0.114))
 };
 
+// The vignette's parameters (PostProcessTonemap.usf: VignetteType, VignetteParams0/1/2, set by
+// PostProcessTonemap.cpp AddTonemapPass; PostProcessCommon.ush ComputeVignetteMask, UE 5.8). UE
+// 5.5's vignette (the cosine-fourth law on VignetteSpace · Intensity, a scalar) is 5.8's at type
+// CosineFourthLaw, centre (0.5, 0.5) and black colour, to the bit (Centre − 0.5 = 0, lerp(0, 1, w)
+// = w): ue55_vignette (docs/ue58-differences.md T3).
+struct Vignette {
+  int type = 0;                     // EVignetteType: 0 CosineFourthLaw, 1 Texture, 2 Oval
+  bool advanced = false;            // USE_ADVANCED_VIGNETTE: type != CosineFourthLaw
+  double intensity = 0.0;           // VignetteParams0.x
+  Vec3 color{};                     // VignetteParams0.yzw
+  double center[2] = {0.5, 0.5};    // VignetteParams1.xy
+  double inv_size[2] = {1.0, 1.0};  // VignetteParams1.zw: 1 / max(0.001, VignetteSize)
+  double softness = 1.0;            // VignetteParams2
+};
+Vignette ue55_vignette(const ParamBlock& p);  // UE 5.5: p.vignette_intensity, the rest default
+// ComputeVignetteMask(VignetteSpace(pos, type, aspect), ...) at screen position (pos_x, pos_y) in
+// [-1, 1] (y up), aspect = ViewportHeight / ViewportWidth.
+Vec3 vignette_mask(const Vignette& v, double pos_x, double pos_y, double aspect);
+
+// Steps 1-5 of TonemapCommonPS at pixel (x, y) of `scene` (UE 5.5 and 5.8 alike): colour fringe,
+// sharpen, FinalLinearColor = S · SceneColorTint · (exposure · VignetteMask) + Bloom · (exposure ·
+// VignetteMask); `bloom`/`dirt` as tonemap_image's.
+Vec3 tonemap_final_linear(const ParamBlock& p, const Image& scene, const Image* bloom,
+                          const Image* dirt, int x, int y, const Vignette& vignette);
+
+// Step 9, the per-device post conversion: device 7 ST2084ToLinear; devices 5/6 ST2084ToScRGB when
+// `scrgb_in_pass` (UE 5.5; 5.8's LUT already holds scRGB and the pass writes it unchanged,
+// docs/ue58-differences.md T1); every other device unchanged.
+Vec3 post_convert(const ParamBlock& p, const Vec3& out_device, bool scrgb_in_pass);
+
 // One pixel at the centre of the screen (no vignette, fringe, sharpen or bloom), as `probe` uses
 // it. `lut` null: CombineLUTs evaluated analytically at the encoded coordinate (clamped as the
 // sampler addresses it); else the baked LUT sampled as UE samples it.

@@ -32,9 +32,9 @@ vec3 sample_lut_unwrapped(vec3 uvw, float size) {
   return lerp_d3d(rg0, rg1, frac_w);
 }
 
-// OutDeviceColor = sample · 1.05 (CombineLUTs stored OutDeviceColor / 1.05, docs/spec/ue55.md §4.12).
-vec3 color_lookup_table(vec3 final_linear) {
-  vec3 encoded = lut_encode(P.output_device, final_linear);
+// The lookup of an encoded colour, times LUTMax: UE 5.5's 1.05 (CombineLUTs stored OutDeviceColor
+// / 1.05, docs/spec/ue55.md §4.12), UE 5.8's GetTonemappingMax (1.05 or 1).
+vec3 color_lookup_encoded(vec3 encoded, float lut_max) {
   // A NaN coordinate (PQ of a negative or infinite channel: no max(0, ·) in 5.5, D6.1) selects no
   // defined texel on any API; GLSL and D3D both leave the fetched value implementation-defined.
   // The port returns NaN in every channel, as the reference does (docs/ue55-decisions.md, D-NF).
@@ -42,7 +42,12 @@ vec3 color_lookup_table(vec3 final_linear) {
   float size = float(P.lut_size);
   vec3 uvw = lut_uvw(encoded, size);
   vec3 s = tonemap_lut_layout() == 0 ? sample_lut_volume(uvw) : sample_lut_unwrapped(uvw, size);
-  return s * 1.05;
+  return s * lut_max;
+}
+
+// UE 5.5: OutDeviceColor = sample · 1.05.
+vec3 color_lookup_table(vec3 final_linear) {
+  return color_lookup_encoded(lut_encode(P.output_device, final_linear), 1.05);
 }
 
 #endif

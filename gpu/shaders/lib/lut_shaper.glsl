@@ -3,18 +3,28 @@
 #ifndef HDRC_LUT_SHAPER_GLSL
 #define HDRC_LUT_SHAPER_GLSL
 
+#include "d3d_math.glsl"
 #include "st2084.glsl"
 #include "ue_log_shaper.glsl"
 
 bool uses_pq_shaper(int output_device) { return output_device >= 3; }
 
-vec3 lut_encode(int output_device, vec3 x) {
-  if (uses_pq_shaper(output_device)) {
-    return vec3(pq_from_nits(x.r * LINEAR_TO_NITS_SCALE), pq_from_nits(x.g * LINEAR_TO_NITS_SCALE),
-                pq_from_nits(x.b * LINEAR_TO_NITS_SCALE));
+// ColorLookupTable's encode: PQ of x · LinearToNitsScale (UE 5.8: of clamp(x · LinearToNitsScale,
+// 0, 10000), `clamp_nits`; D3D's clamp sends NaN to 0) or LinToLog(x + LogToLin(0)). Reference:
+// reference/ue/lut_shaper.h lut_encode(LutShaper, x).
+vec3 lut_encode_shaper(bool pq, bool clamp_nits, vec3 x) {
+  if (pq) {
+    vec3 nits = x * LINEAR_TO_NITS_SCALE;
+    if (clamp_nits) nits = clamp_d3d(nits, 0.0, 10000.0);
+    return vec3(pq_from_nits(nits.r), pq_from_nits(nits.g), pq_from_nits(nits.b));
   }
   float black = lin_from_log(0.0);
   return vec3(log_from_lin(x.r + black), log_from_lin(x.g + black), log_from_lin(x.b + black));
+}
+
+// UE 5.5: PQ for devices 3–9, no clamp.
+vec3 lut_encode(int output_device, vec3 x) {
+  return lut_encode_shaper(uses_pq_shaper(output_device), false, x);
 }
 
 vec3 lut_decode(int output_device, vec3 e) {

@@ -23,23 +23,27 @@ vec4 tonemap_scene_color(ivec2 px, vec2 lens_pos, vec2 extent) {
   return s;
 }
 
-// VignetteMask (BRANCH on TonemapperParams.x > 0); AspectRatio = Output_ViewportSize.y ·
-// Output_ViewportSizeInverse.x.
-float tonemap_vignette(vec2 lens_pos, vec2 extent) {
-  float mask = 1.0;  // MobileVignette = 1 on desktop
-  if (P.vignette_intensity > 0.0)
-    mask *= vignette_mask(vignette_space(lens_pos, extent.y * (1.0 / extent.x)), P.vignette_intensity);
-  return mask;
+// UE 5.5's VignetteMask (BRANCH on TonemapperParams.x > 0): 5.8's ComputeVignetteMask at the
+// cosine-fourth law, centre (0.5, 0.5), black colour (the same to the bit); AspectRatio =
+// Output_ViewportSize.y · Output_ViewportSizeInverse.x. MobileVignette = 1 on desktop.
+vec3 tonemap_vignette(vec2 lens_pos, vec2 extent) {
+  return vignette_mask58(lens_pos, extent.y * (1.0 / extent.x), 0, false,
+                         vec4(P.vignette_intensity, 0.0, 0.0, 0.0), vec4(0.5, 0.5, 1.0, 1.0), 1.0);
 }
 
-// Steps 3–5: FinalLinearColor = S · SceneColorTint · (OneOverPreExposure · GlobalExposure ·
-// VignetteMask · LocalExposure) + Bloom · (OneOverPreExposure · GlobalExposure · VignetteMask).
-// P.exposure = OneOverPreExposure · GlobalExposure (host).
-vec3 tonemap_final_linear(vec3 scene, vec2 uv, vec2 lens_pos, vec2 extent) {
-  float vignette = tonemap_vignette(lens_pos, extent);
+// Steps 4–5 with the vignette mask `vignette` (UE 5.5 and 5.8): FinalLinearColor = S ·
+// SceneColorTint · (OneOverPreExposure · GlobalExposure · VignetteMask · LocalExposure) + Bloom ·
+// (OneOverPreExposure · GlobalExposure · VignetteMask). P.exposure = OneOverPreExposure ·
+// GlobalExposure (host).
+vec3 tonemap_final_linear_masked(vec3 scene, vec2 uv, vec2 lens_pos, vec3 vignette) {
   vec3 final_linear = scene * P.scene_color_tint.rgb * (P.exposure * vignette);
   if (TONEMAP_MAY_BLOOM && has_bloom()) final_linear += bloom(uv, lens_pos) * (P.exposure * vignette);
   return final_linear;
+}
+
+// Steps 3–5 of UE 5.5.
+vec3 tonemap_final_linear(vec3 scene, vec2 uv, vec2 lens_pos, vec2 extent) {
+  return tonemap_final_linear_masked(scene, uv, lens_pos, tonemap_vignette(lens_pos, extent));
 }
 
 #endif

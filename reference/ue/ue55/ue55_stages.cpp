@@ -44,7 +44,15 @@ const std::vector<StageInfo>& ue55_stage_table() {
        "the Tonemap pass: fringe, sharpen, vignette, tint and exposure, the shaper encode, the "
        "baked LUT's lookup x 1.05, the per-device post conversion; alpha = OutLuminance (spec 6.1 "
        "steps 1-9)",
-       {0, 1, 2, 3, 4, 5, 6, 7, 8, 9}},
+       {0, 1, 2, 3, 4, 5, 6, 7, 8, 9},
+       true,
+       "ue55",
+       0,
+       false,
+       1,
+       false,
+       "",
+       true},
       {StageId::kDither,
        "dither",
        {{"stages/dither.comp"}},

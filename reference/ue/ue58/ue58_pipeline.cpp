@@ -18,6 +18,7 @@
 #include "reference/ue/aces2/aces2.h"
 #include "reference/ue/cpp/resolve.h"
 #include "reference/ue/ue58/ue58_combine_luts.h"
+#include "reference/ue/ue58/ue58_tonemap.h"
 
 namespace hdrc::ref::ue58 {
 
@@ -57,6 +58,28 @@ const std::vector<SettingInfo>& settings() {
          "cvar r.LUT.Shaper (PostProcessTonemap.cpp, default 0): 0 log lattice, 1 PQ lattice, "
          "every device"},
         {"r.LUT.Inner.Size", 1, s(64), 2, 128, "cvar r.LUT.Inner.Size: the inner LUT's edge"},
+        // The vignette 5.8 added to FPostProcessSettings (Scene.h / Scene.cpp defaults:
+        // docs/ue58-differences.md T3); VignetteIntensity is UE 5.5's setting.
+        {"VignetteType", 1, s(0), 0, 2,
+         "FPostProcessSettings::VignetteType (EVignetteType): 0 CosineFourthLaw, 1 Texture, 2 Oval "
+         "(PostProcessTonemap.cpp: AddTonemapPass, USE_ADVANCED_VIGNETTE)"},
+        {"VignetteCenterX", 1, s(0.5), -10, 10,
+         "FPostProcessSettings::VignetteCenter.X, viewport UV (VignetteParams1.x)"},
+        {"VignetteCenterY", 1, s(0.5), -10, 10,
+         "FPostProcessSettings::VignetteCenter.Y, viewport UV (VignetteParams1.y)"},
+        {"VignetteSizeX", 1, s(1), 0, 100,
+         "FPostProcessSettings::VignetteSize.X (VignetteParams1.z = 1 / max(0.001, X); Oval)"},
+        {"VignetteSizeY", 1, s(1), 0, 100,
+         "FPostProcessSettings::VignetteSize.Y (VignetteParams1.w = 1 / max(0.001, Y); Oval)"},
+        {"VignetteSoftness", 1, s(5), 0, 100,
+         "FPostProcessSettings::VignetteSoftness (VignetteParams2; Oval)"},
+        {"VignetteColor",
+         4,
+         {0, 0, 0, 1},
+         0,
+         100,
+         "FPostProcessSettings::VignetteColor, rgb (VignetteParams0.yzw; alpha unused): mask = "
+         "lerp(colour, 1, weight)"},
         {"LimitingGamut", 1, s(-1), -1, 4,
          "the display's limiting colour space (RenderTarget->GetLimitingColorSpace), an "
          "EDisplayColorGamut; -1: P3-D65 for devices 3-6 (HDR without a listed display), sRGB "
@@ -70,6 +93,9 @@ const std::vector<SettingInfo>& settings() {
 
 const std::vector<SettingChoice>* choices(std::string_view setting) {
   static const std::vector<SettingChoice> method = {{"Filmic", 0}, {"StandardACES", 1}};
+  static const std::vector<SettingChoice> vignette = {
+      {"CosineFourthLaw", 0}, {"Texture", 1}, {"Oval", 2}};
+  if (setting == "VignetteType") return &vignette;
   static const std::vector<SettingChoice> gamut = {{"Auto", -1},   {"sRGB", 0}, {"DCIP3", 1},
                                                    {"Rec2020", 2}, {"ACES", 3}, {"ACEScg", 4}};
   if (setting == "TonemappingMethod") return &method;
@@ -136,6 +162,18 @@ Result<Resolution> resolve58(const Case& c, int width, int height) {
   // GetTonemappingMax: 1.05 for Filmic on devices 0, 1 and 9, else 1; LUTInvMax = 1 / that.
   const bool lut_max_105 = !aces_method && (device == 0 || device == 1 || device == 9);
   p.ue58_lut_inv_max = lut_max_105 ? static_cast<double>(1.f / 1.05f) : 1.0;
+  // The Tonemap pass's LUTMax is GetTonemappingMax itself (AddTonemapPass), a float.
+  p.ue58_lut_max = lut_max_105 ? static_cast<double>(1.05f) : 1.0;
+  // AddTonemapPass: VignetteType and VignetteParams0-2 (float constants).
+  p.ue58_vignette_type = static_cast<int>(st.get("VignetteType"));
+  const auto color = st.get4("VignetteColor");
+  const double center[2] = {st.get("VignetteCenterX"), st.get("VignetteCenterY")};
+  const double size[2] = {st.get("VignetteSizeX"), st.get("VignetteSizeY")};
+  auto f = [](double v) { return static_cast<double>(static_cast<float>(v)); };
+  p.ue58_vignette_params0 = {f(st.get("VignetteIntensity")), f(color[0]), f(color[1]), f(color[2])};
+  p.ue58_vignette_params1 = {f(center[0]), f(center[1]), f(1.0 / std::max(0.001, size[0])),
+                             f(1.0 / std::max(0.001, size[1]))};
+  p.ue58_vignette_params2 = f(st.get("VignetteSoftness"));
   // GetTonemapperOutputDeviceParameters: InverseGamma.y = 1 for device 9 (L11).
   if (device == 9) p.inverse_gamma[1] = 1.0;
   // AddCombineLUTPass: bUseFloatOutput for the scRGB devices (L15); both LUTs share the format.
@@ -213,6 +251,24 @@ const std::vector<StageInfo>& stages() {
        {0, 1, 2, 3, 4, 5, 6, 7, 8, 9},
        false,
        "ue58"},
+      {StageId::kOther,
+       "ue58_tonemap",
+       {{"ue58/stages/combine_luts_inner.comp", Dispatch::kPixels, true},
+        {"ue58/stages/combine_luts.comp", Dispatch::kLutTexels},
+        {"ue58/stages/tonemap.comp"}},
+       "UE 5.8 Tonemap pass (PostProcessTonemap.usf: TonemapCommonPS): fringe, sharpen, 5.8's "
+       "vignette (cosine-fourth law with centre and colour; Oval), tint, exposure, bloom, then "
+       "ColorLookupTable into ue58_combine_luts' LUT (r.LUT.Shaper: log or clamped PQ; x LUTMax "
+       "1.05 or 1), ST2084ToLinear for device 7, scRGB written unchanged; alpha = OutLuminance",
+       {0, 1, 2, 3, 4, 5, 6, 7, 8, 9},
+       true,
+       "ue58",
+       0,
+       false,
+       1,
+       false,
+       "",
+       true},
   };
   return table;
 }
@@ -225,12 +281,14 @@ std::array<double, 3> lattice(const ParamBlock& p, int r, int g, int b) {
 // How a stored texel becomes nits: divided by LUTInvMax (PostProcessTonemap.usf multiplies by
 // LUTMax), then the device's encoding; the gamut is the output gamut, except device 8's working
 // colour space and Filmic's UE-29935 shortcut (sRGB working space and output gamut: the same).
-OutputEncoding encoding(const StageInfo&, const ParamBlock& p) {
+// The Tonemap pass's output is the texel · LUTMax (no pre-scale), device 7's decoded to nits.
+OutputEncoding encoding(const StageInfo& stage, const ParamBlock& p) {
   using T = OutputEncoding::Transfer;
+  const bool tonemap = stage.name == "ue58_tonemap";
   OutputEncoding e;
   e.stage = StageId::kOther;
   e.device = p.output_device;
-  e.pre_scale = 1.0 / p.ue58_lut_inv_max;
+  e.pre_scale = tonemap ? 1.0 : 1.0 / p.ue58_lut_inv_max;
   namespace sd = standard;
   const Chromaticities* gamuts[] = {&sd::kSrgb, &sd::kP3D65, &sd::kRec2020, &sd::kAp0, &sd::kAp1};
   if (p.output_device == 8) {
@@ -275,6 +333,14 @@ OutputEncoding encoding(const StageInfo&, const ParamBlock& p) {
       e.nits_scale = 100.0;
       e.transfer_name = "scene-linear x 100 nits";
       break;
+    case 7:
+      if (tonemap) {  // ST2084ToLinear in the pass: nits
+        e.transfer = T::kLinear;
+        e.nits_scale = 1.0;
+        e.transfer_name = "nits";
+        break;
+      }
+      [[fallthrough]];
     default:  // 3, 4, 7
       e.transfer = T::kPq;
       e.nits_scale = 1.0;
@@ -282,13 +348,18 @@ OutputEncoding encoding(const StageInfo&, const ParamBlock& p) {
   }
   if (e.pre_scale != 1.0) e.transfer_name = "texel x 1.05, " + e.transfer_name;
   // A NaN marks a negative value under a power-law encoding (explicit gamma, PQ of device 7).
-  e.nan_marks_negative_value = p.output_device == 2 || p.output_device == 7;
+  e.nan_marks_negative_value = p.output_device == 2 || (p.output_device == 7 && !tonemap);
   return e;
 }
 
 Result<Image> reference(const ResolvedCase& c, bool) {
   const ParamBlock& p = c.params;
   const CombineLuts58 luts(p);  // one evaluator: the device ranges reuse its inner texels
+  if (c.spec.stage && c.spec.stage->name == "ue58_tonemap") {
+    const Image* bloom = c.bloom.data.empty() ? nullptr : &c.bloom;
+    const Image* dirt = c.bloom_dirt.data.empty() ? nullptr : &c.bloom_dirt;
+    return tonemap_image(p, c.input, bloom, dirt, baked_outer_lut(luts, p));
+  }
   const std::vector<Vec3> lut = bake_outer_lut(luts, p);
   const int n = p.lut_size;
   Image out(n * n, n);
@@ -340,10 +411,10 @@ const std::vector<SettingInfo>& ue58_setting_table() {
 const Pipeline& ue58_pipeline() {
   static const Pipeline pipeline{
       "ue58",
-      "Unreal Engine 5.8 HDR output (CombineLUTs)",
+      "Unreal Engine 5.8 HDR output (CombineLUTs, Tonemap)",
       "docs/ue58-decisions.md",
-      "UE 5.8's CombineLUTs with its inner LUT: Filmic and StandardACES, ACES 1.3 and 2.0 "
-      "(docs/ue58-differences.md, docs/ue58-decisions.md)",
+      "UE 5.8's CombineLUTs with its inner LUT: Filmic and StandardACES, ACES 1.3 and 2.0; its "
+      "Tonemap pass (docs/ue58-differences.md, docs/ue58-decisions.md)",
       &stages,
       &cvar_table,
       &settings,
