@@ -57,7 +57,8 @@ PIPELINES = {
         "filter": "lut/devices/*",
     },
     "ue58": {
-        "stages": ["ue58/stages/combine_luts.comp", "ue58/stages/combine_luts_inner.comp"],
+        "stages": ["ue58/stages/combine_luts.comp", "ue58/stages/combine_luts_inner.comp",
+                   "ue58/stages/tonemap.comp"],
         "filter": "ue58/hdr_display/*,ue58/shaper_eotf/*,ue58/grading/*",
     },
 }
@@ -384,15 +385,22 @@ PINNED = [
 # bounds it (float32 noise, a storage step), with the numbers (docs/constant-sweep.md "Findings").
 # "within float32 noise" or "**uncaught**" in the text sets the counts table's column.
 NOTES = {
+    "ue58.AP1_TO_SRGB":
+        "no effect: included with lib/post_device.glsl but not evaluated, UE 5.8's Tonemap writes "
+        "devices 5/6 as the LUT holds them (no ST2084ToScRGB; docs/ue58-differences.md T1-T3)",
     "ue58.ACES2_AP0_2_AP1_2":
         "within float32 noise: the row typed (0.008316, -0.006032, 0.9977) moves AP1 blue by at "
-        "most 1.6e-5 of itself, under ACES 2.0's float32 error (OCIO's criterion 3e-5, "
-        "docs/ue58-decisions.md D); no case's error grows 3 x (its measured limit)",
+        "most 1.6e-5 of itself, within ACES 2.0's float32 error (OCIO's criterion 3e-5, "
+        "docs/ue58-decisions.md D); what the cases see is one stored texel tipped to the "
+        "neighbouring code (ue58/tonemap_stimuli/dev3_above_peak 0.00016 -> 1.0 PQ codes, under "
+        "the set's 2), the stored-LUT cases' share under 3 x measured",
     "ue58.ACES_RAD_TO_DEG":
-        "**uncaught**: 57.3 moves the RRT's hue by at most 7.4e-5 of itself (0.027 degrees), the "
-        "red modifier by about 1e-4 of a channel: a tenth of the LUT's 10-bit step, so only the "
-        "share of texels off by a code moves, under 3 x its measured share; ue55's copy of the "
-        "function is caught by 3 Tonemap cases, which read the LUT before it is stored",
+        "**uncaught**: 57.3 moves the hue of the ACES 1.x RRT and FilmToneMap by at most 7.4e-5 "
+        "of itself (0.027 degrees), a channel by about 1e-4, a tenth of the LUT's 10-bit step: the "
+        "stored-LUT cases' share stays under 3 x measured; the Tonemap cases see it "
+        "(ue58/tonemap_stimuli/dev0_random 0.0001 -> 0.099 PQ codes, under the set's 2), and "
+        "measured per-case limits there would fail 3 cases, not added while those cases await "
+        "their device ranges (docs/ue58-decisions.md G9)",
 }
 
 
