@@ -109,6 +109,22 @@ inline float unity_neutral(float v, float scale) {
   return rational(v * (scale * ws), kN) * ws;
 }
 
+// The ACES matrices UE's ACES.ush and Unity's ACES.hlsl carry alike (AP0_2_AP1_MAT,
+// AP1_2_AP0_MAT, AP1_2_XYZ_MAT, XYZ_2_AP1_MAT; docs/spec/ue55.md §4.5, docs/spec/unity_urp.md
+// §2.6), as float32 literals.
+const M3 kAp0ToAp1{{{1.4514393161f, -0.2365107469f, -0.2149285693f},
+                    {-0.0765537734f, 1.1762296998f, -0.0996759264f},
+                    {0.0083161484f, -0.0060324498f, 0.9977163014f}}};
+const M3 kAp1ToAp0{{{0.6954522414f, 0.1406786965f, 0.1638690622f},
+                    {0.0447945634f, 0.8596711185f, 0.0955343182f},
+                    {-0.0055258826f, 0.0040252103f, 1.0015006723f}}};
+const M3 kAp1ToXyz{{{0.6624541811f, 0.1340042065f, 0.1561876870f},
+                    {0.2722287168f, 0.6740817658f, 0.0536895174f},
+                    {-0.0055746495f, 0.0040607335f, 1.0103391003f}}};
+const M3 kXyzToAp1{{{1.6410233797f, -0.3248032942f, -0.2364246952f},
+                    {-0.6636628587f, 1.6153315917f, 0.0167563477f},
+                    {0.0117218943f, -0.0082844420f, 0.9883948585f}}};
+
 // The ACES helpers UE's ACES.ush and Unity's ACES.hlsl state alike (docs/spec/film_tonemap.md
 // "The ACES helpers", docs/spec/unity_urp.md §2.6 step 1-2).
 inline float rgb_2_yc(const float c[3]) {

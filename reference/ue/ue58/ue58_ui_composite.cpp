@@ -111,13 +111,7 @@ ui::Vec4 composite_pixel58(const ui::Vec4& scene, const ui::Vec4& ui, const UiCo
 
 Result<Image> composite_ui58(const Image& scene, const Image& ui, const UiComposite58Params& p) {
   if (Status s = validate(p); !s) return s.error();
-  if (scene.width != ui.width || scene.height != ui.height) {
-    return Error{"", "ui",
-                 "UI image is " + std::to_string(ui.width) + "x" + std::to_string(ui.height) +
-                     ", scene is " + std::to_string(scene.width) + "x" +
-                     std::to_string(scene.height) + "; the composite needs equal sizes",
-                 ""};
-  }
+  if (Status st = ui::check_ui_size(scene, ui); !st) return st.error();
   Image out(scene.width, scene.height);
   for (size_t i = 0; i < scene.pixel_count(); ++i) {
     const double* s = &scene.data[i * 4];

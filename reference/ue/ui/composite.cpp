@@ -159,15 +159,18 @@ Vec4 composite_pixel(const Vec4& scene, const Vec4& ui, const UiCompositeParams&
   return out;
 }
 
+Status check_ui_size(const Image& scene, const Image& ui) {
+  if (scene.width == ui.width && scene.height == ui.height) return {};
+  return Error{"", "ui",
+               "UI image is " + std::to_string(ui.width) + "x" + std::to_string(ui.height) +
+                   ", scene is " + std::to_string(scene.width) + "x" +
+                   std::to_string(scene.height) + "; the composite needs equal sizes",
+               ""};
+}
+
 Result<Image> composite_ui(const Image& scene, const Image& ui, const UiCompositeParams& p) {
   if (Status s = validate(p); !s) return s.error();
-  if (scene.width != ui.width || scene.height != ui.height) {
-    return Error{"", "ui",
-                 "UI image is " + std::to_string(ui.width) + "x" + std::to_string(ui.height) +
-                     ", scene is " + std::to_string(scene.width) + "x" +
-                     std::to_string(scene.height) + "; the composite needs equal sizes",
-                 ""};
-  }
+  if (Status st = check_ui_size(scene, ui); !st) return st.error();
   Image out(scene.width, scene.height);
   for (int y = 0; y < scene.height; ++y) {
     for (int x = 0; x < scene.width; ++x) {

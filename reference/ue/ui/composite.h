@@ -145,6 +145,10 @@ Vec4 standard_blend(const Vec4& scene, const Vec4& ui, BackBufferEncoding encodi
 Vec4 composite_pixel(const Vec4& scene, const Vec4& ui, const UiCompositeParams& p,
                      UiCompositeTrace* trace = nullptr);
 
+// The UI layer and the back buffer have the same size (an error naming both sizes if not): UE
+// 5.5's and 5.8's composite alike.
+Status check_ui_size(const Image& scene, const Image& ui);
+
 // composite_pixel over whole images of equal size: `scene` back-buffer encoded, `ui` the
 // premultiplied UI layer. Errors: invalid parameters (validate) or different image sizes.
 Result<Image> composite_ui(const Image& scene, const Image& ui, const UiCompositeParams& p);
