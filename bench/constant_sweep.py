@@ -58,7 +58,7 @@ PIPELINES = {
     },
     "ue58": {
         "stages": ["ue58/stages/combine_luts.comp", "ue58/stages/combine_luts_inner.comp",
-                   "ue58/stages/tonemap.comp"],
+                   "ue58/stages/tonemap.comp", "ue58/stages/ui_composite.comp"],
         "filter": "ue58/hdr_display/*,ue58/shaper_eotf/*,ue58/grading/*",
     },
 }

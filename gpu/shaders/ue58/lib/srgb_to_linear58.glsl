@@ -7,8 +7,16 @@
 
 #include "../../lib/d3d_math.glsl"
 
+// UE's literals, named so that a port's rounding of each can be planted (bench/constant_sweep.py).
+const float UE58_SRGB_THRESHOLD = 0.04045;
+const float UE58_SRGB_SCALE = 1.0 / 1.055;
+const float UE58_SRGB_OFFSET = 0.0521327;
+const float UE58_SRGB_GAMMA = 2.4;
+const float UE58_SRGB_LINEAR_SCALE = 1.0 / 12.92;
+
 float ue58_srgb_to_linear(float c) {
-  return c > 0.04045 ? pow_d3d(c * (1.0 / 1.055) + 0.0521327, 2.4) : c * (1.0 / 12.92);
+  return c > UE58_SRGB_THRESHOLD ? pow_d3d(c * UE58_SRGB_SCALE + UE58_SRGB_OFFSET, UE58_SRGB_GAMMA)
+                                 : c * UE58_SRGB_LINEAR_SCALE;
 }
 
 #endif
