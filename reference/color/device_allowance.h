@@ -16,7 +16,9 @@
 #pragma once
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 #include "color/st2084.h"
@@ -70,6 +72,24 @@ inline TapBox linear_tap_box(double t, int size, int bits, double coord_noise) {
   return b;
 }
 
+// `v` rounded down (upward false) or up onto the grid of a float format with `bits` fraction bits
+// whose exponent is at least `min_exp` (tcuFloatFormat.cpp FloatFormat::round toward −inf or
+// +inf): the quantum is 2^(max(E, min_exp) − bits) for |v| in [2^E, 2^(E+1)). Exact for 0 and
+// non-finite values. Powers of two are formed from their bits and the scaling by them is exact (no
+// frexp/ldexp: the worst-case device model rounds several times per tap of every filtered sample).
+// Valid for min_exp − bits ≥ −1022 and |v| < 2^1023, which every format here meets.
+inline double pow2_exact(int e) {  // 2^e for e in [−1022, 1023]
+  return std::bit_cast<double>(static_cast<std::uint64_t>(e + 1023) << 52);
+}
+inline double round_to_float_grid(double v, bool upward, int bits, int min_exp) {
+  if (v == 0 || !std::isfinite(v)) return v;
+  const int biased = static_cast<int>((std::bit_cast<std::uint64_t>(v) >> 52) & 0x7ff);
+  // A subnormal double (biased 0) lies far below min_exp; its own exponent does not matter.
+  const int quantum = std::max(biased - 1023, min_exp) - bits;
+  const double scaled = v * pow2_exact(-quantum);
+  return (upward ? std::ceil(scaled) : std::floor(scaled)) * pow2_exact(quantum);
+}
+
 // The unnormalised coordinate as VK-GL-CTS lets a conformant device form it
 // (vktSampleVerifier.cpp, SampleVerifier::verifySampleMipmapLevel and calcUnnormalizedCoordRange):
 // the normalised coordinate u, then its product u·size, each rounded outward in
@@ -80,12 +100,7 @@ inline TapBox linear_tap_box(double t, int size, int bits, double coord_noise) {
 // weight), along a 17-texel LUT axis at most about ±2^-12. docs/precision.md, "Filter
 // arithmetic".
 inline double coord_format_round(double v, bool upward) {
-  if (v == 0 || !std::isfinite(v)) return v;
-  int e = 0;
-  std::frexp(v, &e);  // |v| in [2^(e−1), 2^e)
-  const int quantum = std::max(e - 1, -32) - 16;
-  const double scaled = std::ldexp(v, -quantum);
-  return std::ldexp(upward ? std::ceil(scaled) : std::floor(scaled), quantum);
+  return round_to_float_grid(v, upward, 16, -32);
 }
 struct CoordRange {
   double lo = 0, hi = 0;
@@ -161,14 +176,10 @@ struct FilterArithmetic {
 inline double filter_round(double d, bool upward, const FilterArithmetic& fa) {
   if (fa.kind == FilterArithmetic::Kind::kExact || d == 0 || !std::isfinite(d)) return d;
   if (fa.kind == FilterArithmetic::Kind::kUnorm) {
-    const double levels = std::ldexp(1.0, fa.bits) - 1;
+    const double levels = pow2_exact(fa.bits) - 1;
     return (upward ? std::ceil(d * levels) : std::floor(d * levels)) / levels;
   }
-  int e = 0;
-  std::frexp(d, &e);  // |d| in [2^(e−1), 2^e)
-  const int quantum = std::max(e - 1, fa.min_exp) - fa.bits;
-  const double scaled = std::ldexp(d, -quantum);
-  return std::ldexp(upward ? std::ceil(scaled) : std::floor(scaled), quantum);
+  return round_to_float_grid(d, upward, fa.bits, fa.min_exp);
 }
 
 // One filtered sample as VK-GL-CTS's SampleVerifier::getFilteredSample1D/2D/3D bounds it: `axes`
