@@ -204,38 +204,63 @@ inline double filter_round(double d, bool upward, const FilterArithmetic& fa) {
 struct FilteredRange {
   double lo = 0, hi = 0;
 };
+//
+// filter_taps_channels: the same for `channels` channels filtered with the same weights (an RGB
+// texel): tap k of channel c is t_lo[c · 8 + k], t_hi[c · 8 + k], and out[c] its range. Each
+// channel's range is exactly filter_taps' of that channel alone; the weights, which do not depend
+// on the channel, are formed once.
+inline void filter_taps_channels(int axes, const double* alpha, int channels, const double* t_lo,
+                                 const double* t_hi, const FilterArithmetic& fa, int weight_bits,
+                                 FilteredRange* out) {
+  const int taps = 1 << axes;
+  // Every tap's weight range, the product as formed ([0]) and snapped to the grid ([1]).
+  double w_lo[2][8], w_hi[2][8];
+  const double grid = std::ldexp(1.0, weight_bits);
+  for (int k = 0; k < taps; ++k) {
+    double lo = 1, hi = 1;
+    for (int a = axes - 1; a >= 0; --a) {
+      const double f = (k >> a) & 1 ? alpha[a] : 1 - alpha[a];
+      lo = filter_round(lo * f, false, fa);  // weights are non-negative
+      hi = filter_round(hi * f, true, fa);
+    }
+    w_lo[0][k] = lo;
+    w_hi[0][k] = hi;
+    // The nearest grid point; at a tie either one.
+    w_lo[1][k] = filter_round(std::ceil(lo * grid - 0.5) / grid, false, fa);
+    w_hi[1][k] = filter_round(std::floor(hi * grid + 0.5) / grid, true, fa);
+  }
+  // A device snaps its tap weights or forms them as products (the CTS's model): both admitted.
+  // One axis: the weight is the fraction, already snapped.
+  const int filters = weight_bits > 0 && axes > 1 ? 2 : 1;
+  for (int c = 0; c < channels; ++c) {
+    const double* tl = t_lo + 8 * c;
+    const double* th = t_hi + 8 * c;
+    FilteredRange r{HUGE_VAL, -HUGE_VAL};
+    for (int snap = 0; snap < filters; ++snap) {
+      double lo = 0, hi = 0;
+      for (int k = 0; k < taps; ++k) {
+        const double wl = w_lo[snap][k], wh = w_hi[snap][k];
+        if (wh == 0) continue;  // 0·t = 0 for any finite texel; a NaN texel is the caller's flag
+        const double p[4] = {wl * tl[k], wl * th[k], wh * tl[k], wh * th[k]};
+        lo = filter_round(lo + std::min({p[0], p[1], p[2], p[3]}), false, fa);
+        hi = filter_round(hi + std::max({p[0], p[1], p[2], p[3]}), true, fa);
+      }
+      r.lo = std::fmin(r.lo, lo);
+      r.hi = std::fmax(r.hi, hi);
+    }
+    out[c] = r;
+  }
+}
 inline FilteredRange filter_taps(int axes, const double* alpha, const double* t_lo,
                                  const double* t_hi, const FilterArithmetic& fa,
                                  int weight_bits = 0) {
-  // One filter: every tap's weight snapped (snap) or every one the product as formed.
-  auto one = [&](bool snap) {
-    FilteredRange r;
-    const double grid = std::ldexp(1.0, weight_bits);
-    for (int k = 0; k < (1 << axes); ++k) {
-      double w_lo = 1, w_hi = 1;
-      for (int a = axes - 1; a >= 0; --a) {
-        const double f = (k >> a) & 1 ? alpha[a] : 1 - alpha[a];
-        w_lo = filter_round(w_lo * f, false, fa);  // weights are non-negative
-        w_hi = filter_round(w_hi * f, true, fa);
-      }
-      if (snap) {  // the nearest grid point; at a tie either one
-        w_lo = filter_round(std::ceil(w_lo * grid - 0.5) / grid, false, fa);
-        w_hi = filter_round(std::floor(w_hi * grid + 0.5) / grid, true, fa);
-      }
-      if (w_hi == 0) continue;  // 0·t = 0 for any finite texel; a NaN texel is the caller's flag
-      const double p[4] = {w_lo * t_lo[k], w_lo * t_hi[k], w_hi * t_lo[k], w_hi * t_hi[k]};
-      r.lo = filter_round(r.lo + std::min({p[0], p[1], p[2], p[3]}), false, fa);
-      r.hi = filter_round(r.hi + std::max({p[0], p[1], p[2], p[3]}), true, fa);
-    }
-    return r;
-  };
-  FilteredRange r = one(false);
-  if (weight_bits > 0 && axes > 1) {  // one axis: the weight is the fraction, already snapped
-    // A device snaps its tap weights or forms them as products (the CTS's model): both admitted.
-    const FilteredRange snapped = one(true);
-    r.lo = std::fmin(r.lo, snapped.lo);
-    r.hi = std::fmax(r.hi, snapped.hi);
+  double lo[8], hi[8];
+  for (int k = 0; k < (1 << axes); ++k) {
+    lo[k] = t_lo[k];
+    hi[k] = t_hi[k];
   }
+  FilteredRange r;
+  filter_taps_channels(axes, alpha, 1, lo, hi, fa, weight_bits, &r);
   return r;
 }
 

@@ -16,7 +16,9 @@
 #pragma once
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 namespace hdrc::ref::spirv {
@@ -26,9 +28,8 @@ inline double ulp32(double x) {
   const double a = std::fabs(x);
   if (!(a >= 0x1p-126)) return 0x1p-149;
   if (std::isinf(a)) return std::numeric_limits<double>::infinity();
-  int e = 0;
-  std::frexp(a, &e);  // a = m·2^e, m in [0.5, 1)
-  return std::ldexp(1.0, e - 1 - 23);
+  // 2^E for a in [2^E, 2^(E+1)): a's exponent bits alone (a is a normal double here), times 2^-23.
+  return std::bit_cast<double>(std::bit_cast<std::uint64_t>(a) & 0x7ff0000000000000ULL) * 0x1p-23;
 }
 
 // A closed interval of real numbers a float32 evaluation may produce. Every operation widens

@@ -114,24 +114,26 @@ inline Range3 strip_lookup_device_range(const StripBounds& s, const Range3& t, i
               const double w00 = (1 - fx) * (1 - fy), w10 = fx * (1 - fy), w01 = (1 - fx) * fy,
                            w11 = fx * fy;
               const double alpha[2] = {fx, fy};
+              // Tap j: bit 0 the upper x texel, bit 1 the upper y texel (filter_taps' order);
+              // channel c's taps at [8c, 8c + 4) (filter_taps_channels).
+              const int xs[4] = {tx.i0, tx.i1, tx.i0, tx.i1}, ys[4] = {ty.i0, ty.i0, ty.i1, ty.i1};
+              const double ws[4] = {w00, w10, w01, w11};
+              double tls[3 * 8], ths[3 * 8];
               for (int c = 0; c < 3; ++c) {
-                // Tap j: bit 0 the upper x texel, bit 1 the upper y texel (filter_taps' order).
-                const int xs[4] = {tx.i0, tx.i1, tx.i0, tx.i1},
-                          ys[4] = {ty.i0, ty.i0, ty.i1, ty.i1};
-                const double ws[4] = {w00, w10, w01, w11};
-                double tls[4], ths[4];
                 for (int j = 0; j < 4; ++j) {
-                  tls[j] = at(*s.lo, xs[j], ys[j], c);
-                  ths[j] = at(*s.hi, xs[j], ys[j], c);
+                  tls[8 * c + j] = at(*s.lo, xs[j], ys[j], c);
+                  ths[8 * c + j] = at(*s.hi, xs[j], ys[j], c);
                   if (ws[j] == 0) continue;
-                  const double tl = tls[j], th = ths[j];
+                  const double tl = tls[8 * c + j], th = ths[8 * c + j];
                   if (std::isnan(tl) || std::isnan(th)) nan[c] = true;
                   least[c] = std::fmin(least[c], tl);
                 }
-                const FilteredRange f =
-                    filter_taps(2, alpha, tls, ths, fa, snap_weights ? bits : 0);
-                s_lo[k][c] = std::fmin(s_lo[k][c], f.lo);
-                s_hi[k][c] = std::fmax(s_hi[k][c], f.hi);
+              }
+              FilteredRange f[3];
+              filter_taps_channels(2, alpha, 3, tls, ths, fa, snap_weights ? bits : 0, f);
+              for (int c = 0; c < 3; ++c) {
+                s_lo[k][c] = std::fmin(s_lo[k][c], f[c].lo);
+                s_hi[k][c] = std::fmax(s_hi[k][c], f[c].hi);
               }
             }
         }

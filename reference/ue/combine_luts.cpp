@@ -916,10 +916,11 @@ bool sample_lut_device_range(const BakedLut& lut, const Vec3& encoded, int bits,
             t_hi[c][k] = hi_at(i)[c];
           }
         }
+        FilteredRange f[3];
+        filter_taps_channels(axes, alpha, 3, &t_lo[0][0], &t_hi[0][0], fa, bits, f);
         for (int c = 0; c < 3; ++c) {
-          const FilteredRange f = filter_taps(axes, alpha, t_lo[c], t_hi[c], fa, bits);
-          (*mins)[c] = std::fmin((*mins)[c], f.lo);
-          (*maxs)[c] = std::fmax((*maxs)[c], f.hi);
+          (*mins)[c] = std::fmin((*mins)[c], f[c].lo);
+          (*maxs)[c] = std::fmax((*maxs)[c], f[c].hi);
         }
       }
     }
