@@ -379,7 +379,7 @@ PINNED = [
      "unity_urp/graded_look/gradingmode1_mode2_postexposure-2_colorchecker"),
     ("ue55.PQ_M2.encode", 4, "tonemap/display/hdr0_dev7_gamut1_lut16_fmt0_layout0_log_ramp"),
     # UE 5.8: a Tonemap case's measured overlay; 5.8's sRGB decode's isolating case.
-    ("ue58.ACES_RAD_TO_DEG", 4, "ue58/tonemap_stimuli/dev0_random"),
+    ("ue58.ACES_RAD_TO_DEG", 4, "ue58/tonemap_effects/dev0_shaper0_log_ramp"),
     ("ue58.UE58_SRGB_OFFSET", 4, "ue58/isolate/ui_srgb_offset/opaque_srgb_codes"),
 ]
 
