@@ -88,7 +88,7 @@ const BadCase kBadCases[] = {
     {"unknown_stimulus", R"({"stage": "shaper", "input": {"stimulus": "log_rmap"}})",
      "t.json: /input/stimulus: unknown stimulus \"log_rmap\", did you mean 'log_ramp'?; valid "
      "choices: log_ramp, special_ramp, pq_codes, hue_sweep, colorchecker, primaries, near_black, "
-     "above_peak, pq_lattice, random, ui_overlay, bloom"},
+     "above_peak, pq_lattice, random, ui_overlay, ui_srgb_codes, bloom"},
     {"missing_input_file", R"({"stage": "shaper", "input": {"file": "inputs/missing.exr"}})",
      "t.json: /input/file: input file \"inputs/missing.exr\" does not exist (looked for "
      "CASES/inputs/missing.exr)"},
@@ -98,7 +98,7 @@ const BadCase kBadCases[] = {
     {"missing_input", R"({"stage": "shaper"})",
      "t.json: /input: missing input; valid choices: {\"stimulus\": log_ramp, special_ramp, "
      "pq_codes, hue_sweep, colorchecker, primaries, near_black, above_peak, pq_lattice, random, "
-     "ui_overlay, bloom} or {\"file\": PATH}"},
+     "ui_overlay, ui_srgb_codes, bloom} or {\"file\": PATH}"},
     {"bad_width", R"({"stage": "shaper", "input": {"stimulus": "log_ramp", "width": 0}})",
      "t.json: /input/width: width 0 is not valid; valid choices: integers 1 to 8192"},
     {"tolerance_without_reason",
@@ -504,6 +504,8 @@ TEST(CaseLoader, TheDefaultSuiteLoads) {
                                                   {"ue58/devices", 200},
                                                   {"ue58/grading", 9},
                                                   {"ue58/hdr_display", 24},
+                                                  {"ue58/isolate/ui_srgb_linear_segment", 1},
+                                                  {"ue58/isolate/ui_srgb_offset", 1},
                                                   {"ue58/shaper_eotf", 14},
                                                   {"ue58/tonemap_devices", 80},
                                                   {"ue58/tonemap_effects", 4},
@@ -515,7 +517,7 @@ TEST(CaseLoader, TheDefaultSuiteLoads) {
                                                   {"visualize/visualize_hdr", 30},
                                                   {"visualize/working_color_space", 21}};
   EXPECT_EQ(per_file, expected);
-  EXPECT_EQ(loaded.cases.size(), 1811u);
+  EXPECT_EQ(loaded.cases.size(), 1813u);
   for (const auto& c : loaded.cases) EXPECT_NE(c.tolerance.source, "default") << c.id;
 }
 

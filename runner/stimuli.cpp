@@ -109,6 +109,16 @@ const std::vector<StimulusInfo>& stimulus_table() {
          {},
          "colour of the alpha-0 row, x (1, 0.5, 0.25): 0 premultiplied black; > 0 a colour "
          "a premultiplied texel cannot hold (UE 5.8's composite zeroes it)"}}},
+      {"ui_srgb_codes",
+       256,
+       4,
+       "every 8-bit sRGB code c / 255 from min_code to max_code as an opaque grey UI (alpha 1, so "
+       "the premultiplied texel is the code itself), in raster order: pixel i holds code min_code "
+       "+ i mod (max_code - min_code + 1) (the UI EOTF's decode at every code Slate's 8-bit UI "
+       "can hold: its linear segment, codes 0-10, and the darkest codes above 0.04045, where a "
+       "rounded sRGB offset moves the decode most); needs a pixel per code",
+       {{"min_code", PK::kInteger, {0.0}, 0.0, 255.0, {}, "the first 8-bit code"},
+        {"max_code", PK::kInteger, {255.0}, 0.0, 255.0, {}, "the last 8-bit code"}}},
       {"bloom",
        64,
        16,
@@ -206,6 +216,18 @@ Status check_stimulus(const StimulusInfo& info, const StimulusParams& params, in
                  "pq_codes needs at least 1024 pixels to hold every 10-bit code, got " +
                      std::to_string(width) + "x" + std::to_string(height),
                  "width x height >= 1024"};
+  if (info.name == "ui_srgb_codes") {
+    const double lo = stimulus_param(info, params, "min_code")[0],
+                 hi = stimulus_param(info, params, "max_code")[0];
+    if (!(lo <= hi)) return Error{"", "", "min_code must not be above max_code", ""};
+    const size_t n = static_cast<size_t>(hi - lo) + 1;
+    if (pixels < n)
+      return Error{"", "",
+                   "ui_srgb_codes with codes " + format_number(lo) + " to " + format_number(hi) +
+                       " needs at least " + std::to_string(n) + " pixels, got " +
+                       std::to_string(width) + "x" + std::to_string(height),
+                   "width x height >= max_code - min_code + 1"};
+  }
   if (info.name == "pq_lattice") {
     const size_t n = static_cast<size_t>(stimulus_param(info, params, "n")[0]);
     if (pixels < n * n * n)
@@ -429,6 +451,14 @@ Result<Image> make_stimulus(std::string_view name, int width, int height,
     for (int y = 0; y < height; ++y)
       for (int x = 0; x < width; ++x)
         ui_overlay_pixel(x, y, width, param("transparent_rgb")[0], img.px(x, y));
+  } else if (name == "ui_srgb_codes") {
+    const size_t lo = static_cast<size_t>(param("min_code")[0]);
+    const size_t n = static_cast<size_t>(param("max_code")[0]) - lo + 1;
+    for (size_t i = 0; i < img.pixel_count(); ++i) {
+      double* p = &img.data[i * 4];
+      for (int c = 0; c < 3; ++c) p[c] = static_cast<double>(lo + i % n) / 255.0;
+      p[3] = 1.0;
+    }
   } else if (name == "bloom") {
     struct Glow {
       double cx, cy, sigma, r, g, b, peak;

@@ -2,9 +2,10 @@
 //
 // Values are scene-linear in the working colour space (sRGB / Rec.709 primaries, D65: UE's default
 // working colour space), where 1.0 is 100 nits on the PQ shaper's scale (TonemapCommon.ush:
-// LinearToNitsScale), except `pq_codes` (back-buffer signals) and `ui_overlay` (premultiplied
-// sRGB-encoded UI). Every stimulus is defined for any width × height; its parameters have
-// defaults, so `{"stimulus": "hue_sweep"}` is a complete input. docs/cases.md describes each one.
+// LinearToNitsScale), except `pq_codes` (back-buffer signals) and `ui_overlay` and `ui_srgb_codes`
+// (premultiplied sRGB-encoded UI). Every stimulus is defined for any width × height; its parameters
+// have defaults, so `{"stimulus": "hue_sweep"}` is a complete input. docs/cases.md describes each
+// one.
 #pragma once
 
 #include <map>
@@ -58,8 +59,8 @@ void stimulus_default_size(const StimulusInfo& info, const StimulusParams& param
                            int* height);
 
 // Checks that `params` are known, in range, and that width × height can hold the stimulus
-// (pq_codes: every code needs 1024 pixels; pq_lattice: n³). The error names the parameter and the
-// valid choices; the caller adds file and pointer.
+// (pq_codes: every code needs 1024 pixels; ui_srgb_codes 256; pq_lattice: n³). The error names the
+// parameter and the valid choices; the caller adds file and pointer.
 Status check_stimulus(const StimulusInfo& info, const StimulusParams& params, int width,
                       int height);
 

@@ -250,6 +250,41 @@ TEST(Stimuli, UiOverlayIsPremultipliedAndBloomIsSmooth) {
   EXPECT_LT(max_step, peak * 0.25) << "no hard edges";
 }
 
+// Every 8-bit code once per 256 pixels, grey and opaque, whatever the image's shape: k / 255 for
+// pixel k (mod 256), so code 11 (0.0431, the first above sRGB's 0.04045 threshold) is pixel 11;
+// min_code and max_code select a range.
+TEST(Stimuli, UiSrgbCodesHoldEveryEightBitCodeOpaque) {
+  for (auto [w, h] : {std::pair{32, 32}, std::pair{256, 1}, std::pair{16, 17}}) {
+    const Image img = make("ui_srgb_codes", w, h);
+    std::multiset<int> codes;
+    for (size_t i = 0; i < img.pixel_count(); ++i) {
+      const double v = img.data[i * 4];
+      ASSERT_EQ(v * 255.0, std::round(v * 255.0)) << i;
+      EXPECT_EQ(static_cast<size_t>(std::round(v * 255.0)), i % 256) << i;
+      EXPECT_EQ(img.data[i * 4 + 1], v);
+      EXPECT_EQ(img.data[i * 4 + 2], v);
+      EXPECT_EQ(img.data[i * 4 + 3], 1.0);
+      if (i < 256) codes.insert(static_cast<int>(std::round(v * 255.0)));
+    }
+    EXPECT_EQ(codes.size(), 256u);
+  }
+  EXPECT_EQ(make("ui_srgb_codes", 32, 32).data[11 * 4], 11.0 / 255.0);
+  auto small = make_stimulus("ui_srgb_codes", 15, 17);
+  ASSERT_FALSE(small.ok());
+  EXPECT_NE(small.error().message.find("needs at least 256 pixels"), std::string::npos);
+  // The linear segment alone (codes 0-10, sRGB's threshold 0.04045 lies between 10 and 11).
+  const Image seg = make("ui_srgb_codes", 32, 32, {{"max_code", {10.0}}});
+  for (size_t i = 0; i < seg.pixel_count(); ++i) EXPECT_EQ(seg.data[i * 4], (i % 11) / 255.0);
+  EXPECT_LT(seg.data[10 * 4], 0.04045);
+  const Image dark = make("ui_srgb_codes", 8, 1, {{"min_code", {11.0}}, {"max_code", {14.0}}});
+  EXPECT_GT(dark.data[0], 0.04045);
+  EXPECT_EQ(dark.data[5 * 4], 12.0 / 255.0);
+  EXPECT_FALSE(
+      make_stimulus("ui_srgb_codes", 8, 1, {{"min_code", {12.0}}, {"max_code", {11.0}}}).ok());
+  EXPECT_FALSE(
+      make_stimulus("ui_srgb_codes", 3, 1, {{"min_code", {11.0}}, {"max_code", {14.0}}}).ok());
+}
+
 TEST(Stimuli, ParameterErrorsNameTheParameterAndTheChoices) {
   const auto* info = hdrc::find_stimulus("hue_sweep");
   ASSERT_NE(info, nullptr);
