@@ -327,8 +327,7 @@ const std::vector<StageInfo>& stages() {
        {{"stages/dither.comp"}},
        "UE 5.8's quantisation dither (PostProcessTonemap.usf: the end of TonemapCommonPS, 5.5's "
        "grain): the input is the Tonemap pass's output (ue58_tonemap's encoding: device code, "
-       "scRGB "
-       "for 5/6, nits for 7, linear for 8/9) plus the triangular grain x "
+       "scRGB for 5/6, nits for 7, linear for 8/9) plus the triangular grain x "
        "BackbufferQuantizationDithering (0 for devices 8/9); alpha passes through",
        {0, 1, 2, 3, 4, 5, 6, 7, 8, 9},
        true,
