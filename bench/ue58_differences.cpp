@@ -1,11 +1,12 @@
 // ue58_differences: the effect of each UE 5.5 -> 5.8 difference of docs/ue58-differences.md,
 // measured alone where the references allow it (bench/ue58_effects.h: two configurations of the
 // colour path that differ in one behaviour, on ramps, the ColorChecker and saturated hues at high
-// luminance), and the effects of the stages not implemented yet computed from their formulas.
-// Prints the markdown rows of docs/ue58-decisions.md F. A measurement, not a test; the test
+// luminance; for the UI composite's rows U1-U5 two composites of back-buffer pixels and UI texels,
+// ui_stimuli), and the rest computed from the formulas. Prints the markdown rows of
+// docs/ue58-decisions.md F. A measurement, not a test (bench/ is not in the test command); the test
 // bench/ue58_effects_test.cpp pins some of its numbers against hand computations.
 //
-// Usage: ue58_differences [ROW_PREFIX]   (e.g. "L7" for the shaper rows only)
+// Usage: ue58_differences [ROW_PREFIX]   (e.g. "L7" for the shaper rows only, "U" for the UI)
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -17,6 +18,7 @@
 #include "color/gamma_correction.h"
 #include "color/st2084.h"
 #include "core/shader_interface.h"
+#include "reference/ue/ui/composite.h"
 
 namespace {
 
@@ -180,13 +182,130 @@ std::vector<Row> rows() {
   return r;
 }
 
+// The UI composite's rows (docs/ue58-differences.md §1c): two composites of one back buffer and
+// UI texel that differ in one behaviour, A the 5.5 one, B the 5.8 one (measure_ui).
+struct UiRow {
+  std::string id;
+  std::string what;
+  UiConfig a;
+  UiConfig b;
+  int device = 3;
+  bool alpha0_colour = false;  // add the alpha-0 texels that hold a colour
+  // Which stimuli: all, only fully transparent UI texels (0, 0, 0, 0), or only alpha-0 texels
+  // holding a colour.
+  enum class Only { kAll, kTransparent, kAlpha0Colour } only = Only::kAll;
+};
+
+UiConfig ui55(KV cvars, KV settings = {}) {
+  UiConfig c;
+  c.ue55 = true;
+  c.cvars = std::move(cvars);
+  c.settings = std::move(settings);
+  return c;
+}
+UiConfig ui58(KV cvars, KV settings = {}) {
+  UiConfig c;
+  c.cvars = std::move(cvars);
+  c.settings = std::move(settings);
+  return c;
+}
+
+std::vector<UiRow> ui_rows() {
+  std::vector<UiRow> r;
+  const KV d3 = dev(3, 2), d5 = dev(5);
+  // Every difference together: 5.5 at its defaults (UILuminance 300, sRGBToLinear with its
+  // min-normal clamp, premultiplied composite) against 5.8 at its defaults.
+  r.push_back({"U all d3", "device 3 Rec.2020: 5.5 defaults vs 5.8 defaults (U1-U5 and L16)",
+               ui55(d3), ui58(d3)});
+  r.push_back({"U all d5", "device 5 scRGB: 5.5 defaults vs 5.8 defaults (U1-U5 and L16)", ui55(d5),
+               ui58(d5), 5});
+  // 5.5's sRGBToLinear min-normal clamp (L16) in its composite: decode(0) = 4.72e-6, x 300 nits,
+  // added under every texel whose colour is 0 (docs/ue55-decisions.md D3).
+  UiConfig noclamp = ui55(d3);
+  noclamp.tweak55 = [](hdrc::ref::ui::UiCompositeParams& p) {
+    p.min_normal_clamp = hdrc::ref::MinNormalClamp::kOff;
+  };
+  r.push_back({"L16 ui", "device 3, 5.5's composite: sRGBToLinear with vs without the clamp",
+               ui55(d3), noclamp});
+  // U1: UILuminance 300 (5.5's r.HDR.UI.Luminance; in 5.8 r.HDR.UI.Luminance.Mode 1 with 300) vs
+  // the paper white 203 (5.8's mode 0).
+  const KV lum300 = {{"r.HDR.UI.Luminance.Mode", 1}};
+  const KV cv300 = plus(d3, {{"r.HDR.UI.Luminance", 300}});
+  r.push_back({"U1", "device 3, 5.8's composite: UILuminance 300 vs the paper white 203",
+               ui58(cv300, lum300), ui58(d3)});
+  // U2: the UI EOTF, sRGB (r.HDR.UI.CompositeEOTF 1: 5.8's sRGBToLinear, no clamp) vs gamma 2.4.
+  r.push_back({"U2", "device 3, 5.8's composite at 203 nits: UI EOTF sRGB vs gamma 2.4",
+               ui58(d3, {{"r.HDR.UI.CompositeEOTF", 1}}), ui58(d3)});
+  r.push_back({"U1+U2", "device 3, 5.8's composite: (300 nits, sRGB) vs (203, gamma 2.4)",
+               ui58(cv300, plus(lum300, {{"r.HDR.UI.CompositeEOTF", 1}})), ui58(d3)});
+  // U3: translucent UI blended linearly (r.HDR.UI.CompositeBlend 1: 5.5's Reinhard, then
+  // lerp(scene, UI, a)) vs in a gamma space (0, gamma 2.4).
+  r.push_back({"U3",
+               "device 3, 5.8's composite: linear blend (Reinhard, lerp) vs gamma-space blend",
+               ui58(d3, {{"r.HDR.UI.CompositeBlend", 1}}), ui58(d3)});
+  // U5: 5.5's composite of the premultiplied code vs 5.8's un-premultiplied one, everything else
+  // the same: 5.5 at 300 nits with its sRGBToLinear's min-normal clamp taken off (5.8's, L16);
+  // 5.8 at 300 nits (mode 1), sRGB EOTF, linear blend.
+  UiConfig u5a = ui55(cv300);
+  u5a.tweak55 = noclamp.tweak55;
+  const UiConfig u5b =
+      ui58(cv300, plus(lum300, {{"r.HDR.UI.CompositeEOTF", 1}, {"r.HDR.UI.CompositeBlend", 1}}));
+  r.push_back({"U5",
+               "device 3: 5.5's composite of the premultiplied code vs 5.8's un-premultiply "
+               "(both 300 nits, sRGB without clamp, linear blend)",
+               u5a, u5b});
+  UiRow u5z{"U5 a0", "the same, UI texels of alpha 0 that hold a colour (5.5 adds it, 5.8 not)",
+            u5a,     u5b,
+            3,       true};
+  u5z.only = UiRow::Only::kAlpha0Colour;
+  r.push_back(u5z);
+  // U4: the scRGB back buffer's decode and encode alone (transparent UI, 5.5's clamp off so that
+  // its decode(0) adds nothing: L16): 80 nits either way.
+  UiConfig u4a = ui55(d5);
+  u4a.tweak55 = noclamp.tweak55;
+  UiRow u4{"U4", "device 5 scRGB, transparent UI: 5.5 (clamp off) vs 5.8 defaults (80 nits)", u4a,
+           ui58(d5), 5};
+  u4.only = UiRow::Only::kTransparent;
+  r.push_back(u4);
+  return r;
+}
+
+void print_ui_rows(const char* prefix) {
+  bool header = false;
+  for (const UiRow& row : ui_rows()) {
+    if (std::strncmp(row.id.c_str(), prefix, std::strlen(prefix)) != 0) continue;
+    if (!header) {
+      std::printf(
+          "\nUI composite (back buffer x UI texel; A = 5.5 behaviour, B = 5.8):\n\n"
+          "| # | Configuration | Unit | Max | p99 | ΔE_ITP max | Worst stimulus |\n"
+          "|---|---|---|---|---|---|---|\n");
+      header = true;
+    }
+    std::vector<UiStimulus> set;
+    for (UiStimulus& s : ui_stimuli(row.device, row.alpha0_colour)) {
+      const bool transparent = s.ui[3] == 0.0;
+      const bool empty = transparent && s.ui[0] == 0.0 && s.ui[1] == 0.0 && s.ui[2] == 0.0;
+      if (row.only == UiRow::Only::kTransparent && !empty) continue;
+      if (row.only == UiRow::Only::kAlpha0Colour && (!transparent || empty)) continue;
+      set.push_back(std::move(s));
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    const Effect e = measure_ui(row.a, row.b, set);
+    const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::printf("| %s | %s | %s | %.3g | %.3g | %.3g | %s |\n", row.id.c_str(), row.what.c_str(),
+                e.unit.c_str(), e.max, e.p99, e.de_itp, e.worst.c_str());
+    std::fprintf(stderr, "%s: %.2f s, %zu values\n", row.id.c_str(), sec, e.values);
+    std::fflush(stdout);
+  }
+}
+
 // PQ code difference of two nit levels (10-bit, full range).
 double pq_codes(double a, double b) {
   return std::fabs(pq_code(a) - pq_code(b));
 }
 
-// Effects of the stages not implemented (UI composite), from their formulas
-// (docs/ue58-differences.md U1, U2, L16).
+// Effects from the formulas (docs/ue58-differences.md U1, U2, L16): the opaque UI's nits by hand,
+// which the UI rows above measure through the composites.
 void by_hand() {
   std::printf("\nFrom the formulas:\n");
   // U1: UI white 300 -> 203 nits (r.HDR.UI.Luminance 300 in 5.5; paper white 203 in 5.8).
@@ -240,6 +359,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "%s: %.1f s, %zu values\n", row.id.c_str(), s, e.values);
     std::fflush(stdout);
   }
+  print_ui_rows(prefix);
   if (!*prefix) by_hand();
   return 0;
 }

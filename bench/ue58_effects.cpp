@@ -9,10 +9,12 @@
 #include "color/st2084.h"
 #include "core/pipeline.h"
 #include "reference/color/ue_log_shaper.h"
+#include "reference/reference_engine.h"
 #include "reference/ue/combine_luts.h"
 #include "reference/ue/lut_shaper.h"
 #include "reference/ue/ue58/ue58_combine_luts.h"
 #include "reference/ue/ue58/ue58_pipeline.h"
+#include "reference/ue/ue58/ue58_ui_composite.h"
 #include "runner/diff.h"
 #include "runner/stimuli.h"
 
@@ -22,19 +24,24 @@ namespace {
 
 constexpr double kLut55Max = 1.05;  // PostProcessTonemap.usf (5.5): ColorLookupTable's * 1.05
 
-ParamBlock resolve_config(const Config& c, std::string* degenerate) {
-  const Pipeline& pl = c.ue55 ? default_pipeline() : ref::ue58::ue58_pipeline();
+using KV = std::vector<std::pair<std::string, double>>;
+
+// A case of `stage` of UE 5.5's or 5.8's pipeline with these settings and cvars, resolved by the
+// pipeline's own host derivation.
+ParamBlock resolve_case(bool ue55, const char* stage, const KV& settings, const KV& cvars,
+                        std::string* degenerate) {
+  const Pipeline& pl = ue55 ? default_pipeline() : ref::ue58::ue58_pipeline();
   Case k;
-  k.stage = find_stage(pl, c.ue55 ? "combine_luts" : "ue58_combine_luts");
+  k.stage = find_stage(pl, stage);
   k.settings = pl.new_settings();
-  for (const auto& [name, v] : c.settings) {
+  for (const auto& [name, v] : settings) {
     const auto st = k.settings.set(name, {v, 0, 0, 0}, 1);
     if (!st.ok()) {
       std::fprintf(stderr, "setting %s: %s\n", name.c_str(), st.error().to_string().c_str());
       std::abort();
     }
   }
-  for (const auto& [name, v] : c.cvars) {
+  for (const auto& [name, v] : cvars) {
     const auto st = k.cvars.set(name, v);
     if (!st.ok()) {
       std::fprintf(stderr, "cvar %s: %s\n", name.c_str(), st.error().to_string().c_str());
@@ -47,7 +54,12 @@ ParamBlock resolve_config(const Config& c, std::string* degenerate) {
     std::abort();
   }
   *degenerate = r->degenerate;
-  ParamBlock p = r->params;
+  return r->params;
+}
+
+ParamBlock resolve_config(const Config& c, std::string* degenerate) {
+  ParamBlock p = resolve_case(c.ue55, c.ue55 ? "combine_luts" : "ue58_combine_luts", c.settings,
+                              c.cvars, degenerate);
   if (c.tweak) c.tweak(p);
   return p;
 }
@@ -248,6 +260,126 @@ Effect measure(Path& a, Path& b, const std::vector<Stimulus>& set, bool same_dis
       } else {
         d = std::fabs(pq_code(na[c]) - pq_code(nb[c]));
       }
+      diffs.push_back(d);
+      if (d > e.max || e.worst.empty()) {
+        e.max = std::max(e.max, d);
+        e.worst = s.name;
+      }
+    }
+    const double de = delta_e_itp(ictcp_from_rec2020_nits(na), ictcp_from_rec2020_nits(nb));
+    if (de > e.de_itp) e.de_itp = de;
+  }
+  e.values = diffs.size();
+  std::sort(diffs.begin(), diffs.end());
+  if (!diffs.empty()) e.p99 = diffs[static_cast<size_t>(std::ceil(0.99 * diffs.size())) - 1];
+  return e;
+}
+
+// ---- The UI composite ---------------------------------------------------------------------
+
+namespace {
+
+// One side of a UI comparison, resolved: the composite of its UE version with its parameters.
+class UiSide {
+ public:
+  explicit UiSide(const UiConfig& c) : ue55_(c.ue55) {
+    std::string degenerate;
+    const ParamBlock p = resolve_case(c.ue55, c.ue55 ? "ui_composite" : "ue58_ui_composite",
+                                      c.settings, c.cvars, &degenerate);
+    if (c.ue55) {
+      p55_ = ref::ui_composite_params(p);
+      if (c.tweak55) c.tweak55(p55_);
+      check(ref::ui::validate(p55_));
+    } else {
+      p58_ = ref::ue58::ui_composite58_params(p);
+      check(ref::ue58::validate(p58_));
+    }
+  }
+  // The back buffer after the UI pass.
+  ref::ui::Vec4 composite(const ref::ui::Vec4& scene, const ref::ui::Vec4& ui) const {
+    return ue55_ ? ref::ui::composite_pixel(scene, ui, p55_)
+                 : ref::ue58::composite_pixel58(scene, ui, p58_);
+  }
+  int device() const { return ue55_ ? p55_.output_device : p58_.common.output_device; }
+
+ private:
+  static void check(const Status& st) {
+    if (st.ok()) return;
+    std::fprintf(stderr, "UI composite parameters: %s\n", st.error().to_string().c_str());
+    std::abort();
+  }
+  bool ue55_;
+  ref::ui::UiCompositeParams p55_;
+  ref::ue58::UiComposite58Params p58_;
+};
+
+// The back-buffer code of Rec.2020 nits for `device`'s encoding (the composite's output encode,
+// ui::encode_output: PQ, or scRGB through Rec2020→sRGB / 80).
+ref::ui::Vec4 back_buffer(const Vec3& nits, int device) {
+  const Vec3 v = ref::ui::encode_output(nits, ref::ui::back_buffer_encoding(device));
+  return {v[0], v[1], v[2], 1.0};
+}
+
+}  // namespace
+
+std::vector<UiStimulus> ui_stimuli(int device, bool alpha0_colour) {
+  struct Scene {
+    std::string name;
+    Vec3 nits;
+  };
+  std::vector<Scene> scenes;
+  for (const double n : {0.0, 0.1, 1.0, 10.0, 100.0, 203.0, 1000.0, 10000.0}) {
+    char name[48];
+    std::snprintf(name, sizeof name, "%g nits", n);
+    scenes.push_back({name, {n, n, n}});
+  }
+  scenes.push_back({"(1000, 50, 5) nits", {1000, 50, 5}});
+  scenes.push_back({"(5, 50, 1000) nits", {5, 50, 1000}});
+  struct Colour {
+    std::string name;
+    Vec3 rgb;
+  };
+  std::vector<Colour> colours;
+  for (int k = 0; k <= 255; ++k)
+    colours.push_back({std::to_string(k) + "/255", {k / 255.0, k / 255.0, k / 255.0}});
+  colours.push_back({"red", {1, 0, 0}});
+  colours.push_back({"green", {0, 1, 0}});
+  colours.push_back({"blue", {0, 0, 1}});
+  colours.push_back({"yellow", {1, 1, 0}});
+  colours.push_back({"cyan", {0, 1, 1}});
+  colours.push_back({"magenta", {1, 0, 1}});
+  std::vector<UiStimulus> out;
+  for (const Scene& s : scenes) {
+    const ref::ui::Vec4 scene = back_buffer(s.nits, device);
+    for (const Colour& c : colours) {
+      for (const double a : {0.0, 0.1, 0.25, 0.5, 0.75, 0.9, 1.0}) {
+        char name[96];
+        std::snprintf(name, sizeof name, "ui %s a%g over %s", c.name.c_str(), a, s.name.c_str());
+        out.push_back({name, scene, {c.rgb[0] * a, c.rgb[1] * a, c.rgb[2] * a, a}});
+      }
+      if (alpha0_colour)
+        out.push_back({"ui " + c.name + " at a0 (not premultiplied) over " + s.name,
+                       scene,
+                       {c.rgb[0], c.rgb[1], c.rgb[2], 0.0}});
+    }
+  }
+  return out;
+}
+
+Effect measure_ui(const UiConfig& a, const UiConfig& b, const std::vector<UiStimulus>& set) {
+  const UiSide sa(a), sb(b);
+  Effect e;
+  e.unit = "10-bit PQ codes";
+  std::vector<double> diffs;
+  const auto nits = [](const UiSide& side, const ref::ui::Vec4& out) {
+    return ref::ui::compute_hdr_scene_color({out[0], out[1], out[2]},
+                                            ref::ui::back_buffer_encoding(side.device()));
+  };
+  for (const UiStimulus& s : set) {
+    const Vec3 na = nits(sa, sa.composite(s.scene, s.ui));
+    const Vec3 nb = nits(sb, sb.composite(s.scene, s.ui));
+    for (int c = 0; c < 3; ++c) {
+      const double d = std::fabs(pq_code(na[c]) - pq_code(nb[c]));
       diffs.push_back(d);
       if (d > e.max || e.worst.empty()) {
         e.max = std::max(e.max, d);

@@ -14,9 +14,10 @@
 //   to nits in BT.2020.
 // Only the LUT texels a stimulus reads are baked (each as bake_lut / bake_outer_lut stores it),
 // so a configuration costs a few thousand texel evaluations, not N^3.
-// Not on this path: the Tonemap pass's other effects (bloom, vignette, grain, dither), the UI
-// composite, and 5.5's ST2084ToScRGB conversion of devices 5/6 (its [1e-4, peak] nit clamp; the
-// LUT stage's own encoding is used).
+// Not on this path: the Tonemap pass's other effects (bloom, vignette, grain, dither) and 5.5's
+// ST2084ToScRGB conversion of devices 5/6 (its [1e-4, peak] nit clamp; the LUT stage's own
+// encoding is used). The UI composite is compared on its own (UiConfig, measure_ui below): it
+// takes the back buffer, not the scene.
 #pragma once
 
 #include <functional>
@@ -27,6 +28,7 @@
 
 #include "color/vec.h"
 #include "core/shader_interface.h"
+#include "reference/ue/ui/composite.h"
 
 namespace hdrc::ue58fx {
 
@@ -92,5 +94,39 @@ Effect measure(Path& a, Path& b, const std::vector<Stimulus>& set, bool same_dis
 
 // 1023 * PQ(nits) (SMPTE ST 2084 inverse EOTF).
 double pq_code(double nits);
+
+// The HDR UI composite (docs/ue58-differences.md §1c U1-U5): one back-buffer pixel and one UI
+// texel through UE 5.5's composite (reference/ue/ui/composite.h composite_pixel) or UE 5.8's
+// (reference/ue/ue58/ue58_ui_composite.h composite_pixel58), each side a case of its pipeline's
+// UI stage ("ui_composite", "ue58_ui_composite") resolved by that pipeline's host derivation,
+// then optionally edited (`tweak55`: a field of 5.5's composite parameters that no 5.5 cvar sets,
+// e.g. the min-normal clamp of its sRGBToLinear, to isolate one 5.8 behaviour).
+struct UiConfig {
+  bool ue55 = false;
+  std::vector<std::pair<std::string, double>> settings;
+  std::vector<std::pair<std::string, double>> cvars;
+  std::function<void(ref::ui::UiCompositeParams&)> tweak55;
+};
+
+// A back-buffer pixel (the device's code: PQ signal in Rec.2020 for devices 3/4, scRGB for 5/6)
+// and a UI texel as Slate writes it (premultiplied, the colour in the UI's EOTF, linear alpha).
+struct UiStimulus {
+  std::string name;  // "ui 128/255 a0.5 over 100 nits"
+  ref::ui::Vec4 scene;
+  ref::ui::Vec4 ui;
+};
+
+// The UI stimulus set for `device` (3: PQ back buffer, 5: scRGB): back buffers grey at 0, 0.1, 1,
+// 10, 100, 203, 1000 and 10 000 nits and two colours (Rec.2020 (1000, 50, 5) and (5, 50, 1000)
+// nits); UI colours: the 256 greys k/255 and the six primaries and secondaries (sRGB-coded);
+// alphas 0, 0.1, 0.25, 0.5, 0.75, 0.9 and 1, premultiplied (rgb · a); and with `alpha0_colour`,
+// each UI colour also at alpha 0 holding its colour (a texel premultiplication says is empty).
+std::vector<UiStimulus> ui_stimuli(int device, bool alpha0_colour = false);
+
+// Compares the two composites on `set`: per channel 1023 · |PQ(nits A) − PQ(nits B)| with the
+// composed back buffer decoded to BT.2020 nits (ComputeHDRSceneColor: ST2084ToLinear, or scRGB ·
+// 80 through sRGB→Rec2020), NaN and negatives black as the diff; ΔE_ITP (BT.2124) per pixel.
+// Alpha (5.8 writes the UI's, 5.5 writes 1) is not compared.
+Effect measure_ui(const UiConfig& a, const UiConfig& b, const std::vector<UiStimulus>& set);
 
 }  // namespace hdrc::ue58fx

@@ -160,4 +160,40 @@ TEST(Ue58Effects, UiWhiteByHand) {
   EXPECT_NEAR(hand, 42.12, 0.005);  // docs/ue58-decisions.md F, U1
 }
 
+// U3 and U5 through the two composites (measure_ui) at their worst stimulus, UI white at alpha 0.1
+// (premultiplied: 0.1, 0.1, 0.1, 0.1) over a black PQ back buffer (device 3), against the nits
+// computed by hand from CompositeUIPixelShader.usf's formulas (grey, so the sRGB->Rec2020 matrix
+// drops out): U3, 5.8 at 203 nits: linear blend lerp(0, 203, 0.1) = 20.3 nits, gamma-space blend
+// (0.1 (203/10000)^(1/2.4))^2.4 10000 = 203 0.1^2.4 nits (UICompositeBlendInvGamma is the float
+// 1.f/2.4f, 4e-8 from 1/2.4); U5, at 300 nits with sRGB: 5.5 decodes the premultiplied code,
+// sRGBToLinear(0.1) 300, 5.8 the un-premultiplied one, 0.1 sRGBToLinear(1) 300 = 30 nits.
+TEST(Ue58Effects, UiBlendSpaceAndUnpremultiplyByHand) {
+  const std::vector<UiStimulus> one = {
+      {"ui white a0.1 over black", {pq(0), pq(0), pq(0), 1.0}, {0.1, 0.1, 0.1, 0.1}}};
+  const std::vector<std::pair<std::string, double>> d3 = {{"r.HDR.Display.OutputDevice", 3},
+                                                          {"r.HDR.Display.ColorGamut", 2},
+                                                          {"r.HDR.EnableHDROutput", 1}};
+  UiConfig gamma, linear;
+  gamma.cvars = linear.cvars = d3;
+  linear.settings = {{"r.HDR.UI.CompositeBlend", 1}};
+  const double u3 = 1023 * (pq(20.3) - pq(203 * std::pow(0.1, 2.4)));
+  EXPECT_NEAR(measure_ui(linear, gamma, one).max, u3, 1e-3);
+  EXPECT_NEAR(u3, 224, 0.5);  // docs/ue58-decisions.md F, U3
+  auto cv300 = d3;
+  cv300.push_back({"r.HDR.UI.Luminance", 300});
+  UiConfig u55, u58;
+  u55.ue55 = true;
+  u55.cvars = u58.cvars = cv300;
+  u55.tweak55 = [](hdrc::ref::ui::UiCompositeParams& p) {
+    p.min_normal_clamp = hdrc::ref::MinNormalClamp::kOff;
+  };
+  u58.settings = {{"r.HDR.UI.Luminance.Mode", 1},
+                  {"r.HDR.UI.CompositeEOTF", 1},
+                  {"r.HDR.UI.CompositeBlend", 1}};
+  const double srgb01 = std::pow((0.1 + 0.055) / 1.055, 2.4);  // sRGBToLinear(0.1), 0.1 > 0.04045
+  const double u5 = 1023 * (pq(30) - pq(srgb01 * 300));
+  EXPECT_NEAR(measure_ui(u55, u58, one).max, u5, 1e-3);
+  EXPECT_NEAR(u5, 184, 0.5);  // docs/ue58-decisions.md F, U5
+}
+
 }  // namespace

@@ -21,7 +21,9 @@
 // (tonemap_variant.glsl, tonemap_effects.glsl: 5.5's tonemap_vignette, which 5.8 does not call).
 // The UI composite's (CompositeUIPixelShader.usf) level, mode and colour-deficiency fields are
 // 5.5's; ui_luminance holds 5.8's UILuminance as resolved (r.HDR.UI.Luminance.Mode: paper white
-// or the cvar, U1).
+// or the cvar, U1). The dither stage (ue58_dither, 5.5's shader stages/dither.comp) reads 5.5's
+// dither_amount (BackbufferQuantizationDithering) and grain_random (GrainRandomFull), which 5.8's
+// AddTonemapPass sets by 5.5's rules (docs/ue58-decisions.md I).
 #define HDRC_UE58_SHARED_PARAMS(Y) \
   Y(width)                         \
   Y(height)                        \
@@ -97,7 +99,9 @@
   Y(cvd_type)                      \
   Y(cvd_severity)                  \
   Y(cvd_correct)                   \
-  Y(cvd_show_correction)
+  Y(cvd_show_correction)           \
+  Y(dither_amount)                 \
+  Y(grain_random)
 
 // The ACES 2.0 parameter block (reference/ue/aces2/aces2.h ParamsT: init_ODTParams' values, 76
 // scalars = 19 vec4 in ParamsT's std430 order) and the three host tables UE binds as R32F

@@ -502,6 +502,8 @@ TEST(CaseLoader, TheDefaultSuiteLoads) {
                                                   {"unity_urp/shadows_midtones_highlights", 10},
                                                   {"unity_urp/split_toning", 10},
                                                   {"ue58/devices", 200},
+                                                  {"ue58/dither", 10},
+                                                  {"ue58/dither_8bit", 2},
                                                   {"ue58/grading", 9},
                                                   {"ue58/hdr_display", 24},
                                                   {"ue58/isolate/ui_srgb_linear_segment", 1},
@@ -517,7 +519,7 @@ TEST(CaseLoader, TheDefaultSuiteLoads) {
                                                   {"visualize/visualize_hdr", 30},
                                                   {"visualize/working_color_space", 21}};
   EXPECT_EQ(per_file, expected);
-  EXPECT_EQ(loaded.cases.size(), 1813u);
+  EXPECT_EQ(loaded.cases.size(), 1825u);
   for (const auto& c : loaded.cases) EXPECT_NE(c.tolerance.source, "default") << c.id;
 }
 

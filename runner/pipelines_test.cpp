@@ -52,7 +52,8 @@ TEST(Pipelines, StageNamesAreUniqueAndOwnedAndTheirShadersExist) {
           << s.name;
       // UE 5.5's stages are its own enumerators; UE 5.8's are kOther or the UE family's
       // enumerator whose loader and engine path they share (ue58_ui_composite: kUiComposite,
-      // docs/ue58-decisions.md H2); every other pipeline's are kOther.
+      // docs/ue58-decisions.md H2; ue58_dither: kDither, whose runner judges the grain, I);
+      // every other pipeline's are kOther.
       if (p->name == "ue55") {
         EXPECT_NE(s.id, hdrc::StageId::kOther) << s.name;
       } else if (p->name != "ue58") {

@@ -17,6 +17,7 @@
 #include "reference/ue/aces/aces_params.h"
 #include "reference/ue/aces2/aces2.h"
 #include "reference/ue/cpp/resolve.h"
+#include "reference/ue/tonemap.h"
 #include "reference/ue/ue55/ue55_pipeline.h"
 #include "reference/ue/ue58/ue58_combine_luts.h"
 #include "reference/ue/ue58/ue58_tonemap.h"
@@ -228,8 +229,10 @@ Result<Resolution> resolve58(const Case& c, int width, int height) {
 
   // ACES 2.0: forward at OutputMaxLuminance with the limiting primaries (GetTransformResources),
   // the SDR set at 100 nits with the working colour space (GetTransformResourcesSDR).
-  // The UI composite bakes no LUT: its cases carry no ACES tables (nor their degenerate peaks).
-  const bool bakes_luts = c.stage == nullptr || c.stage->id != StageId::kUiComposite;
+  // The UI composite and the dither bake no LUT: their cases carry no ACES tables (nor their
+  // degenerate peaks).
+  const bool bakes_luts = c.stage == nullptr ||
+                          (c.stage->id != StageId::kUiComposite && c.stage->id != StageId::kDither);
   if (bakes_luts && p.ue58_aces_version > 1 && p.ue58_inner_needed) {
     if (!(p.output_max_luminance >= 100.0)) {
       r.degenerate = "ACES 2.0 at OutputMaxLuminance " + std::to_string(p.output_max_luminance) +
@@ -242,8 +245,15 @@ Result<Resolution> resolve58(const Case& c, int width, int height) {
     pack_aces2_set(sdr, aces2::make_tables(sdr, working), true, &p);
   }
   // The block holds only what a ue58 case carries (param_carried_by): UE 5.5's fields that 5.5's
-  // derivation set and no ue58 shader reads (Tonemap, UI, dither, the user-LUT blend) go back to
+  // derivation set and no ue58 shader reads (5.5's Tonemap and the user-LUT blend) go back to
   // their defaults, so params.json and the engines see the same block.
+  // The dither (AddTonemapPass, 5.8 as 5.5; docs/ue58-decisions.md I1):
+  // BackbufferQuantizationDithering and GrainRandomFull are 5.5's resolution above, unchanged: 0
+  // for devices 8/9 (HDR_LinearNoToneCurve, HDR_LinearWithToneCurve), 1/(2^b - 1) under
+  // r.BackbufferQuantizationDitheringOverride b > 0, else 1/1023, or 1/255 for an 8-bit back buffer
+  // (r.DefaultBackBufferPixelFormat 0, still default 4 in 5.8's SceneTextures.cpp); the grain
+  // offset (Halton(i, 2), Halton(i, 3)) of i = OutputFrameIndex mod 8 (GrainRandomFromFrame,
+  // PostProcessTonemap.h).
   // The UI composite (SlateRHIRenderer.cpp: DrawWindowViewport_RenderThread): UILuminance is the
   // paper white unless r.HDR.UI.Luminance.Mode is 1, then r.HDR.UI.Luminance, whose 5.8 default is
   // 203 (the shared cvar table holds 5.5's 300: an unset cvar reads 203 here;
@@ -308,6 +318,25 @@ const std::vector<StageInfo>& stages() {
        false,
        "",
        true},
+      // The Tonemap pass's last step, judged on its own as UE 5.5's (docs/ue58-decisions.md I):
+      // 5.8's TonemapCommonPS adds 5.5's triangular grain to OutColor after ColorLookupTable x
+      // LUTMax and device 7's ST2084ToLinear, so the input is what ue58_tonemap writes. One
+      // shader: 5.5's stages/dither.comp (lib/dither.glsl), with 5.8's host values.
+      {StageId::kDither,
+       "ue58_dither",
+       {{"stages/dither.comp"}},
+       "UE 5.8's quantisation dither (PostProcessTonemap.usf: the end of TonemapCommonPS, 5.5's "
+       "grain): the input is the Tonemap pass's output (ue58_tonemap's encoding: device code, "
+       "scRGB for 5/6, nits for 7, linear for 8/9) plus the triangular grain x "
+       "BackbufferQuantizationDithering (0 for devices 8/9); alpha passes through",
+       {0, 1, 2, 3, 4, 5, 6, 7, 8, 9},
+       true,
+       "ue58",
+       0,
+       false,
+       1,
+       false,
+       "docs/spec/ue58.md#2-quantisation-dither-postprocesstonemapusf-58"},
       {StageId::kUiComposite,
        "ue58_ui_composite",
        {{"ue58/stages/ui_composite.comp"}},
@@ -341,7 +370,8 @@ OutputEncoding encoding(const StageInfo& stage, const ParamBlock& p) {
   // The UI composite writes the back buffer as UE 5.5's does (PQ Rec.2020 or scRGB).
   if (stage.id == StageId::kUiComposite) return ue55_pipeline().output_encoding(stage, p);
   using T = OutputEncoding::Transfer;
-  const bool tonemap = stage.name == "ue58_tonemap";
+  // The dither adds its grain to what the Tonemap pass writes: the same encoding.
+  const bool tonemap = stage.name == "ue58_tonemap" || stage.id == StageId::kDither;
   OutputEncoding e;
   e.stage = StageId::kOther;
   e.device = p.output_device;
@@ -422,6 +452,8 @@ Result<Image> ui_reference(const ResolvedCase& c) {
 
 Result<Image> reference(const ResolvedCase& c, bool) {
   if (c.spec.stage->id == StageId::kUiComposite) return ui_reference(c);
+  // UE 5.5's dither, written once (reference/ue/tonemap.cpp dither_image), on 5.8's values.
+  if (c.spec.stage->id == StageId::kDither) return dither_image(c.params, c.input);
   const ParamBlock& p = c.params;
   const CombineLuts58 luts(p);  // one evaluator: the device ranges reuse its inner texels
   if (c.spec.stage && c.spec.stage->name == "ue58_tonemap") {

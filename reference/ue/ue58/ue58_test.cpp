@@ -368,4 +368,91 @@ TEST(Ue58DeviceRanges, OuterTexelsAdmitBothNeighbouringCodes) {
   }
 }
 
+// ---- The dither (docs/ue58-decisions.md I, docs/spec/ue58.md §2) ----------------------------
+
+// A case of stage ue58_dither with `settings` and `cvars`, resolved by 5.8's host derivation.
+hdrc::ResolvedCase dither_case(std::initializer_list<std::pair<const char*, double>> settings,
+                               std::initializer_list<std::pair<const char*, double>> cvars,
+                               const hdrc::Image& input) {
+  hdrc::ResolvedCase rc;
+  rc.spec.stage = hdrc::find_stage(pipeline(), "ue58_dither");
+  EXPECT_NE(rc.spec.stage, nullptr);
+  rc.spec.settings = pipeline().new_settings();
+  for (const auto& [k, v] : settings) EXPECT_TRUE(rc.spec.settings.set(k, {v, 0, 0, 0}, 1).ok());
+  for (const auto& [k, v] : cvars) EXPECT_TRUE(rc.spec.cvars.set(k, v).ok());
+  auto r = pipeline().resolve(rc.spec, input.width, input.height);
+  EXPECT_TRUE(r.ok());
+  rc.params = r->params;
+  rc.degenerate = r->degenerate;
+  rc.input = input;
+  return rc;
+}
+
+// AddTonemapPass (5.8 = 5.5): BackbufferQuantizationDithering is 0 for HDR_LinearNoToneCurve (8)
+// and HDR_LinearWithToneCurve (9), 1/(2^b - 1) under r.BackbufferQuantizationDitheringOverride b,
+// else 1/1023, or 1/255 for an 8-bit back buffer (r.DefaultBackBufferPixelFormat 0, default 4 in
+// 5.8's SceneTextures.cpp); GrainRandomFull = (Halton(i, 2), Halton(i, 3)) for i = the output frame
+// index mod 8 (GrainRandomFromFrame). The ue58 block carries both (its other 5.5 fields reset).
+TEST(Ue58Dither, HostAmountAndGrainOffsetOfAddTonemapPass) {
+  const hdrc::Image img(8, 2);
+  struct Row {
+    int device, override_bits, format;
+    double amount;
+  };
+  for (const Row& row :
+       {Row{0, 0, 4, 1.0 / 1023}, Row{0, 0, 0, 1.0 / 255}, Row{1, 0, 0, 1.0 / 255},
+        Row{2, 0, 0, 1.0 / 255}, Row{3, 0, 0, 1.0 / 1023}, Row{5, 0, 0, 1.0 / 1023},
+        Row{7, 8, 4, 1.0 / 255}, Row{5, 12, 4, 1.0 / 4095}, Row{8, 0, 0, 0.0}, Row{9, 8, 0, 0.0}}) {
+    SCOPED_TRACE("device " + std::to_string(row.device) + " bits " +
+                 std::to_string(row.override_bits) + " format " + std::to_string(row.format));
+    const auto rc = dither_case({},
+                                {{"r.HDR.Display.OutputDevice", row.device},
+                                 {"r.BackbufferQuantizationDitheringOverride", row.override_bits},
+                                 {"r.DefaultBackBufferPixelFormat", row.format}},
+                                img);
+    EXPECT_EQ(rc.degenerate, "");
+    EXPECT_DOUBLE_EQ(rc.params.dither_amount, row.amount);
+  }
+  // Frame 11: i = 3, Halton(3, 2) = 0.11 (binary) = 0.75, Halton(3, 3) = 0.01 (ternary) = 1/9.
+  const auto f11 = dither_case({{"FrameIndex", 11}}, {}, img);
+  EXPECT_DOUBLE_EQ(f11.params.grain_random[0], 0.75);
+  EXPECT_DOUBLE_EQ(f11.params.grain_random[1], 1.0 / 9.0);
+  const auto f0 = dither_case({{"FrameIndex", 0}}, {}, img);
+  EXPECT_EQ(f0.params.grain_random[0], 0.0);
+  EXPECT_EQ(f0.params.grain_random[1], 0.0);
+}
+
+// The stage's reference adds the triangular grain of UE's hash to its input, with 5.8's values:
+// each pixel by hand from GrainFromUV (float32: frac(sin(u + v 543.31) 493013)), the sign form of
+// TonemapCommonPS and the amount; device 9 (amount 0) returns the input unchanged.
+TEST(Ue58Dither, ReferenceAddsTheHashsTriangularGrain) {
+  hdrc::Image flat(16, 4);
+  for (double& v : flat.data) v = 0.5;
+  const auto rc = dither_case(
+      {{"FrameIndex", 11}},
+      {{"r.HDR.Display.OutputDevice", 3}, {"r.BackbufferQuantizationDitheringOverride", 8}}, flat);
+  auto out = pipeline().reference(rc, false);
+  ASSERT_TRUE(out.ok()) << out.error().to_string();
+  int nonzero = 0;
+  for (int y = 0; y < flat.height; ++y)
+    for (int x = 0; x < flat.width; ++x) {
+      const float u = (static_cast<float>(x) + 0.5f) * (1.0f / 16.0f) + 0.75f;
+      const float v =
+          (static_cast<float>(y) + 0.5f) * (1.0f / 4.0f) + static_cast<float>(1.0 / 9.0);
+      const float a = u + v * 543.31f;
+      const float h = std::sin(a) * 493013.0f;
+      const double n = 2.0 * (h - std::floor(h)) - 1.0;
+      const double s = n > 0 ? 1.0 : (n < 0 ? -1.0 : 0.0);
+      const double t = s - s * std::sqrt(std::max(0.0, 1.0 - std::fabs(n)));
+      nonzero += t != 0.0;
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(out->px(x, y)[c], 0.5 + t / 255.0, 1e-15);
+      EXPECT_EQ(out->px(x, y)[3], 0.5);
+    }
+  EXPECT_GT(nonzero, 60);
+  const auto d9 = dither_case({{"FrameIndex", 11}}, {{"r.HDR.Display.OutputDevice", 9}}, flat);
+  auto same = pipeline().reference(d9, false);
+  ASSERT_TRUE(same.ok());
+  EXPECT_EQ(same->data, flat.data);
+}
+
 }  // namespace
