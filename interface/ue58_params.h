@@ -21,7 +21,8 @@
 // (tonemap_variant.glsl, tonemap_effects.glsl: 5.5's tonemap_vignette, which 5.8 does not call).
 // The UI composite's (CompositeUIPixelShader.usf) level, mode and colour-deficiency fields are
 // 5.5's; ui_luminance holds 5.8's UILuminance as resolved (r.HDR.UI.Luminance.Mode: paper white
-// or the cvar, U1).
+// or the cvar, U1). VisualizeHDR (ue58_visualize_hdr, 5.5's pass: docs/ue58-differences.md §1c′)
+// reads pre_exposure (View.OneOverPreExposure), visualize_debug_type, exposure and the film fields.
 #define HDRC_UE58_SHARED_PARAMS(Y) \
   Y(width)                         \
   Y(height)                        \
@@ -85,6 +86,8 @@
   Y(aux1_width)                    \
   Y(aux1_height)                   \
   Y(exposure)                      \
+  Y(pre_exposure)                  \
+  Y(visualize_debug_type)          \
   Y(sharpen_div6)                  \
   Y(scene_color_tint)              \
   Y(bloom_dirt_tint)               \

@@ -133,7 +133,7 @@ const BadCase kBadCases[] = {
      "defined in CASES/defaults.json: /tolerances); valid choices: combine_luts, "
      "combine_luts_storage, combine_luts_storage_linear, dither, "
      "linear_dev7, linear_dev8, operators, pq_grading, shaper_log, shaper_pq, tonemap, "
-     "ue58_combine_luts, ue58_tonemap, ue58_ui_composite, ui_composite, "
+     "ue58_combine_luts, ue58_tonemap, ue58_ui_composite, ue58_visualize_hdr, ui_composite, "
      "unity_urp_grading, unity_urp_lut, visualize_hdr"},
     {"unknown_preset",
      R"({"stage": "shaper", "preset": "hdr01", "input": {"stimulus": "log_ramp"}})",

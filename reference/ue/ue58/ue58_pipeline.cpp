@@ -14,6 +14,7 @@
 #include "core/cvars.h"
 #include "core/settings.h"
 #include "reference/color/ue_matrices.h"
+#include "reference/reference_engine.h"
 #include "reference/ue/aces/aces_params.h"
 #include "reference/ue/aces2/aces2.h"
 #include "reference/ue/cpp/resolve.h"
@@ -324,6 +325,28 @@ const std::vector<StageInfo>& stages() {
        1,
        false,
        "docs/spec/ue58.md#1-hdr-ui-composite-compositeuipixelshaderusf-58"},
+      // VisualizeHDR is UE 5.5's pass in 5.8 (docs/ue58-differences.md §1c′, docs/ue58-decisions.md
+      // K): UE 5.5's two passes (gpu/shaders/stages/visualize_*.comp) over 5.8's tonemapped scene,
+      // which the Tonemap pass leaves in the scratch buffer as 5.5's visualize_hdr stage does.
+      {StageId::kOther,
+       "ue58_visualize_hdr",
+       {{"ue58/stages/combine_luts_inner.comp", Dispatch::kPixels, true},
+        {"ue58/stages/combine_luts.comp", Dispatch::kLutTexels},
+        {"ue58/stages/tonemap.comp", Dispatch::kPixels, true},
+        {"stages/visualize_histogram.comp", Dispatch::kOneGroup},
+        {"stages/visualize_hdr.comp"}},
+       "UE 5.8 VisualizeHDR (PostProcessVisualizeHDR.usf: MainPS, UE 5.5's pass on desktop): the "
+       "input is the HDR scene colour; the tonemapped scene is ue58_tonemap's (without bloom), "
+       "the 64-bucket histogram and the average luminance come from the reference pipeline; the "
+       "printed numbers go to results.json",
+       {0, 1, 2, 3, 4, 5, 6, 7, 8, 9},
+       true,
+       "ue58",
+       0,
+       false,
+       1,
+       false,
+       "docs/spec/ue58.md#2-visualizehdr-postprocessvisualizehdrusf-58"},
   };
   return table;
 }
@@ -341,7 +364,8 @@ OutputEncoding encoding(const StageInfo& stage, const ParamBlock& p) {
   // The UI composite writes the back buffer as UE 5.5's does (PQ Rec.2020 or scRGB).
   if (stage.id == StageId::kUiComposite) return ue55_pipeline().output_encoding(stage, p);
   using T = OutputEncoding::Transfer;
-  const bool tonemap = stage.name == "ue58_tonemap";
+  // VisualizeHDR writes the tonemapped scene's encoding (its panel is drawn in that signal).
+  const bool tonemap = stage.name == "ue58_tonemap" || stage.name == "ue58_visualize_hdr";
   OutputEncoding e;
   e.stage = StageId::kOther;
   e.device = p.output_device;
@@ -434,6 +458,18 @@ Result<Image> reference(const ResolvedCase& c, bool) {
     const BakedLut device = baked_outer_lut_device(luts, p, c.device);
     return tonemap_image(p, c.input, bloom, dirt, device, &device, c.device.sub_texel_bits);
   }
+  if (c.spec.stage && c.spec.stage->name == "ue58_visualize_hdr") {
+    // UE 5.5's VisualizeHDR (visualize_hdr_over) over 5.8's Tonemap pass without bloom
+    // (AddVisualizeHDRPass reads the tonemapped SceneColor and SceneColorBeforeTonemap); with
+    // device allowances, the pass's ranges (G9) feed VisualizeHDR's (docs/ue58-decisions.md K).
+    if (!c.device_allowances)
+      return visualize_hdr_over(
+          p, c.input, tonemap_image(p, c.input, nullptr, nullptr, baked_outer_lut(luts, p)), false);
+    const BakedLut device = baked_outer_lut_device(luts, p, c.device);
+    const Image tm =
+        tonemap_image(p, c.input, nullptr, nullptr, device, &device, c.device.sub_texel_bits);
+    return visualize_hdr_over(p, c.input, tm, true);
+  }
   const std::vector<Vec3> lut = bake_outer_lut(luts, p);
   const int n = p.lut_size;
   Image out(n * n, n);
@@ -485,10 +521,11 @@ const std::vector<SettingInfo>& ue58_setting_table() {
 const Pipeline& ue58_pipeline() {
   static const Pipeline pipeline{
       "ue58",
-      "Unreal Engine 5.8 HDR output (CombineLUTs, Tonemap, UI composite)",
+      "Unreal Engine 5.8 HDR output (CombineLUTs, Tonemap, UI composite, VisualizeHDR)",
       "docs/ue58-decisions.md",
       "UE 5.8's CombineLUTs with its inner LUT: Filmic and StandardACES, ACES 1.3 and 2.0; its "
-      "Tonemap pass; the HDR UI composite (docs/ue58-differences.md, docs/ue58-decisions.md)",
+      "Tonemap pass; the HDR UI composite; VisualizeHDR (docs/ue58-differences.md, "
+      "docs/ue58-decisions.md)",
       &stages,
       &cvar_table,
       &settings,
