@@ -433,13 +433,16 @@ TEST(ParamsContract, ResolvedValuesAndOutputBlock) {
 // #includes (the generated hdrc/interface.glsl aside), counted in the pipeline's own folder
 // (gpu/shaders/<pipeline>/) and the shared gpu/shaders/lib/, not in another pipeline's library
 // and what only that library includes: unity_urp includes operators.glsl for Unity's Neutral, whose
-// other functions (UE's FilmToneMap, P.film_*) are the operators pipeline's.
+// other functions (UE's FilmToneMap, P.film_*) are the operators pipeline's. A pass shader the
+// pipeline's stage names itself counts wherever it lives (`stage_pass`: ue58_visualize_hdr runs UE
+// 5.5's stages/visualize_*.comp).
 void shader_fields(const std::filesystem::path& file, const std::string& pipeline, bool count,
-                   std::map<std::string, bool>* visited, std::set<std::string>* out) {
+                   std::map<std::string, bool>* visited, std::set<std::string>* out,
+                   bool stage_pass = false) {
   const std::string key = file.lexically_normal().string();
   const std::string shaders = (std::filesystem::path(HDRC_SOURCE_DIR) / "gpu/shaders/").string();
   const std::string rel = key.substr(std::min(key.size(), shaders.size()));
-  if (rel.find('/') != std::string::npos && rel.rfind("lib/", 0) != 0 &&
+  if (!stage_pass && rel.find('/') != std::string::npos && rel.rfind("lib/", 0) != 0 &&
       rel.rfind(pipeline + "/", 0) != 0)
     count = false;  // another pipeline's folder
   const auto seen = visited->find(key);
@@ -484,7 +487,7 @@ TEST(ParamsContract, OtherPipelinesExportOnlyWhatApplies) {
     for (const hdrc::StageInfo& st : p->stages())
       for (const hdrc::StagePass& pass : st.passes)
         shader_fields(std::filesystem::path(HDRC_SOURCE_DIR) / "gpu/shaders" / pass.shader, name,
-                      true, &visited, &fields);
+                      true, &visited, &fields, true);
     for (const std::string& f : fields)
       if (hdrc::param_owner(f) == "ue55") used[name].insert(f);
   }
