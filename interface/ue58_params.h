@@ -23,7 +23,9 @@
 // 5.5's; ui_luminance holds 5.8's UILuminance as resolved (r.HDR.UI.Luminance.Mode: paper white
 // or the cvar, U1). The dither stage (ue58_dither, 5.5's shader stages/dither.comp) reads 5.5's
 // dither_amount (BackbufferQuantizationDithering) and grain_random (GrainRandomFull), which 5.8's
-// AddTonemapPass sets by 5.5's rules (docs/ue58-decisions.md I).
+// AddTonemapPass sets by 5.5's rules (docs/ue58-decisions.md J).
+// VisualizeHDR (ue58_visualize_hdr, 5.5's pass: docs/ue58-differences.md §1c′)
+// reads pre_exposure (View.OneOverPreExposure), visualize_debug_type, exposure and the film fields.
 #define HDRC_UE58_SHARED_PARAMS(Y) \
   Y(width)                         \
   Y(height)                        \
@@ -87,6 +89,8 @@
   Y(aux1_width)                    \
   Y(aux1_height)                   \
   Y(exposure)                      \
+  Y(pre_exposure)                  \
+  Y(visualize_debug_type)          \
   Y(sharpen_div6)                  \
   Y(scene_color_tint)              \
   Y(bloom_dirt_tint)               \

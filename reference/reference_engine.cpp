@@ -176,9 +176,29 @@ Image visualize_hdr_image(const visualize::VisualizeHdrInputs& in) {
 
 }  // namespace
 
+Image visualize_hdr_over(const ParamBlock& p, const Image& hdr_scene, const Image& tonemapped,
+                         bool device_allowances) {
+  const visualize::VisualizeHdrInputs in = visualize_inputs(p, hdr_scene, tonemapped);
+  Image out = visualize_hdr_image(in);
+  if (!device_allowances) return out;
+  // The tonemapped scene with the Tonemap pass's device ranges (its values are the tight pass's,
+  // so it is the scene VisualizeHDR shows), carried through VisualizeHDR's own steps with the
+  // ranges of the histogram pass and the panel (reference/ue/visualize_device.h).
+  visualize::VisualizeDeviceInputs d;
+  d.in = &in;
+  d.reference = &out;
+  d.scene_ranges = &tonemapped.device_admissible;
+  d.exposure = p.exposure;
+  d.pre_exposure = p.pre_exposure;
+  out.device_admissible = visualize::visualize_hdr_device_ranges(d);
+  out.device_allowances = tonemapped.device_allowances;
+  out.device_allowances.push_back("shader arithmetic (the Vulkan precision table's bounds)");
+  return out;
+}
+
 Result<Image> visualize_hdr_stage(const ParamBlock& p, const Image& hdr_scene, bool analytic_lut) {
   const Image tonemapped = baked_tonemap_image(p, hdr_scene, nullptr, nullptr, analytic_lut);
-  return visualize_hdr_image(visualize_inputs(p, hdr_scene, tonemapped));
+  return visualize_hdr_over(p, hdr_scene, tonemapped, false);
 }
 
 DeviceInfo ReferenceEngine::device() const {
@@ -236,24 +256,11 @@ Result<Image> run_ue55(const ResolvedCase& c, bool analytic_lut) {
         return visualize_hdr_stage(c.params, c.input, analytic_lut);
       }
       // The tonemapped scene with the Tonemap pass's device ranges (tonemap_image's device
-      // overload; its values are the tight pass's, so it is the scene VisualizeHDR shows), carried
-      // through VisualizeHDR's own steps with the ranges of the histogram pass and the panel
-      // (reference/ue/visualize_device.h).
+      // overload), through VisualizeHDR with its own ranges (visualize_hdr_over).
       const BakedLut device = bake_lut_device(c.params, c.device);
       const Image tm = tonemap_image(c.params, c.input, nullptr, nullptr, &device, nullptr, &device,
                                      c.device.sub_texel_bits);
-      const visualize::VisualizeHdrInputs in = visualize_inputs(c.params, c.input, tm);
-      Image out = visualize_hdr_image(in);
-      visualize::VisualizeDeviceInputs d;
-      d.in = &in;
-      d.reference = &out;
-      d.scene_ranges = &tm.device_admissible;
-      d.exposure = c.params.exposure;
-      d.pre_exposure = c.params.pre_exposure;
-      out.device_admissible = visualize::visualize_hdr_device_ranges(d);
-      out.device_allowances = tm.device_allowances;
-      out.device_allowances.push_back("shader arithmetic (the Vulkan precision table's bounds)");
-      return out;
+      return visualize_hdr_over(c.params, c.input, tm, true);
     }
     default:
       break;

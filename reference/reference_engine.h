@@ -35,6 +35,14 @@ Vec3 run_pixel(StageId stage, const ParamBlock& p, const Vec3& rgb);
 ui::UiCompositeParams ui_composite_params(const ParamBlock& p);
 visualize::EyeAdaptationParameters eye_adaptation_parameters(const ParamBlock& p);
 
+// VisualizeHDR (PostProcessVisualizeHDR.usf: MainPS, docs/spec/ue55.md §9) over `hdr_scene` and
+// `tonemapped`, the Tonemap pass's image of it: UE 5.5's or UE 5.8's pass, VisualizeHDR being one
+// pass in both (docs/ue58-differences.md §1c′). Its image and printed numbers (Image::values); with
+// device_allowances, a conformant device's ranges: `tonemapped.device_admissible` (the Tonemap
+// pass's) carried through the histogram pass and the panel (reference/ue/visualize_device.h).
+Image visualize_hdr_over(const ParamBlock& p, const Image& hdr_scene, const Image& tonemapped,
+                         bool device_allowances);
+
 // The LUT laid out as the combine_luts stage outputs it: texel (r, g, b) at (r + N·b, g).
 Image lut_image(const BakedLut& lut);
 

@@ -133,7 +133,7 @@ const BadCase kBadCases[] = {
      "defined in CASES/defaults.json: /tolerances); valid choices: combine_luts, "
      "combine_luts_storage, combine_luts_storage_linear, dither, "
      "linear_dev7, linear_dev8, operators, pq_grading, shaper_log, shaper_pq, tonemap, "
-     "ue58_combine_luts, ue58_tonemap, ue58_ui_composite, ui_composite, "
+     "ue58_combine_luts, ue58_tonemap, ue58_ui_composite, ue58_visualize_hdr, ui_composite, "
      "unity_urp_grading, unity_urp_lut, visualize_hdr"},
     {"unknown_preset",
      R"({"stage": "shaper", "preset": "hdr01", "input": {"stimulus": "log_ramp"}})",
@@ -515,11 +515,13 @@ TEST(CaseLoader, TheDefaultSuiteLoads) {
                                                   {"ue58/tonemap_vignette", 10},
                                                   {"ue58/ui_composite", 17},
                                                   {"ue58/ui_composite_cvd", 4},
+                                                  {"ue58/visualize_hdr", 6},
+                                                  {"ue58/visualize_hdr_devices", 1},
                                                   {"visualize/pre_exposure", 8},
                                                   {"visualize/visualize_hdr", 30},
                                                   {"visualize/working_color_space", 21}};
   EXPECT_EQ(per_file, expected);
-  EXPECT_EQ(loaded.cases.size(), 1825u);
+  EXPECT_EQ(loaded.cases.size(), 1832u);
   for (const auto& c : loaded.cases) EXPECT_NE(c.tolerance.source, "default") << c.id;
 }
 

@@ -435,7 +435,8 @@ TEST(ParamsContract, ResolvedValuesAndOutputBlock) {
 // and what only that library includes: unity_urp includes operators.glsl for Unity's Neutral, whose
 // other functions (UE's FilmToneMap, P.film_*) are the operators pipeline's. A pass shader a
 // stage of the pipeline names (`pass`) is the pipeline's wherever it lives: ue58_dither runs UE
-// 5.5's stages/dither.comp (docs/ue58-decisions.md I).
+// 5.5's stages/dither.comp (docs/ue58-decisions.md J), ue58_visualize_hdr 5.5's
+// stages/visualize_*.comp.
 void shader_fields(const std::filesystem::path& file, const std::string& pipeline, bool count,
                    std::map<std::string, bool>* visited, std::set<std::string>* out,
                    bool pass = false) {

@@ -741,6 +741,23 @@ TEST(Pipelines, PlantedUe58UiNoUnpremultiplyFailsTheTranslucentCases) {
   for (const auto& id : failing) EXPECT_EQ(id.find("_uimode0_"), std::string::npos) << id;
 }
 
+// VisualizeHDR's histogram over a 32-EV range instead of HistogramLogMax - HistogramLogMin = 30
+// (UE 5.5's pass, which ue58_visualize_hdr runs over 5.8's scene): on lavapipe the ue58 cases fail
+// at the panel (the buckets, the green range, the overlay and the exposure lines move). The row of
+// planted_shader_defects.json; the worst-case model runs it in
+// PlantedDefectsFailOnTheWorstCaseDevice.
+TEST(Pipelines, PlantedHistogramEvRangeFailsTheUe58VisualizeCases) {
+  std::string out;
+  const auto failing = planted_shader_failures("lib/visualize_eye_adaptation.glsl",
+                                               "const float EA_HISTOGRAM_SCALE = 0.0333333351;",
+                                               "const float EA_HISTOGRAM_SCALE = 0.03125;",
+                                               "--filter 'ue58/visualize_hdr*/dev[37]_*'", &out);
+  EXPECT_TRUE(
+      contains(failing, "ue58/visualize_hdr/dev3_debug0_tonemappingmethod0_version1_log_ramp"))
+      << out;
+  EXPECT_TRUE(contains(failing, "ue58/visualize_hdr_devices/dev7_log_ramp")) << out;
+}
+
 }  // namespace
 
 // The planted shader defects every conformant device must fail (runner/planted_shader_defects.json,

@@ -14,6 +14,7 @@
 #include "core/cvars.h"
 #include "core/settings.h"
 #include "reference/color/ue_matrices.h"
+#include "reference/reference_engine.h"
 #include "reference/ue/aces/aces_params.h"
 #include "reference/ue/aces2/aces2.h"
 #include "reference/ue/cpp/resolve.h"
@@ -247,7 +248,7 @@ Result<Resolution> resolve58(const Case& c, int width, int height) {
   // The block holds only what a ue58 case carries (param_carried_by): UE 5.5's fields that 5.5's
   // derivation set and no ue58 shader reads (5.5's Tonemap and the user-LUT blend) go back to
   // their defaults, so params.json and the engines see the same block.
-  // The dither (AddTonemapPass, 5.8 as 5.5; docs/ue58-decisions.md I1):
+  // The dither (AddTonemapPass, 5.8 as 5.5; docs/ue58-decisions.md J1):
   // BackbufferQuantizationDithering and GrainRandomFull are 5.5's resolution above, unchanged: 0
   // for devices 8/9 (HDR_LinearNoToneCurve, HDR_LinearWithToneCurve), 1/(2^b - 1) under
   // r.BackbufferQuantizationDitheringOverride b > 0, else 1/1023, or 1/255 for an 8-bit back buffer
@@ -318,7 +319,7 @@ const std::vector<StageInfo>& stages() {
        false,
        "",
        true},
-      // The Tonemap pass's last step, judged on its own as UE 5.5's (docs/ue58-decisions.md I):
+      // The Tonemap pass's last step, judged on its own as UE 5.5's (docs/ue58-decisions.md J):
       // 5.8's TonemapCommonPS adds 5.5's triangular grain to OutColor after ColorLookupTable x
       // LUTMax and device 7's ST2084ToLinear, so the input is what ue58_tonemap writes. One
       // shader: 5.5's stages/dither.comp (lib/dither.glsl), with 5.8's host values.
@@ -353,6 +354,28 @@ const std::vector<StageInfo>& stages() {
        1,
        false,
        "docs/spec/ue58.md#1-hdr-ui-composite-compositeuipixelshaderusf-58"},
+      // VisualizeHDR is UE 5.5's pass in 5.8 (docs/ue58-differences.md §1c′, docs/ue58-decisions.md
+      // K): UE 5.5's two passes (gpu/shaders/stages/visualize_*.comp) over 5.8's tonemapped scene,
+      // which the Tonemap pass leaves in the scratch buffer as 5.5's visualize_hdr stage does.
+      {StageId::kOther,
+       "ue58_visualize_hdr",
+       {{"ue58/stages/combine_luts_inner.comp", Dispatch::kPixels, true},
+        {"ue58/stages/combine_luts.comp", Dispatch::kLutTexels},
+        {"ue58/stages/tonemap.comp", Dispatch::kPixels, true},
+        {"stages/visualize_histogram.comp", Dispatch::kOneGroup},
+        {"stages/visualize_hdr.comp"}},
+       "UE 5.8 VisualizeHDR (PostProcessVisualizeHDR.usf: MainPS, UE 5.5's pass on desktop): the "
+       "input is the HDR scene colour; the tonemapped scene is ue58_tonemap's (without bloom), "
+       "the 64-bucket histogram and the average luminance come from the reference pipeline; the "
+       "printed numbers go to results.json",
+       {0, 1, 2, 3, 4, 5, 6, 7, 8, 9},
+       true,
+       "ue58",
+       0,
+       false,
+       1,
+       false,
+       "docs/spec/ue58.md#3-visualizehdr-postprocessvisualizehdrusf-58"},
   };
   return table;
 }
@@ -370,8 +393,10 @@ OutputEncoding encoding(const StageInfo& stage, const ParamBlock& p) {
   // The UI composite writes the back buffer as UE 5.5's does (PQ Rec.2020 or scRGB).
   if (stage.id == StageId::kUiComposite) return ue55_pipeline().output_encoding(stage, p);
   using T = OutputEncoding::Transfer;
-  // The dither adds its grain to what the Tonemap pass writes: the same encoding.
-  const bool tonemap = stage.name == "ue58_tonemap" || stage.id == StageId::kDither;
+  // The dither adds its grain to what the Tonemap pass writes, and VisualizeHDR draws its panel in
+  // the tonemapped scene's signal: the same encoding.
+  const bool tonemap = stage.name == "ue58_tonemap" || stage.id == StageId::kDither ||
+                       stage.name == "ue58_visualize_hdr";
   OutputEncoding e;
   e.stage = StageId::kOther;
   e.device = p.output_device;
@@ -466,6 +491,18 @@ Result<Image> reference(const ResolvedCase& c, bool) {
     const BakedLut device = baked_outer_lut_device(luts, p, c.device);
     return tonemap_image(p, c.input, bloom, dirt, device, &device, c.device.sub_texel_bits);
   }
+  if (c.spec.stage && c.spec.stage->name == "ue58_visualize_hdr") {
+    // UE 5.5's VisualizeHDR (visualize_hdr_over) over 5.8's Tonemap pass without bloom
+    // (AddVisualizeHDRPass reads the tonemapped SceneColor and SceneColorBeforeTonemap); with
+    // device allowances, the pass's ranges (G9) feed VisualizeHDR's (docs/ue58-decisions.md K).
+    if (!c.device_allowances)
+      return visualize_hdr_over(
+          p, c.input, tonemap_image(p, c.input, nullptr, nullptr, baked_outer_lut(luts, p)), false);
+    const BakedLut device = baked_outer_lut_device(luts, p, c.device);
+    const Image tm =
+        tonemap_image(p, c.input, nullptr, nullptr, device, &device, c.device.sub_texel_bits);
+    return visualize_hdr_over(p, c.input, tm, true);
+  }
   const std::vector<Vec3> lut = bake_outer_lut(luts, p);
   const int n = p.lut_size;
   Image out(n * n, n);
@@ -517,10 +554,11 @@ const std::vector<SettingInfo>& ue58_setting_table() {
 const Pipeline& ue58_pipeline() {
   static const Pipeline pipeline{
       "ue58",
-      "Unreal Engine 5.8 HDR output (CombineLUTs, Tonemap, UI composite)",
+      "Unreal Engine 5.8 HDR output (CombineLUTs, Tonemap, UI composite, VisualizeHDR)",
       "docs/ue58-decisions.md",
       "UE 5.8's CombineLUTs with its inner LUT: Filmic and StandardACES, ACES 1.3 and 2.0; its "
-      "Tonemap pass; the HDR UI composite (docs/ue58-differences.md, docs/ue58-decisions.md)",
+      "Tonemap pass; the HDR UI composite; VisualizeHDR (docs/ue58-differences.md, "
+      "docs/ue58-decisions.md)",
       &stages,
       &cvar_table,
       &settings,

@@ -368,7 +368,7 @@ TEST(Ue58DeviceRanges, OuterTexelsAdmitBothNeighbouringCodes) {
   }
 }
 
-// ---- The dither (docs/ue58-decisions.md I, docs/spec/ue58.md §2) ----------------------------
+// ---- The dither (docs/ue58-decisions.md J, docs/spec/ue58.md §2) ----------------------------
 
 // A case of stage ue58_dither with `settings` and `cvars`, resolved by 5.8's host derivation.
 hdrc::ResolvedCase dither_case(std::initializer_list<std::pair<const char*, double>> settings,
