@@ -26,6 +26,7 @@
 #include "reference/ue/combine_luts.h"
 #include "reference/ue/cpp/resolve.h"
 #include "reference/ue/tonemap.h"
+#include "reference/ue/ue58/ue58_tonemap.h"
 
 namespace {
 
@@ -814,12 +815,14 @@ namespace {
 
 // UE 5.8's vignette (lib/vignette.glsl vignette_mask58, docs/ue58-decisions.md G4) against the
 // reference's vignette_mask over a 96 x 40 frame: the cosine-fourth law with centre and colour,
-// Oval, Texture at SM5 (mask 1), and 5.5's parameters. The mask is a colour in [0, 1].
+// Oval, Texture at SM5 (mask 1), Texture at SM6 with the Ramp and Radial stimuli
+// (ue58/lib/vignette_texture58.glsl), and 5.5's parameters. The mask is a colour in [0, 1].
 struct Vignette58Case {
   const char* name;
   int type;
   std::array<double, 4> params0, params1;
   double params2;
+  int texture = 0;  // SM6 with this VignetteTexture stimulus (0: SM5, no texture permutation)
 };
 
 class Ue58Vignette : public ::testing::TestWithParam<Vignette58Case> {};
@@ -833,12 +836,22 @@ TEST_P(Ue58Vignette, MaskMatchesReference) {
   }
   rc.params.ue58_vignette_type = v.type;
   rc.params.ue58_vignette_params2 = static_cast<float>(v.params2);
-  Probe probe("#include \"../lib/screen_pass.glsl\"\n#include \"../lib/vignette.glsl\"\n",
-              "  vec2 extent = vec2(P.width, P.height);\n"
-              "  vec2 lens_pos = screen_pos_from_uv(pixel_uv(px, extent), extent);\n"
-              "  out_px[i] = vec4(vignette_mask58(lens_pos, extent.y * (1.0 / extent.x),\n"
-              "      P.ue58_vignette_type, P.ue58_vignette_type != 0, P.ue58_vignette_params0,\n"
-              "      P.ue58_vignette_params1, P.ue58_vignette_params2), 0.0);\n");
+  const hdrc::ref::ue58::VignetteTextureImage tex =
+      hdrc::ref::ue58::vignette_texture_stimulus(v.texture);
+  rc.params.ue58_vignette_texture = v.texture != 0 ? 1 : 0;
+  rc.params.ue58_vignette_tex_width = tex.width;
+  rc.params.ue58_vignette_tex_height = tex.height;
+  for (size_t i = 0; i < tex.texels.size(); ++i)
+    rc.params.ue58_vignette_tex[i / 4][i % 4] = tex.texels[i];
+  Probe probe(
+      "#include \"../lib/screen_pass.glsl\"\n"
+      "#include \"../ue58/lib/vignette_texture58.glsl\"\n"
+      "#include \"../lib/vignette.glsl\"\n",
+      "  vec2 extent = vec2(P.width, P.height);\n"
+      "  vec2 lens_pos = screen_pos_from_uv(pixel_uv(px, extent), extent);\n"
+      "  out_px[i] = vec4(vignette_mask58(lens_pos, extent.y * (1.0 / extent.x),\n"
+      "      P.ue58_vignette_type, P.ue58_vignette_type != 0, P.ue58_vignette_params0,\n"
+      "      P.ue58_vignette_params1, P.ue58_vignette_params2), 0.0);\n");
   auto got = probe.run(rc);
   ASSERT_TRUE(got.ok()) << got.error().to_string();
   hdrc::ref::Vignette r;
@@ -852,6 +865,10 @@ TEST_P(Ue58Vignette, MaskMatchesReference) {
     r.inv_size[k] = rc.params.ue58_vignette_params1[2 + k];
   }
   r.softness = rc.params.ue58_vignette_params2;
+  r.use_texture = v.texture != 0;
+  r.tex_width = tex.width;
+  r.tex_height = tex.height;
+  r.tex = tex.texels;
   double worst = 0;
   const double w = 96, h = 40;
   for (int y = 0; y < 40; ++y)
@@ -860,8 +877,8 @@ TEST_P(Ue58Vignette, MaskMatchesReference) {
       const hdrc::ref::Vec3 want = hdrc::ref::vignette_mask(r, u * 2 - 1, 1 - vv * 2, h / w);
       for (int c = 0; c < 3; ++c) worst = std::max(worst, std::fabs(got->px(x, y)[c] - want[c]));
     }
-  // Measured on lavapipe: below 5e-7 in all four (float32 VignetteSpace sqrt, rcp, pow: a few
-  // ulps of 1); the bound is 2e-6.
+  // Measured on lavapipe: below 5e-7 in all six (float32 VignetteSpace sqrt, rcp, pow, the
+  // texture's bilinear weights: a few ulps of 1; 2.3e-7 at most); the bound is 2e-6.
   EXPECT_LE(worst, 2e-6) << v.name;
   char text[32];
   std::snprintf(text, sizeof text, "%.3g", worst);
@@ -874,7 +891,9 @@ INSTANTIATE_TEST_SUITE_P(
         Vignette58Case{"ue55_defaults", 0, {0.4, 0, 0, 0}, {0.5, 0.5, 1, 1}, 5},
         Vignette58Case{"centre_colour", 0, {1.0, 0.25, 0.1, 0.5}, {0.3, 0.65, 1, 1}, 5},
         Vignette58Case{"oval", 2, {0.8, 0.2, 0.2, 0.3}, {0.45, 0.55, 1 / 0.6, 1 / 1.4}, 1.5},
-        Vignette58Case{"texture_sm5", 1, {1.0, 0.3, 0, 0}, {0.5, 0.5, 1, 1}, 5}),
+        Vignette58Case{"texture_sm5", 1, {1.0, 0.3, 0, 0}, {0.5, 0.5, 1, 1}, 5},
+        Vignette58Case{"texture_sm6_ramp", 1, {0.6, 0.25, 0.1, 0.5}, {0.3, 0.6, 1 / 0.6, 1}, 5, 2},
+        Vignette58Case{"texture_sm6_radial", 1, {1.0, 0, 0, 0}, {0.5, 0.5, 1, 1 / 1.4}, 5, 1}),
     [](const ::testing::TestParamInfo<Vignette58Case>& i) { return std::string(i.param.name); });
 
 }  // namespace

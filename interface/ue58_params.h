@@ -141,6 +141,13 @@
   X(V4, ue58_vignette_params0, "VignetteParams0: (VignetteIntensity, VignetteColor.rgb)")          \
   X(V4, ue58_vignette_params1, "VignetteParams1: (VignetteCenter, 1 / max(0.001, VignetteSize))")  \
   X(F, ue58_vignette_params2, "VignetteParams2: VignetteSoftness")                                 \
+  X(I, ue58_vignette_texture,                                                                      \
+    "USE_VIGNETTE_TEXTURE after RemapPermutation: 1 VignetteType Texture at feature level SM6")    \
+  X(I, ue58_vignette_tex_width, "VignetteTexture's width in texels (1: UE's white dummy)")         \
+  X(I, ue58_vignette_tex_height, "VignetteTexture's height in texels (1: UE's white dummy)")       \
+  X(V4A(64), ue58_vignette_tex,                                                                    \
+    "VignetteTexture's red channel (UNORM8, k/255), texel i (row-major, row 0 at V 0) at "         \
+    "[i/4][i%4]")                                                                                  \
   X(I, ue58_ui_eotf, "UICompositeEOTF: 0 pow(x, UICompositeEOTFGamma), 1 sRGBToLinear")            \
   X(F, ue58_ui_eotf_gamma, "UICompositeEOTFGamma (r.HDR.UI.CompositeEOTF.Gamma)")                  \
   X(I, ue58_ui_blend, "UICompositeBlend: 0 gamma-space blend, 1 linear (Reinhard, lerp)")          \

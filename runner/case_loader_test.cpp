@@ -513,6 +513,7 @@ TEST(CaseLoader, TheDefaultSuiteLoads) {
                                                   {"ue58/tonemap_effects", 4},
                                                   {"ue58/tonemap_stimuli", 33},
                                                   {"ue58/tonemap_vignette", 10},
+                                                  {"ue58/tonemap_vignette_texture", 6},
                                                   {"ue58/ui_composite", 17},
                                                   {"ue58/ui_composite_cvd", 4},
                                                   {"ue58/visualize_hdr", 6},
@@ -521,7 +522,7 @@ TEST(CaseLoader, TheDefaultSuiteLoads) {
                                                   {"visualize/visualize_hdr", 30},
                                                   {"visualize/working_color_space", 21}};
   EXPECT_EQ(per_file, expected);
-  EXPECT_EQ(loaded.cases.size(), 1832u);
+  EXPECT_EQ(loaded.cases.size(), 1838u);
   for (const auto& c : loaded.cases) EXPECT_NE(c.tolerance.source, "default") << c.id;
 }
 

@@ -689,6 +689,26 @@ TEST(Pipelines, PlantedUe58TonemapLutMaxEverywhereFailsTheUnscaledCases) {
   for (const auto& id : failing) EXPECT_NE(id.find("tonemappingmethod1"), std::string::npos) << id;
 }
 
+// UE 5.8's Texture vignette at SM6 (cases/ue58/tonemap_vignette_texture.json): the texture read
+// upside down, V flipped as the dirt mask's DirtLensUV is (a port that treats the texture like
+// the dirt mask). UE samples at (InvSize · V − (Centre − 0.5)) · 0.5 + 0.5 with V up, so the
+// texture's row 0 lies at the bottom of the screen. Both cases with the Ramp texture
+// (VignetteTexture 2, rising down its rows) fail; the white dummy's (VignetteTexture 0, one
+// texel) cannot.
+TEST(Pipelines, PlantedUe58VignetteTextureUpsideDownFailsTheRampCases) {
+  std::string out;
+  const auto failing = hdrc::test::planted_shader_failures(
+      "ue58/lib/vignette_texture58.glsl", "vec2 t = uv * vec2(size) - 0.5;",
+      "vec2 t = vec2(uv.x, 1.0 - uv.y) * vec2(size) - 0.5;",
+      "--pipeline ue58 --filter 'ue58/tonemap_vignette_texture/*'", &out);
+  int ramp = 0;
+  for (const auto& id : failing) {
+    EXPECT_EQ(id.find("_vignettetexture0_"), std::string::npos) << id;
+    if (id.find("_vignettetexture2_") != std::string::npos) ++ramp;
+  }
+  EXPECT_EQ(ramp, 2) << out;
+}
+
 // Three cases of cases/ue58/ui_composite.json: 5.8's defaults on device 3 (gamma blend, gamma
 // EOTF, paper white 203), and a linear-blend one.
 constexpr const char* kUe58UiDefaults =

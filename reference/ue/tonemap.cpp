@@ -196,14 +196,21 @@ Vec3 vignette_mask(const Vignette& v, double pos_x, double pos_y, double aspect)
   // USE_VIGNETTE_TEXTURE, which RemapPermutation turns off at feature level SM5 and below):
   // Position = InvSize · V, Distance = length2(Position − (Centre − 0.5)) for Oval, else 0;
   // Weight = lerp(1, pow(saturate(1 − Distance), Softness), Intensity). Result lerp(Colour, 1,
-  // Weight). V is VignetteSpace's: Pos · (1, AspectRatio) · sqrt(2)/sqrt(1 + AspectRatio²) (the
-  // Texture type's own VignetteSpace feeds only the texture sample, not modelled).
+  // Weight). V is VignetteSpace's: Pos · (1, AspectRatio) · sqrt(2)/sqrt(1 + AspectRatio²), for
+  // the Texture type Pos · (saturate(1/AspectRatio), saturate(AspectRatio)) (TonemapCommonVS
+  // passes VignetteType whatever the permutation; at SM5 the Texture type's weight is 1 anyway).
+  // With USE_VIGNETTE_TEXTURE the Texture type samples the texture's red channel at
+  // (InvSize · V − (Centre − 0.5)) · 0.5 + 0.5: Weight = lerp(1, sample, Intensity).
   const double k = std::sqrt(2.0) / std::sqrt(1.0 + aspect * aspect);
   double vx = pos_x * 1.0 * k, vy = pos_y * aspect * k;
   const double cx = v.center[0] - 0.5, cy = v.center[1] - 0.5;
   const int type = v.advanced ? v.type : 0;
   double weight = 1.0;
   if (v.intensity <= 0.0) {
+  } else if (type == 1 && v.use_texture) {
+    double u = 0, w = 0;
+    vignette_texture_uv(v, pos_x, pos_y, aspect, &u, &w);
+    weight = 1.0 + v.intensity * (vignette_texture_sample(v, u, w) - 1.0);
   } else if (type == 0) {
     vx = (vx - cx) * v.intensity;
     vy = (vy - cy) * v.intensity;
@@ -221,6 +228,24 @@ Vec3 vignette_mask(const Vignette& v, double pos_x, double pos_y, double aspect)
   Vec3 out;
   for (int c = 0; c < 3; ++c) out[c] = v.color[c] + weight * (1.0 - v.color[c]);
   return out;
+}
+
+void vignette_texture_uv(const Vignette& v, double pos_x, double pos_y, double aspect, double* u,
+                         double* w) {
+  // PostProcessCommon.ush VignetteSpace (VIGNETTE_TYPE_TEXTURE) and ComputeVignetteMask's
+  // SampleLevel coordinate.
+  const double vx = pos_x * d3d::saturate(1.0 / aspect), vy = pos_y * d3d::saturate(aspect);
+  *u = (v.inv_size[0] * vx - (v.center[0] - 0.5)) * 0.5 + 0.5;
+  *w = (v.inv_size[1] * vy - (v.center[1] - 0.5)) * 0.5 + 0.5;
+}
+
+double vignette_texture_sample(const Vignette& v, double u, double w) {
+  const LinearTap tx = linear_tap(u * v.tex_width - 0.5, v.tex_width);
+  const LinearTap ty = linear_tap(w * v.tex_height - 0.5, v.tex_height);
+  auto at = [&](int x, int y) { return v.tex[static_cast<size_t>(y) * v.tex_width + x]; };
+  const double top = at(tx.i0, ty.i0) + (at(tx.i1, ty.i0) - at(tx.i0, ty.i0)) * tx.f;
+  const double bottom = at(tx.i0, ty.i1) + (at(tx.i1, ty.i1) - at(tx.i0, ty.i1)) * tx.f;
+  return top + (bottom - top) * ty.f;
 }
 
 Vec3 tonemap_final_linear(const ParamBlock& p, const Image& scene, const Image* bloom,

@@ -4,6 +4,8 @@
 // (docs/precision.md).
 #pragma once
 
+#include <vector>
+
 #include "color/vec.h"
 #include "core/image.h"
 #include "core/shader_interface.h"
@@ -33,11 +35,23 @@ struct Vignette {
   double center[2] = {0.5, 0.5};    // VignetteParams1.xy
   double inv_size[2] = {1.0, 1.0};  // VignetteParams1.zw: 1 / max(0.001, VignetteSize)
   double softness = 1.0;            // VignetteParams2
+  // USE_VIGNETTE_TEXTURE (5.8: type Texture at feature level SM6, RemapPermutation) and the
+  // VignetteTexture's red channel, row-major, row 0 at V 0 (UE's white dummy: one texel of 1).
+  bool use_texture = false;
+  int tex_width = 1, tex_height = 1;
+  std::vector<double> tex{1.0};
 };
 Vignette ue55_vignette(const ParamBlock& p);  // UE 5.5: p.vignette_intensity, the rest default
 // ComputeVignetteMask(VignetteSpace(pos, type, aspect), ...) at screen position (pos_x, pos_y) in
 // [-1, 1] (y up), aspect = ViewportHeight / ViewportWidth.
 Vec3 vignette_mask(const Vignette& v, double pos_x, double pos_y, double aspect);
+// The Texture branch's sample coordinate (InvSize · V − (Centre − 0.5)) · 0.5 + 0.5, V being
+// VignetteSpace's Texture variant Pos · (saturate(1 / AspectRatio), saturate(AspectRatio)).
+void vignette_texture_uv(const Vignette& v, double pos_x, double pos_y, double aspect, double* u,
+                         double* w);
+// The VignetteTexture's red channel sampled bilinearly with clamp-to-edge addressing at (u, w)
+// (AddTonemapPass's TStaticSamplerState<SF_Bilinear>: AM_Clamp on both axes; SampleLevel 0).
+double vignette_texture_sample(const Vignette& v, double u, double w);
 
 // Steps 1-5 of TonemapCommonPS at pixel (x, y) of `scene` (UE 5.5 and 5.8 alike): colour fringe,
 // sharpen, FinalLinearColor = S · SceneColorTint · (exposure · VignetteMask) + Bloom · (exposure ·

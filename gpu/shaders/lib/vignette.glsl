@@ -20,6 +20,17 @@ float vignette_mask(vec2 v, float intensity) {
   return r * r;
 }
 
+// UE 5.8's VignetteSpace with the type (PostProcessCommon.ush): the Texture type (1) scales Pos by
+// (saturate(1/AspectRatio), saturate(AspectRatio)), the others as vignette_space. TonemapCommonVS
+// passes VignetteType whatever the permutation.
+vec2 vignette_space58(vec2 lens_pos, int type, float aspect_ratio) {
+  if (type == 1) {
+    float inv_aspect_ratio = 1.0 / aspect_ratio;
+    return lens_pos * vec2(saturate_d3d(inv_aspect_ratio), saturate_d3d(aspect_ratio));
+  }
+  return vignette_space(lens_pos, aspect_ratio);
+}
+
 // UE 5.8's ComputeVignetteMask (PostProcessCommon.ush), a colour: Weight 1 for Intensity <= 0;
 // the cosine-fourth law on V − (Centre − 0.5); with USE_ADVANCED_VIGNETTE (`advanced`, the type is
 // not CosineFourthLaw) and a type other than it, Weight = lerp(1, pow(saturate(1 − Distance),
@@ -28,14 +39,22 @@ float vignette_mask(vec2 v, float intensity) {
 // lerp(Colour, 1, Weight). params0 = (Intensity, Colour), params1 = (Centre, InvSize), params2 =
 // Softness. UE 5.5's vignette is this at type 0, centre (0.5, 0.5), colour 0, to the bit
 // (tonemap_effects.glsl tonemap_vignette). Reference: reference/ue/tonemap.cpp vignette_mask.
+// USE_VIGNETTE_TEXTURE: a shader that defines HDRC_VIGNETTE_TEXTURE (a bool expression, the
+// permutation) and vignette_texture_sample(uv) before including this file has the Texture branch:
+// Weight = lerp(1, sample.r at (InvSize · V − (Centre − 0.5)) · 0.5 + 0.5, Intensity).
 vec3 vignette_mask58(vec2 lens_pos, float aspect_ratio, int type, bool advanced, vec4 params0,
                      vec4 params1, float params2) {
-  vec2 v = vignette_space(lens_pos, aspect_ratio);
+  vec2 v = vignette_space58(lens_pos, type, aspect_ratio);
   float intensity = params0.x;
   vec2 center = params1.xy - 0.5;
   int t = advanced ? type : 0;
   float weight = 1.0;
   if (intensity <= 0.0) {
+#ifdef HDRC_VIGNETTE_TEXTURE
+  } else if (t == 1 && HDRC_VIGNETTE_TEXTURE) {
+    float s = vignette_texture_sample((params1.zw * v - center) * 0.5 + 0.5);
+    weight = lerp_d3d(1.0, s, intensity);
+#endif
   } else if (t == 0) {
     weight = vignette_mask(v - center, intensity);
   } else {

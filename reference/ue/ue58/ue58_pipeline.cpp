@@ -84,6 +84,16 @@ const std::vector<SettingInfo>& settings() {
          100,
          "FPostProcessSettings::VignetteColor, rgb (VignetteParams0.yzw; alpha unused): mask = "
          "lerp(colour, 1, weight)"},
+        // The Texture vignette (docs/ue58-decisions.md G4): the renderer's feature level, which
+        // RemapPermutation reads (USE_VIGNETTE_TEXTURE only above SM5), and the texture
+        // FPostProcessSettings::VignetteTexture names, here a generated stimulus.
+        {"FeatureLevel", 1, s(3), 3, 4,
+         "the view's ERHIFeatureLevel: 3 SM5, 4 SM6 (PostProcessTonemap.cpp RemapPermutation: "
+         "USE_VIGNETTE_TEXTURE off at SM5 and below)"},
+        {"VignetteTexture", 1, s(0), 0, 2,
+         "FPostProcessSettings::VignetteTexture: 0 none (AddTonemapPass binds the white dummy), "
+         "1 Radial (16 x 16), 2 Ramp (16 x 8), generated UNORM8 red-channel stimuli "
+         "(ue58_tonemap.h vignette_texture_stimulus)"},
         // The UI composite's 5.8 console variables (SlateRHIRenderer.cpp: CVarHDRUILuminanceMode,
         // CVarHDRUICompositeEOTF/Gamma, CVarHDRUICompositeBlend/Gamma; docs/ue58-differences.md
         // U1-U3). The gammas have no range in UE; here (0, 10], a pow of 0 being meaningless.
@@ -119,6 +129,10 @@ const std::vector<SettingChoice>* choices(std::string_view setting) {
   static const std::vector<SettingChoice> vignette = {
       {"CosineFourthLaw", 0}, {"Texture", 1}, {"Oval", 2}};
   if (setting == "VignetteType") return &vignette;
+  static const std::vector<SettingChoice> feature_level = {{"SM5", 3}, {"SM6", 4}};
+  if (setting == "FeatureLevel") return &feature_level;
+  static const std::vector<SettingChoice> texture = {{"None", 0}, {"Radial", 1}, {"Ramp", 2}};
+  if (setting == "VignetteTexture") return &texture;
   static const std::vector<SettingChoice> gamut = {{"Auto", -1},   {"sRGB", 0}, {"DCIP3", 1},
                                                    {"Rec2020", 2}, {"ACES", 3}, {"ACEScg", 4}};
   if (setting == "TonemappingMethod") return &method;
@@ -197,6 +211,16 @@ Result<Resolution> resolve58(const Case& c, int width, int height) {
   p.ue58_vignette_params1 = {f(center[0]), f(center[1]), f(1.0 / std::max(0.001, size[0])),
                              f(1.0 / std::max(0.001, size[1]))};
   p.ue58_vignette_params2 = f(st.get("VignetteSoftness"));
+  // BuildCommonPermutationDomain: USE_VIGNETTE_TEXTURE = VignetteType == Texture;
+  // RemapPermutation turns it off at FeatureLevel <= SM5. AddTonemapPass binds the post-process
+  // settings' VignetteTexture for the Texture type, else GSystemTextures' white dummy.
+  const int feature_level = static_cast<int>(st.get("FeatureLevel"));
+  p.ue58_vignette_texture = p.ue58_vignette_type == 1 && feature_level > 3 ? 1 : 0;
+  const VignetteTextureImage tex = vignette_texture_stimulus(
+      p.ue58_vignette_type == 1 ? static_cast<int>(st.get("VignetteTexture")) : 0);
+  p.ue58_vignette_tex_width = tex.width;
+  p.ue58_vignette_tex_height = tex.height;
+  for (size_t i = 0; i < tex.texels.size(); ++i) p.ue58_vignette_tex[i / 4][i % 4] = tex.texels[i];
   // GetTonemapperOutputDeviceParameters: InverseGamma.y = 1 for device 9 (L11).
   if (device == 9) p.inverse_gamma[1] = 1.0;
   // AddCombineLUTPass: bUseFloatOutput for the scRGB devices (L15); both LUTs share the format.

@@ -11,6 +11,8 @@
 // PostProcessTonemap.cpp (GetTonemapperOutputDeviceParameters, AddTonemapPass, RemapPermutation).
 #pragma once
 
+#include <vector>
+
 #include "core/image.h"
 #include "core/shader_interface.h"
 #include "reference/ue/combine_luts.h"
@@ -22,8 +24,29 @@ namespace hdrc::ref::ue58 {
 
 // ColorLookupTable's addressing: PQ (with the [0, 10000]-nit clamp) iff LUTShaper, else log.
 LutShaper tonemap_lut_shaper(const ParamBlock& p);
-// The block's VignetteType / VignetteParams0-2.
+// The block's VignetteType / VignetteParams0-2, USE_VIGNETTE_TEXTURE and the VignetteTexture.
 Vignette tonemap_vignette(const ParamBlock& p);
+
+// The Texture vignette's texture (FPostProcessSettings::VignetteTexture), the red channel a UNORM8
+// texture stores (k/255), row-major, row 0 at V 0. `which` is the setting VignetteTexture:
+// 0 none, for which AddTonemapPass binds GSystemTextures' white dummy (1 x 1, value 1); two
+// generated stimuli: 1 Radial, 16 x 16, saturate(1 − d²) with d the texel centre's distance
+// from the texture's centre in units of half its width (0 beyond the inscribed circle); 2 Ramp,
+// 16 x 8, 0.1 + 0.9 · x' · (0.25 + 0.75 · y') with x', y' the texel centre in [0, 1] (rising to
+// the right and down the rows: a mirrored or transposed read changes it).
+struct VignetteTextureImage {
+  int width = 1, height = 1;
+  std::vector<double> texels{1.0};
+};
+VignetteTextureImage vignette_texture_stimulus(int which);
+
+// The Texture branch's mask per channel on a conformant device (`use_texture` set, Intensity > 0):
+// the bilinear sample's range with `sub_texel_bits` (linear_tap_boxes on each axis with the
+// shader coordinate's float32 noise, filter_taps in the UNORM8 texture's filtering precision),
+// through lerp(1, sample, Intensity) and lerp(Colour, 1, Weight). False when the pixel does not
+// take the Texture branch.
+bool vignette_texture_device_range(const Vignette& v, double pos_x, double pos_y, double aspect,
+                                   int sub_texel_bits, Vec3* lo, Vec3* hi);
 
 // The outer LUT as ue58_combine_luts stores it (bake_outer_lut), as the tonemapper samples it.
 BakedLut baked_outer_lut(const ParamBlock& p);

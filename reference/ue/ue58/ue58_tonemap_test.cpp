@@ -214,4 +214,89 @@ TEST(Ue58Tonemap, DeviceRangesHoldBothCodesTimesLutMax) {
   }
 }
 
+// The Texture vignette at feature level SM6 (USE_VIGNETTE_TEXTURE, RemapPermutation), by hand from
+// PostProcessCommon.ush: VignetteSpace's Texture variant V = Pos · (saturate(1/AspectRatio),
+// saturate(AspectRatio)), the sample at (InvSize · V − (Centre − 0.5)) · 0.5 + 0.5, bilinear with
+// clamp (TStaticSamplerState<SF_Bilinear>), Weight = lerp(1, sample.r, Intensity), mask =
+// lerp(Colour, 1, Weight). The Ramp stimulus (16 x 8) holds round(255 · (0.1 + 0.9 · cx · (0.25 +
+// 0.75 · cy))) / 255 at texel centre (cx, cy) = ((x + 0.5) / 16, (y + 0.5) / 8).
+//  * Square viewport, Pos (0.25, −0.5): UV (0.625, 0.25), texel coordinate (9.5, 1.5): the four
+//    texels (9, 1) (10, 1) (9, 2) (10, 2) = 79, 84, 92, 98 (of 255) at weight 1/4 each: 88.25/255;
+//    intensity 0.6, colour (0.25, 0.1, 0.5).
+//  * 2:1 viewport (AspectRatio 0.5), Pos (−0.5, 1): V = (−0.5, 0.5) (the other types' space would
+//    scale by sqrt(2/1.25)), UV (0.25, 0.75), texel coordinate (3.5, 5.5): 64, 75, 69, 81 →
+//    72.25/255 at intensity 1, black.
+// At SM5 the same settings give no vignette, and at SM6 without a texture (the white dummy) too.
+TEST(Ue58Tonemap, TextureVignetteAtSm6ByHand) {
+  const auto p = resolved({{"FeatureLevel", v1(4)},
+                           {"VignetteType", v1(1)},
+                           {"VignetteTexture", v1(2)},
+                           {"VignetteIntensity", v1(0.6)},
+                           {"VignetteColor", {0.25, 0.1, 0.5, 1}}});
+  EXPECT_EQ(p.ue58_vignette_texture, 1);
+  EXPECT_EQ(p.ue58_vignette_tex_width, 16);
+  EXPECT_EQ(p.ue58_vignette_tex_height, 8);
+  const Vec3 m = hdrc::ref::vignette_mask(ue58::tonemap_vignette(p), 0.25, -0.5, 1.0);
+  const double w = 1 + 0.6 * (88.25 / 255 - 1);
+  const double colour[3] = {0.25, 0.1, 0.5};
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(m[c], colour[c] + w * (1 - colour[c]), 1e-7) << c;
+
+  const auto wide = resolved({{"FeatureLevel", v1(4)},
+                              {"VignetteType", v1(1)},
+                              {"VignetteTexture", v1(2)},
+                              {"VignetteIntensity", v1(1)}});
+  const Vec3 n = hdrc::ref::vignette_mask(ue58::tonemap_vignette(wide), -0.5, 1.0, 0.5);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(n[c], 72.25 / 255, 1e-12) << c;
+
+  const auto sm5 =
+      resolved({{"VignetteType", v1(1)}, {"VignetteTexture", v1(2)}, {"VignetteIntensity", v1(1)}});
+  EXPECT_EQ(sm5.ue58_vignette_texture, 0);
+  const auto dummy =
+      resolved({{"FeatureLevel", v1(4)}, {"VignetteType", v1(1)}, {"VignetteIntensity", v1(1)}});
+  EXPECT_EQ(dummy.ue58_vignette_tex_width, 1);
+  for (const auto& q : {sm5, dummy}) {
+    const Vec3 one = hdrc::ref::vignette_mask(ue58::tonemap_vignette(q), -0.5, 1.0, 0.5);
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(one[c], 1.0);
+  }
+}
+
+// The Texture vignette on a conformant device: at the first case above the weights are exactly
+// 1/2 (on every sub-texel grid, up to the coordinate noise), so the range is mostly the UNORM8
+// filter arithmetic's rounding; at
+// a fraction off the grid (Pos (0.3, −0.5): texel x 9.9, 0.4 of a 2^-4 step away) 4 sub-texel bits
+// admit the neighbouring grid weights 14/16 and 15/16 along x, whose samples by hand bound the
+// range's mask. Both ranges hold the exact mask.
+TEST(Ue58Tonemap, TextureVignetteDeviceRange) {
+  const auto p = resolved({{"FeatureLevel", v1(4)},
+                           {"VignetteType", v1(1)},
+                           {"VignetteTexture", v1(2)},
+                           {"VignetteIntensity", v1(1)}});
+  const Vignette v = ue58::tonemap_vignette(p);
+  Vec3 lo, hi;
+  ASSERT_TRUE(ue58::vignette_texture_device_range(v, 0.25, -0.5, 1.0, 8, &lo, &hi));
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_LE(lo[c], 88.25 / 255);
+    EXPECT_GE(hi[c], 88.25 / 255);
+    // The filter arithmetic in UNORM8 precision (FilterArithmetic::unorm(8)): each weight and each
+    // of the four partial sums rounded outward on the 1/255 grid, the weights within 2^-8 of 1/2.
+    EXPECT_LT(hi[c] - lo[c], 12.0 / 255);
+  }
+  // Pos x 0.3: u = 0.65, texel 9.9; y as above (1.5, weight 1/2). Rows 1 and 2 averaged: texel
+  // 9 → (79 + 92) / 2, texel 10 → (84 + 98) / 2.
+  const double a9 = (79 + 92) / 2.0 / 255, a10 = (84 + 98) / 2.0 / 255;
+  ASSERT_TRUE(ue58::vignette_texture_device_range(v, 0.3, -0.5, 1.0, 4, &lo, &hi));
+  const Vec3 exact = hdrc::ref::vignette_mask(v, 0.3, -0.5, 1.0);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(exact[c], a9 + (a10 - a9) * 0.9, 1e-7);
+    EXPECT_LE(lo[c], a9 + (a10 - a9) * 14 / 16);
+    EXPECT_GE(hi[c], a9 + (a10 - a9) * 15 / 16);
+    EXPECT_LE(lo[c], exact[c]);
+    EXPECT_GE(hi[c], exact[c]);
+  }
+  // Not the Texture branch (SM5): no range.
+  const auto sm5 = resolved({{"VignetteType", v1(1)}, {"VignetteIntensity", v1(1)}});
+  EXPECT_FALSE(ue58::vignette_texture_device_range(ue58::tonemap_vignette(sm5), 0.3, -0.5, 1.0, 4,
+                                                   &lo, &hi));
+}
+
 }  // namespace

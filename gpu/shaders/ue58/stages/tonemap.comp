@@ -7,8 +7,11 @@
 // addresses the LUT by r.LUT.Shaper (log, or PQ of the clamped nits) and multiplies by LUTMax;
 // device 7 (LinearEXR) is decoded to nits and every other device, scRGB included, is written as
 // the LUT holds it (docs/ue58-differences.md T1–T3). One invocation per output pixel; output RGB
-// = the device colour, alpha = OutLuminance. Reference: reference/ue/ue58/ue58_tonemap.cpp.
+// = the device colour, alpha = OutLuminance. The Texture vignette at SM6 (USE_VIGNETTE_TEXTURE)
+// samples the block's VignetteTexture (../lib/vignette_texture58.glsl, included before the
+// vignette). Reference: reference/ue/ue58/ue58_tonemap.cpp.
 #include "hdrc/interface.glsl"
+#include "../lib/vignette_texture58.glsl"
 #include "../../lib/lut_sample.glsl"
 #include "../../lib/post_device.glsl"
 #include "../../lib/screen_pass.glsl"
