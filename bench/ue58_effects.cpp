@@ -240,6 +240,25 @@ std::vector<Stimulus> stimuli() {
   return out;
 }
 
+namespace {
+
+// One channel's difference d on stimulus `name` into the effect's maximum (and its stimulus) and
+// the list the 99th percentile is taken over (finish_effect).
+void add_difference(double d, const std::string& name, Effect* e, std::vector<double>* diffs) {
+  diffs->push_back(d);
+  if (d > e->max || e->worst.empty()) {
+    e->max = std::max(e->max, d);
+    e->worst = name;
+  }
+}
+void finish_effect(std::vector<double>* diffs, Effect* e) {
+  e->values = diffs->size();
+  std::sort(diffs->begin(), diffs->end());
+  if (!diffs->empty()) e->p99 = (*diffs)[static_cast<size_t>(std::ceil(0.99 * diffs->size())) - 1];
+}
+
+}  // namespace
+
 Effect measure(Path& a, Path& b, const std::vector<Stimulus>& set, bool same_display) {
   Effect e;
   if (!a.degenerate().empty() || !b.degenerate().empty()) {
@@ -260,18 +279,12 @@ Effect measure(Path& a, Path& b, const std::vector<Stimulus>& set, bool same_dis
       } else {
         d = std::fabs(pq_code(na[c]) - pq_code(nb[c]));
       }
-      diffs.push_back(d);
-      if (d > e.max || e.worst.empty()) {
-        e.max = std::max(e.max, d);
-        e.worst = s.name;
-      }
+      add_difference(d, s.name, &e, &diffs);
     }
     const double de = delta_e_itp(ictcp_from_rec2020_nits(na), ictcp_from_rec2020_nits(nb));
     if (de > e.de_itp) e.de_itp = de;
   }
-  e.values = diffs.size();
-  std::sort(diffs.begin(), diffs.end());
-  if (!diffs.empty()) e.p99 = diffs[static_cast<size_t>(std::ceil(0.99 * diffs.size())) - 1];
+  finish_effect(&diffs, &e);
   return e;
 }
 
@@ -380,18 +393,12 @@ Effect measure_ui(const UiConfig& a, const UiConfig& b, const std::vector<UiStim
     const Vec3 nb = nits(sb, sb.composite(s.scene, s.ui));
     for (int c = 0; c < 3; ++c) {
       const double d = std::fabs(pq_code(na[c]) - pq_code(nb[c]));
-      diffs.push_back(d);
-      if (d > e.max || e.worst.empty()) {
-        e.max = std::max(e.max, d);
-        e.worst = s.name;
-      }
+      add_difference(d, s.name, &e, &diffs);
     }
     const double de = delta_e_itp(ictcp_from_rec2020_nits(na), ictcp_from_rec2020_nits(nb));
     if (de > e.de_itp) e.de_itp = de;
   }
-  e.values = diffs.size();
-  std::sort(diffs.begin(), diffs.end());
-  if (!diffs.empty()) e.p99 = diffs[static_cast<size_t>(std::ceil(0.99 * diffs.size())) - 1];
+  finish_effect(&diffs, &e);
   return e;
 }
 
