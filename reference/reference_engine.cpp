@@ -1,5 +1,6 @@
 #include "reference/reference_engine.h"
 
+#include <algorithm>
 #include <optional>
 
 #include "reference/color/ue_matrices.h"
@@ -191,8 +192,12 @@ Image visualize_hdr_over(const ParamBlock& p, const Image& hdr_scene, const Imag
   d.exposure = p.exposure;
   d.pre_exposure = p.pre_exposure;
   out.device_admissible = visualize::visualize_hdr_device_ranges(d);
+  // The scene's allowances, and VisualizeHDR's own arithmetic (named once).
   out.device_allowances = tonemapped.device_allowances;
-  out.device_allowances.push_back("shader arithmetic (the Vulkan precision table's bounds)");
+  const std::string arithmetic = "shader arithmetic (the Vulkan precision table's bounds)";
+  if (std::find(out.device_allowances.begin(), out.device_allowances.end(), arithmetic) ==
+      out.device_allowances.end())
+    out.device_allowances.push_back(arithmetic);
   return out;
 }
 
