@@ -1,0 +1,53 @@
+#include "reference/ue/ue58/ue58_named_values.h"
+
+#include "reference/ue/ue58/ue58_ui_composite.h"
+
+namespace hdrc::ref::ue58 {
+
+std::vector<NamedValue> ui_composite_named_values(const ParamBlock& p, const Vec3& scene,
+                                                  const std::array<double, 4>& ui) {
+  std::vector<NamedValue> out;
+  add_named(&out, "input", scene);
+  const UiComposite58Params params = ui_composite58_params(p);
+  UiComposite58Trace t;
+  const ui::Vec4 o = composite_pixel58({scene[0], scene[1], scene[2], 1.0}, ui, params, &t);
+  if (params.common.composite_mode != 0) {
+    add_named(&out, "ui_unpremultiplied", t.unpremultiplied);
+    add_named(&out, "ui_linear", t.linearized);
+    add_named(&out, "ui", Vec3{t.pass.ui[0], t.pass.ui[1], t.pass.ui[2]});
+    add_named(&out, "ui_alpha", t.pass.ui[3]);
+    add_named(&out, "scene_nits", t.pass.scene);
+    using Compose = UiComposite58Trace::Compose;
+    if (t.compose != Compose::kScene) add_named(&out, "ui_levelled", t.ui_levelled);
+    if (t.compose == Compose::kGamma) {
+      add_named(&out, "blend_scene", t.blend_scene);
+      add_named(&out, "blend_ui", t.blend_ui);
+      add_named(&out, "blend_lerp", t.blend_lerp);
+    }
+    if (t.compose == Compose::kLinear) add_named(&out, "reinhard", t.reinhard);
+    add_named(&out, "composed", t.pass.composed);
+    add_named(&out, "after_cvd", t.pass.after_cvd);
+  }
+  add_named(&out, "out", Vec3{o[0], o[1], o[2]});
+  add_named(&out, "out_alpha", o[3]);
+  return out;
+}
+
+std::vector<std::vector<NamedValue>> named_values_of(
+    const ResolvedCase& c, const std::vector<std::array<double, 3>>& colours) {
+  std::vector<std::vector<NamedValue>> out(colours.size());
+  if (!c.spec.stage || c.spec.stage->id != StageId::kUiComposite) return out;
+  for (size_t i = 0; i < colours.size(); ++i) {
+    std::array<double, 4> ui{0, 0, 0, 0};
+    const int x = static_cast<int>(i);
+    if (x < c.ui.width && c.ui.height > 0) {
+      const double* u = c.ui.px(x, 0);
+      ui = {u[0], u[1], u[2], u[3]};
+    }
+    const Vec3 scene{colours[i][0], colours[i][1], colours[i][2]};
+    out[i] = ui_composite_named_values(c.params, scene, ui);
+  }
+  return out;
+}
+
+}  // namespace hdrc::ref::ue58

@@ -1,0 +1,35 @@
+// UE 5.8's named intermediate values of one pixel: what the worked pixels of docs/spec/ue58.md list
+// (reference/spec_worked_pixels_test.cpp compares them) and `hdrconform probe --pipeline ue58
+// --json` prints (Pipeline::named_values). Each comes from the reference's own stage functions and
+// their traces, in the order the shaders compute them, as `hdrc::ref::NamedValue`s
+// (reference/named_values.h), like UE 5.5's (reference/ue/ue55/ue55_named_values.h).
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "color/vec.h"
+#include "core/pipeline.h"
+#include "core/shader_interface.h"
+#include "reference/named_values.h"
+
+namespace hdrc::ref::ue58 {
+
+// The HDR UI composite of 5.8 (CompositeUIPixelShader.usf, docs/spec/ue58.md §1) of one
+// back-buffer pixel `scene` (PQ signals for devices 3/4, scRGB for 5/6) under the premultiplied
+// UI pixel `ui` (r, g, b, a), from composite_pixel58's trace (reference/ue/ue58/
+// ue58_ui_composite.h): ComputeHDRUIColor's un-premultiplied and linearized colour and the UI in
+// nits; ComputeHDRSceneColor's scene in nits; ComposeUIAndScene's branch (the UI · UILevel; the
+// gamma blend's g(Scene), g(UI) and their lerp, or the linear blend's Reinhard); the composed and
+// colour-deficiency values; the encoded output and its alpha (the UI's). r.HDR.UI.CompositeMode 0
+// (Slate's blend, no shader): the input and the output only.
+std::vector<NamedValue> ui_composite_named_values(const ParamBlock& p, const Vec3& scene,
+                                                  const std::array<double, 4>& ui);
+
+// Pipeline::named_values of the ue58 pipeline: per colour of the row, the UI composite's values
+// above (the UI pixel at the same position of the case's UI image; `probe --ui` fills it). The
+// other stages name none yet: their lists are empty (probe --json refuses them).
+std::vector<std::vector<NamedValue>> named_values_of(
+    const ResolvedCase& c, const std::vector<std::array<double, 3>>& colours);
+
+}  // namespace hdrc::ref::ue58
