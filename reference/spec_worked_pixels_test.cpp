@@ -11,8 +11,10 @@
 // PIPELINE is `operators`, `pq_grading`, `film_tonemap` (FilmToneMap alone: AP1 in, AP1 out,
 // its parameters from the operators' FilmPreset setting), `ue55` (`r.*=` cvars and settings
 // resolved as a one-pixel case, `stage=` tonemap | ui_composite | visualize_false_colour, `ui=`
-// the UI pixel: reference/ue/ue55/ue55_named_values.h) or `unity_urp` (settings, `stage=`
-// color_grading | lut_texel: reference/unity_urp/unity_urp.h). Values are r,g,b,a lists where a
+// the UI pixel: reference/ue/ue55/ue55_named_values.h), `unity_urp` (settings, `stage=`
+// color_grading | lut_texel: reference/unity_urp/unity_urp.h) or `ue58` (settings and `r.*=` cvars
+// resolved by resolve58 as a one-pixel case, `stage=` ui_composite, `ui=` the UI pixel:
+// reference/ue/ue58/ue58_named_values.h). Values are r,g,b,a lists where a
 // setting has components. Each row is an intermediate value's name
 // and its one or three numbers; the test evaluates the pixel with the reference's own stage
 // functions (their traces, by name: reference/named_values.h), and every row must equal the code's
@@ -24,6 +26,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -39,6 +42,7 @@
 
 #include "core/case.h"
 #include "core/cube/cube.h"
+#include "core/pipeline.h"
 #include "core/settings.h"
 #include "core/shader_interface.h"
 #include "reference/operators/operators.h"
@@ -47,6 +51,8 @@
 #include "reference/ue/cpp/resolve.h"
 #include "reference/ue/grading/film_tonemap.h"
 #include "reference/ue/ue55/ue55_named_values.h"
+#include "reference/ue/ue58/ue58_named_values.h"
+#include "reference/ue/ue58/ue58_pipeline.h"
 #include "reference/unity_urp/unity_urp.h"
 #include "reference/unity_urp/unity_urp_settings.h"
 
@@ -335,6 +341,57 @@ Computed compute_ue55(const Block& b) {
   return {};
 }
 
+// UE 5.8: option `stage=` (ui_composite, the default and so far the only one), `ui=r,g,b,a` (the
+// premultiplied UI pixel); every other NAME=VALUE is one of the ue58 pipeline's settings when its
+// table names it (its own r.HDR.UI.* console variables among them, docs/ue58-decisions.md E4),
+// else a cvar (`r.*=`), resolved by the pipeline's host derivation as a case of one pixel.
+Computed compute_ue58(const Block& b) {
+  namespace ue58 = hdrc::ref::ue58;
+  const hdrc::Pipeline& pipeline = ue58::ue58_pipeline();
+  const std::string where = b.file + ":" + std::to_string(b.line);
+  std::string stage = "ui_composite";
+  std::array<double, 4> ui{0, 0, 0, 0};
+  hdrc::Case c;
+  c.id = "spec";
+  c.settings = pipeline.new_settings();
+  Block settings = b;
+  settings.options.clear();
+  for (const auto& [name, value] : b.options) {
+    const bool is_setting = std::any_of(pipeline.settings().begin(), pipeline.settings().end(),
+                                        [&](const hdrc::SettingInfo& i) { return i.name == name; });
+    if (name == "stage") {
+      stage = value;
+    } else if (name == "ui") {
+      int n = 0;
+      std::stringstream list(value);
+      for (std::string part; std::getline(list, part, ',') && n < 4;)
+        ui[n++] = std::strtod(part.c_str(), nullptr);
+      EXPECT_EQ(n, 4) << where << ": ui=" << value << " is not r,g,b,a";
+    } else if (!is_setting && name.rfind("r.", 0) == 0) {
+      char* end = nullptr;
+      const double v = std::strtod(value.c_str(), &end);
+      EXPECT_TRUE(!value.empty() && end == value.c_str() + value.size())
+          << where << ": " << name << "=" << value << " is not a number";
+      const hdrc::Status st = c.cvars.set(name, v);
+      EXPECT_TRUE(bool(st)) << where << ": " << name << ": " << (st ? "" : st.error().message);
+    } else {
+      settings.options.push_back({name, value});
+    }
+  }
+  apply_settings(settings, &c.settings);
+  if (stage != "ui_composite") {
+    ADD_FAILURE() << where << ": stage=" << stage << ": valid: ui_composite";
+    return {};
+  }
+  c.stage = hdrc::find_stage(pipeline, "ue58_ui_composite");
+  auto resolution = pipeline.resolve(c, 1, 1);
+  if (!resolution) {
+    ADD_FAILURE() << where << ": " << resolution.error().message;
+    return {};
+  }
+  return computed_from(ue58::ui_composite_named_values(resolution->params, input_of(b), ui));
+}
+
 // Unity URP: option `stage=` (color_grading, the default: the input is a scene colour; lut_texel:
 // the input is a lattice code), other NAME=VALUE settings (unity_urp_settings.h).
 Computed compute_unity_urp(const Block& b) {
@@ -474,20 +531,22 @@ TEST(SpecPages, EveryWorkedPixelMatchesTheCode) {
       check_block(b, compute_ue55(b));
     else if (b.pipeline == "unity_urp")
       check_block(b, compute_unity_urp(b));
+    else if (b.pipeline == "ue58")
+      check_block(b, compute_ue58(b));
     else
       ADD_FAILURE() << b.file << ":" << b.line << ": unknown pipeline '" << b.pipeline
-                    << "'; valid: operators, pq_grading, film_tonemap, ue55, unity_urp";
+                    << "'; valid: operators, pq_grading, film_tonemap, ue55, unity_urp, ue58";
   }
   // operators: one per operator; pq_grading: HDR and SDR; film_tonemap: one; ue55: one per stage
   // and device path (docs/spec/ue55.md §15); unity_urp: each grading and tone-mapping mode, bake
-  // and lookup (docs/spec/unity_urp.md §9).
-  EXPECT_GE(pixels, 9 + 9 + 10);
+  // and lookup (docs/spec/unity_urp.md §9); ue58: the UI composite's five (docs/spec/ue58.md §1).
+  EXPECT_GE(pixels, 9 + 9 + 10 + 5);
 }
 
 // Each pipeline page has at least one worked pixel, and links the shared semantics page.
 TEST(SpecPages, EveryPipelinePageHasAWorkedPixelAndLinksTheSemantics) {
   for (const char* page :
-       {"operators.md", "pq_grading.md", "film_tonemap.md", "ue55.md", "unity_urp.md"}) {
+       {"operators.md", "pq_grading.md", "film_tonemap.md", "ue55.md", "unity_urp.md", "ue58.md"}) {
     SCOPED_TRACE(page);
     ASSERT_TRUE(fs::exists(kSpecDir / page));
     int pixels = 0;
