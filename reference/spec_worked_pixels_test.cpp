@@ -13,7 +13,7 @@
 // resolved as a one-pixel case, `stage=` tonemap | ui_composite | visualize_false_colour, `ui=`
 // the UI pixel: reference/ue/ue55/ue55_named_values.h), `unity_urp` (settings, `stage=`
 // color_grading | lut_texel: reference/unity_urp/unity_urp.h) or `ue58` (settings and `r.*=` cvars
-// resolved by resolve58 as a one-pixel case, `stage=` ui_composite, `ui=` the UI pixel:
+// resolved by resolve58 as a one-pixel case, `stage=` ui_composite | vignette, `ui=` the UI pixel:
 // reference/ue/ue58/ue58_named_values.h). Values are r,g,b,a lists where a
 // setting has components. Each row is an intermediate value's name
 // and its one or three numbers; the test evaluates the pixel with the reference's own stage
@@ -341,7 +341,8 @@ Computed compute_ue55(const Block& b) {
   return {};
 }
 
-// UE 5.8: option `stage=` (ui_composite, the default and so far the only one), `ui=r,g,b,a` (the
+// UE 5.8: option `stage=` (ui_composite, the default; vignette: the Tonemap pass's vignette mask,
+// whose input row is the screen position and the viewport's height / width), `ui=r,g,b,a` (the
 // premultiplied UI pixel); every other NAME=VALUE is one of the ue58 pipeline's settings when its
 // table names it (its own r.HDR.UI.* console variables among them, docs/ue58-decisions.md E4),
 // else a cvar (`r.*=`), resolved by the pipeline's host derivation as a case of one pixel.
@@ -379,17 +380,20 @@ Computed compute_ue58(const Block& b) {
     }
   }
   apply_settings(settings, &c.settings);
-  if (stage != "ui_composite") {
-    ADD_FAILURE() << where << ": stage=" << stage << ": valid: ui_composite";
+  if (stage != "ui_composite" && stage != "vignette") {
+    ADD_FAILURE() << where << ": stage=" << stage << ": valid: ui_composite, vignette";
     return {};
   }
-  c.stage = hdrc::find_stage(pipeline, "ue58_ui_composite");
+  c.stage = hdrc::find_stage(pipeline, stage == "vignette" ? "ue58_tonemap" : "ue58_ui_composite");
   auto resolution = pipeline.resolve(c, 1, 1);
   if (!resolution) {
     ADD_FAILURE() << where << ": " << resolution.error().message;
     return {};
   }
-  return computed_from(ue58::ui_composite_named_values(resolution->params, input_of(b), ui));
+  const Vec3 in = input_of(b);
+  if (stage == "vignette")  // the input is the screen position and height / width
+    return computed_from(ue58::vignette_named_values(resolution->params, in[0], in[1], in[2]));
+  return computed_from(ue58::ui_composite_named_values(resolution->params, in, ui));
 }
 
 // Unity URP: option `stage=` (color_grading, the default: the input is a scene colour; lut_texel:
@@ -539,8 +543,9 @@ TEST(SpecPages, EveryWorkedPixelMatchesTheCode) {
   }
   // operators: one per operator; pq_grading: HDR and SDR; film_tonemap: one; ue55: one per stage
   // and device path (docs/spec/ue55.md §15); unity_urp: each grading and tone-mapping mode, bake
-  // and lookup (docs/spec/unity_urp.md §9); ue58: the UI composite's five (docs/spec/ue58.md §1).
-  EXPECT_GE(pixels, 9 + 9 + 10 + 5);
+  // and lookup (docs/spec/unity_urp.md §9); ue58: the UI composite's five and the Texture
+  // vignette's four (docs/spec/ue58.md §1, §4).
+  EXPECT_GE(pixels, 9 + 9 + 10 + 5 + 4);
 }
 
 // Each pipeline page has at least one worked pixel, and links the shared semantics page.

@@ -1,5 +1,7 @@
 #include "reference/ue/ue58/ue58_named_values.h"
 
+#include "reference/ue/tonemap.h"
+#include "reference/ue/ue58/ue58_tonemap.h"
 #include "reference/ue/ue58/ue58_ui_composite.h"
 
 namespace hdrc::ref::ue58 {
@@ -30,6 +32,24 @@ std::vector<NamedValue> ui_composite_named_values(const ParamBlock& p, const Vec
   }
   add_named(&out, "out", Vec3{o[0], o[1], o[2]});
   add_named(&out, "out_alpha", o[3]);
+  return out;
+}
+
+std::vector<NamedValue> vignette_named_values(const ParamBlock& p, double pos_x, double pos_y,
+                                              double aspect) {
+  std::vector<NamedValue> out;
+  add_named(&out, "input", Vec3{pos_x, pos_y, aspect});
+  VignetteTrace t;
+  const Vec3 mask = vignette_mask(tonemap_vignette(p), pos_x, pos_y, aspect, &t);
+  if (t.textured) {
+    out.push_back({"vignette_space", {t.space[0], t.space[1]}, false});
+    out.push_back({"uv", {t.uv[0], t.uv[1]}, false});
+    out.push_back({"texel", {t.texel[0], t.texel[1]}, false});
+    out.push_back({"taps", {t.taps[0], t.taps[1], t.taps[2], t.taps[3]}, false});
+    add_named(&out, "sample", t.sample);
+  }
+  add_named(&out, "weight", t.weight);
+  add_named(&out, "mask", mask);
   return out;
 }
 

@@ -26,6 +26,16 @@ namespace hdrc::ref::ue58 {
 std::vector<NamedValue> ui_composite_named_values(const ParamBlock& p, const Vec3& scene,
                                                   const std::array<double, 4>& ui);
 
+// The Tonemap pass's vignette mask of 5.8 (PostProcessCommon.ush: VignetteSpace,
+// ComputeVignetteMask; docs/spec/ue58.md §4) at screen position (pos_x, pos_y) in [-1, 1] (y up)
+// of a viewport whose height / width is `aspect`, from vignette_mask's trace (reference/ue/
+// tonemap.h) with the block's vignette (tonemap_vignette): "input" is (pos_x, pos_y, aspect); the
+// Texture branch's V, UV, texel coordinate, four taps (red, k/255) and bilinear sample; every
+// branch's weight and the mask lerp(Colour, 1, weight). A screen position is not a colour, so
+// probe does not print these (the page's test evaluates them).
+std::vector<NamedValue> vignette_named_values(const ParamBlock& p, double pos_x, double pos_y,
+                                              double aspect);
+
 // Pipeline::named_values of the ue58 pipeline: per colour of the row, the UI composite's values
 // above (the UI pixel at the same position of the case's UI image; `probe --ui` fills it). The
 // other stages name none yet: their lists are empty (probe --json refuses them).
