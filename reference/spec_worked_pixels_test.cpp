@@ -342,16 +342,16 @@ Computed compute_ue55(const Block& b) {
 }
 
 // UE 5.8: option `stage=` (ui_composite, the default; vignette: the Tonemap pass's vignette mask,
-// whose input row is the screen position and the viewport's height / width), `ui=r,g,b,a` (the
-// premultiplied UI pixel); every other NAME=VALUE is one of the ue58 pipeline's settings when its
-// table names it (its own r.HDR.UI.* console variables among them, docs/ue58-decisions.md E4),
-// else a cvar (`r.*=`), resolved by the pipeline's host derivation as a case of one pixel.
-Computed compute_ue58(const Block& b) {
-  namespace ue58 = hdrc::ref::ue58;
-  const hdrc::Pipeline& pipeline = ue58::ue58_pipeline();
+// whose input row is the screen position and the viewport's height / width; dither: the dither
+// stage's host values, for spec-constants), `ui=r,g,b,a` (the premultiplied UI pixel); every other
+// NAME=VALUE is one of the ue58 pipeline's settings when its table names it (its own r.HDR.UI.*
+// console variables among them, docs/ue58-decisions.md E4), else a cvar (`r.*=`), resolved by the
+// pipeline's host derivation as a case of one pixel of the stage. UE 5.8's parameter block for a
+// block's options (`stage=` and `ui=` are returned, not applied).
+ParamBlock ue58_params(const Block& b, std::string* stage, std::array<double, 4>* ui) {
+  const hdrc::Pipeline& pipeline = hdrc::ref::ue58::ue58_pipeline();
   const std::string where = b.file + ":" + std::to_string(b.line);
-  std::string stage = "ui_composite";
-  std::array<double, 4> ui{0, 0, 0, 0};
+  *stage = "ui_composite";
   hdrc::Case c;
   c.id = "spec";
   c.settings = pipeline.new_settings();
@@ -361,12 +361,12 @@ Computed compute_ue58(const Block& b) {
     const bool is_setting = std::any_of(pipeline.settings().begin(), pipeline.settings().end(),
                                         [&](const hdrc::SettingInfo& i) { return i.name == name; });
     if (name == "stage") {
-      stage = value;
+      *stage = value;
     } else if (name == "ui") {
       int n = 0;
       std::stringstream list(value);
       for (std::string part; std::getline(list, part, ',') && n < 4;)
-        ui[n++] = std::strtod(part.c_str(), nullptr);
+        (*ui)[n++] = std::strtod(part.c_str(), nullptr);
       EXPECT_EQ(n, 4) << where << ": ui=" << value << " is not r,g,b,a";
     } else if (!is_setting && name.rfind("r.", 0) == 0) {
       char* end = nullptr;
@@ -380,20 +380,34 @@ Computed compute_ue58(const Block& b) {
     }
   }
   apply_settings(settings, &c.settings);
-  if (stage != "ui_composite" && stage != "vignette") {
-    ADD_FAILURE() << where << ": stage=" << stage << ": valid: ui_composite, vignette";
+  const std::map<std::string, std::string> stages = {{"ui_composite", "ue58_ui_composite"},
+                                                     {"vignette", "ue58_tonemap"},
+                                                     {"dither", "ue58_dither"}};
+  if (!stages.count(*stage)) {
+    ADD_FAILURE() << where << ": stage=" << *stage << ": valid: ui_composite, vignette, dither";
     return {};
   }
-  c.stage = hdrc::find_stage(pipeline, stage == "vignette" ? "ue58_tonemap" : "ue58_ui_composite");
+  c.stage = hdrc::find_stage(pipeline, stages.at(*stage));
   auto resolution = pipeline.resolve(c, 1, 1);
   if (!resolution) {
     ADD_FAILURE() << where << ": " << resolution.error().message;
     return {};
   }
+  return resolution->params;
+}
+
+Computed compute_ue58(const Block& b) {
+  namespace ue58 = hdrc::ref::ue58;
+  std::string stage;
+  std::array<double, 4> ui{0, 0, 0, 0};
+  const ParamBlock p = ue58_params(b, &stage, &ui);
   const Vec3 in = input_of(b);
   if (stage == "vignette")  // the input is the screen position and height / width
-    return computed_from(ue58::vignette_named_values(resolution->params, in[0], in[1], in[2]));
-  return computed_from(ue58::ui_composite_named_values(resolution->params, in, ui));
+    return computed_from(ue58::vignette_named_values(p, in[0], in[1], in[2]));
+  if (stage == "ui_composite") return computed_from(ue58::ui_composite_named_values(p, in, ui));
+  ADD_FAILURE() << b.file << ":" << b.line << ": stage=" << stage
+                << " names no per-pixel values; valid: ui_composite, vignette";
+  return {};
 }
 
 // Unity URP: option `stage=` (color_grading, the default: the input is a scene colour; lut_texel:
@@ -433,9 +447,13 @@ Computed compute_constants(const Block& b) {
   } else if (b.pipeline == "ue55") {
     Ue55Options o;
     p = ue55_params(b, &o);
+  } else if (b.pipeline == "ue58") {
+    std::string stage;
+    std::array<double, 4> ui{};
+    p = ue58_params(b, &stage, &ui);
   } else {
     ADD_FAILURE() << b.file << ":" << b.line << ": unknown pipeline '" << b.pipeline
-                  << "'; valid: operators, pq_grading, ue55";
+                  << "'; valid: operators, pq_grading, ue55, ue58";
     return c;
   }
   hdrc::for_each_param(p, [&](hdrc::FieldKind, const char* name, const auto& v) {
