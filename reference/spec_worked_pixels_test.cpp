@@ -343,15 +343,20 @@ Computed compute_ue55(const Block& b) {
 
 // UE 5.8: option `stage=` (ui_composite, the default; vignette: the Tonemap pass's vignette mask,
 // whose input row is the screen position and the viewport's height / width; dither: the dither
-// stage's host values, for spec-constants), `ui=r,g,b,a` (the premultiplied UI pixel); every other
+// stage's host values, for spec-constants; visualize: VisualizeHDR over a view of `width=` x
+// `height=` pixels of the input colour), `ui=r,g,b,a` (the premultiplied UI pixel); every other
 // NAME=VALUE is one of the ue58 pipeline's settings when its table names it (its own r.HDR.UI.*
 // console variables among them, docs/ue58-decisions.md E4), else a cvar (`r.*=`), resolved by the
 // pipeline's host derivation as a case of one pixel of the stage. UE 5.8's parameter block for a
 // block's options (`stage=` and `ui=` are returned, not applied).
-ParamBlock ue58_params(const Block& b, std::string* stage, std::array<double, 4>* ui) {
+struct Ue58Options {
+  std::string stage = "ui_composite";
+  std::array<double, 4> ui{0, 0, 0, 0};
+  int width = 1, height = 1;  // the case's image (visualize: the view VisualizeHDR draws on)
+};
+ParamBlock ue58_params(const Block& b, Ue58Options* o) {
   const hdrc::Pipeline& pipeline = hdrc::ref::ue58::ue58_pipeline();
   const std::string where = b.file + ":" + std::to_string(b.line);
-  *stage = "ui_composite";
   hdrc::Case c;
   c.id = "spec";
   c.settings = pipeline.new_settings();
@@ -361,12 +366,14 @@ ParamBlock ue58_params(const Block& b, std::string* stage, std::array<double, 4>
     const bool is_setting = std::any_of(pipeline.settings().begin(), pipeline.settings().end(),
                                         [&](const hdrc::SettingInfo& i) { return i.name == name; });
     if (name == "stage") {
-      *stage = value;
+      o->stage = value;
+    } else if (name == "width" || name == "height") {
+      (name == "width" ? o->width : o->height) = std::atoi(value.c_str());
     } else if (name == "ui") {
       int n = 0;
       std::stringstream list(value);
       for (std::string part; std::getline(list, part, ',') && n < 4;)
-        (*ui)[n++] = std::strtod(part.c_str(), nullptr);
+        o->ui[n++] = std::strtod(part.c_str(), nullptr);
       EXPECT_EQ(n, 4) << where << ": ui=" << value << " is not r,g,b,a";
     } else if (!is_setting && name.rfind("r.", 0) == 0) {
       char* end = nullptr;
@@ -382,13 +389,15 @@ ParamBlock ue58_params(const Block& b, std::string* stage, std::array<double, 4>
   apply_settings(settings, &c.settings);
   const std::map<std::string, std::string> stages = {{"ui_composite", "ue58_ui_composite"},
                                                      {"vignette", "ue58_tonemap"},
-                                                     {"dither", "ue58_dither"}};
-  if (!stages.count(*stage)) {
-    ADD_FAILURE() << where << ": stage=" << *stage << ": valid: ui_composite, vignette, dither";
+                                                     {"dither", "ue58_dither"},
+                                                     {"visualize", "ue58_visualize_hdr"}};
+  if (!stages.count(o->stage)) {
+    ADD_FAILURE() << where << ": stage=" << o->stage
+                  << ": valid: ui_composite, vignette, dither, visualize";
     return {};
   }
-  c.stage = hdrc::find_stage(pipeline, stages.at(*stage));
-  auto resolution = pipeline.resolve(c, 1, 1);
+  c.stage = hdrc::find_stage(pipeline, stages.at(o->stage));
+  auto resolution = pipeline.resolve(c, o->width, o->height);
   if (!resolution) {
     ADD_FAILURE() << where << ": " << resolution.error().message;
     return {};
@@ -398,15 +407,25 @@ ParamBlock ue58_params(const Block& b, std::string* stage, std::array<double, 4>
 
 Computed compute_ue58(const Block& b) {
   namespace ue58 = hdrc::ref::ue58;
-  std::string stage;
-  std::array<double, 4> ui{0, 0, 0, 0};
-  const ParamBlock p = ue58_params(b, &stage, &ui);
+  Ue58Options o;
+  const ParamBlock p = ue58_params(b, &o);
   const Vec3 in = input_of(b);
-  if (stage == "vignette")  // the input is the screen position and height / width
+  if (o.stage == "vignette")  // the input is the screen position and height / width
     return computed_from(ue58::vignette_named_values(p, in[0], in[1], in[2]));
-  if (stage == "ui_composite") return computed_from(ue58::ui_composite_named_values(p, in, ui));
-  ADD_FAILURE() << b.file << ":" << b.line << ": stage=" << stage
-                << " names no per-pixel values; valid: ui_composite, vignette";
+  if (o.stage == "ui_composite") return computed_from(ue58::ui_composite_named_values(p, in, o.ui));
+  if (o.stage == "visualize") {  // the input is the colour of every pixel of the view
+    hdrc::ResolvedCase rc;
+    rc.spec.stage = hdrc::find_stage(ue58::ue58_pipeline(), "ue58_visualize_hdr");
+    rc.params = p;
+    rc.input = hdrc::Image(o.width, o.height);
+    for (size_t i = 0; i < rc.input.pixel_count(); ++i)
+      for (int c = 0; c < 4; ++c) rc.input.data[i * 4 + c] = c < 3 ? in[c] : 1.0;
+    const auto values = ue58::visualize_named_values(rc);
+    EXPECT_FALSE(values.empty()) << b.file << ":" << b.line << ": the reference failed";
+    return computed_from(values);
+  }
+  ADD_FAILURE() << b.file << ":" << b.line << ": stage=" << o.stage
+                << " names no per-pixel values; valid: ui_composite, vignette, visualize";
   return {};
 }
 
@@ -448,9 +467,8 @@ Computed compute_constants(const Block& b) {
     Ue55Options o;
     p = ue55_params(b, &o);
   } else if (b.pipeline == "ue58") {
-    std::string stage;
-    std::array<double, 4> ui{};
-    p = ue58_params(b, &stage, &ui);
+    Ue58Options o;
+    p = ue58_params(b, &o);
   } else {
     ADD_FAILURE() << b.file << ":" << b.line << ": unknown pipeline '" << b.pipeline
                   << "'; valid: operators, pq_grading, ue55, ue58";
@@ -561,9 +579,9 @@ TEST(SpecPages, EveryWorkedPixelMatchesTheCode) {
   }
   // operators: one per operator; pq_grading: HDR and SDR; film_tonemap: one; ue55: one per stage
   // and device path (docs/spec/ue55.md §15); unity_urp: each grading and tone-mapping mode, bake
-  // and lookup (docs/spec/unity_urp.md §9); ue58: the UI composite's five and the Texture
-  // vignette's four (docs/spec/ue58.md §1, §4).
-  EXPECT_GE(pixels, 9 + 9 + 10 + 5 + 4);
+  // and lookup (docs/spec/unity_urp.md §9); ue58: the UI composite's five, VisualizeHDR's two and
+  // the Texture vignette's four (docs/spec/ue58.md §1, §3, §4).
+  EXPECT_GE(pixels, 9 + 9 + 10 + 5 + 2 + 4);
 }
 
 // Each pipeline page has at least one worked pixel, and links the shared semantics page.

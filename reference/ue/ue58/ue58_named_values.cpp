@@ -1,6 +1,7 @@
 #include "reference/ue/ue58/ue58_named_values.h"
 
 #include "reference/ue/tonemap.h"
+#include "reference/ue/ue58/ue58_pipeline.h"
 #include "reference/ue/ue58/ue58_tonemap.h"
 #include "reference/ue/ue58/ue58_ui_composite.h"
 
@@ -50,6 +51,18 @@ std::vector<NamedValue> vignette_named_values(const ParamBlock& p, double pos_x,
   }
   add_named(&out, "weight", t.weight);
   add_named(&out, "mask", mask);
+  return out;
+}
+
+std::vector<NamedValue> visualize_named_values(const ResolvedCase& c) {
+  std::vector<NamedValue> out;
+  auto image = ue58_pipeline().reference(c, /*analytic_lut=*/false);
+  if (!image || c.input.data.empty() || image->data.empty()) return out;
+  const double* in = c.input.px(0, 0);
+  add_named(&out, "input", Vec3{in[0], in[1], in[2]});
+  for (const auto& [name, v] : image->values) add_named(&out, name, v);
+  const double* px = image->px(0, 0);
+  add_named(&out, "pixel", Vec3{px[0], px[1], px[2]});
   return out;
 }
 

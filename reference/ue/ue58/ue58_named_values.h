@@ -36,6 +36,14 @@ std::vector<NamedValue> ui_composite_named_values(const ParamBlock& p, const Vec
 std::vector<NamedValue> vignette_named_values(const ParamBlock& p, double pos_x, double pos_y,
                                               double aspect);
 
+// VisualizeHDR (stage ue58_visualize_hdr, docs/spec/ue58.md §3) of the case `c` (its input a
+// uniform scene, its parameters resolved for the input's size): "input" the scene colour of pixel
+// (0, 0), the numbers the pass prints (the reference image's `values`: exposure labels and their
+// positions, meters, average luminance, in their names' order) and "pixel", the output at (0, 0).
+// The whole pass runs (the panel and meters read the whole image); an error of the reference
+// comes back as an empty list.
+std::vector<NamedValue> visualize_named_values(const ResolvedCase& c);
+
 // Pipeline::named_values of the ue58 pipeline: per colour of the row, the UI composite's values
 // above (the UI pixel at the same position of the case's UI image; `probe --ui` fills it). The
 // other stages name none yet: their lists are empty (probe --json refuses them).
