@@ -11,8 +11,10 @@
 // PIPELINE is `operators`, `pq_grading`, `film_tonemap` (FilmToneMap alone: AP1 in, AP1 out,
 // its parameters from the operators' FilmPreset setting), `ue55` (`r.*=` cvars and settings
 // resolved as a one-pixel case, `stage=` tonemap | ui_composite | visualize_false_colour, `ui=`
-// the UI pixel: reference/ue/ue55/ue55_named_values.h) or `unity_urp` (settings, `stage=`
-// color_grading | lut_texel: reference/unity_urp/unity_urp.h). Values are r,g,b,a lists where a
+// the UI pixel: reference/ue/ue55/ue55_named_values.h), `unity_urp` (settings, `stage=`
+// color_grading | lut_texel: reference/unity_urp/unity_urp.h) or `ue58` (settings and `r.*=` cvars
+// resolved by resolve58 as a one-pixel case, `stage=` ui_composite | vignette, `ui=` the UI pixel:
+// reference/ue/ue58/ue58_named_values.h). Values are r,g,b,a lists where a
 // setting has components. Each row is an intermediate value's name
 // and its one or three numbers; the test evaluates the pixel with the reference's own stage
 // functions (their traces, by name: reference/named_values.h), and every row must equal the code's
@@ -24,6 +26,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -39,6 +42,7 @@
 
 #include "core/case.h"
 #include "core/cube/cube.h"
+#include "core/pipeline.h"
 #include "core/settings.h"
 #include "core/shader_interface.h"
 #include "reference/operators/operators.h"
@@ -47,6 +51,8 @@
 #include "reference/ue/cpp/resolve.h"
 #include "reference/ue/grading/film_tonemap.h"
 #include "reference/ue/ue55/ue55_named_values.h"
+#include "reference/ue/ue58/ue58_named_values.h"
+#include "reference/ue/ue58/ue58_pipeline.h"
 #include "reference/unity_urp/unity_urp.h"
 #include "reference/unity_urp/unity_urp_settings.h"
 
@@ -335,6 +341,94 @@ Computed compute_ue55(const Block& b) {
   return {};
 }
 
+// UE 5.8: option `stage=` (ui_composite, the default; vignette: the Tonemap pass's vignette mask,
+// whose input row is the screen position and the viewport's height / width; dither: the dither
+// stage's host values, for spec-constants; visualize: VisualizeHDR over a view of `width=` x
+// `height=` pixels of the input colour), `ui=r,g,b,a` (the premultiplied UI pixel); every other
+// NAME=VALUE is one of the ue58 pipeline's settings when its table names it (its own r.HDR.UI.*
+// console variables among them, docs/ue58-decisions.md E4), else a cvar (`r.*=`), resolved by the
+// pipeline's host derivation as a case of one pixel of the stage. UE 5.8's parameter block for a
+// block's options (`stage=` and `ui=` are returned, not applied).
+struct Ue58Options {
+  std::string stage = "ui_composite";
+  std::array<double, 4> ui{0, 0, 0, 0};
+  int width = 1, height = 1;  // the case's image (visualize: the view VisualizeHDR draws on)
+};
+ParamBlock ue58_params(const Block& b, Ue58Options* o) {
+  const hdrc::Pipeline& pipeline = hdrc::ref::ue58::ue58_pipeline();
+  const std::string where = b.file + ":" + std::to_string(b.line);
+  hdrc::Case c;
+  c.id = "spec";
+  c.settings = pipeline.new_settings();
+  Block settings = b;
+  settings.options.clear();
+  for (const auto& [name, value] : b.options) {
+    const bool is_setting = std::any_of(pipeline.settings().begin(), pipeline.settings().end(),
+                                        [&](const hdrc::SettingInfo& i) { return i.name == name; });
+    if (name == "stage") {
+      o->stage = value;
+    } else if (name == "width" || name == "height") {
+      (name == "width" ? o->width : o->height) = std::atoi(value.c_str());
+    } else if (name == "ui") {
+      int n = 0;
+      std::stringstream list(value);
+      for (std::string part; std::getline(list, part, ',') && n < 4;)
+        o->ui[n++] = std::strtod(part.c_str(), nullptr);
+      EXPECT_EQ(n, 4) << where << ": ui=" << value << " is not r,g,b,a";
+    } else if (!is_setting && name.rfind("r.", 0) == 0) {
+      char* end = nullptr;
+      const double v = std::strtod(value.c_str(), &end);
+      EXPECT_TRUE(!value.empty() && end == value.c_str() + value.size())
+          << where << ": " << name << "=" << value << " is not a number";
+      const hdrc::Status st = c.cvars.set(name, v);
+      EXPECT_TRUE(bool(st)) << where << ": " << name << ": " << (st ? "" : st.error().message);
+    } else {
+      settings.options.push_back({name, value});
+    }
+  }
+  apply_settings(settings, &c.settings);
+  const std::map<std::string, std::string> stages = {{"ui_composite", "ue58_ui_composite"},
+                                                     {"vignette", "ue58_tonemap"},
+                                                     {"dither", "ue58_dither"},
+                                                     {"visualize", "ue58_visualize_hdr"}};
+  if (!stages.count(o->stage)) {
+    ADD_FAILURE() << where << ": stage=" << o->stage
+                  << ": valid: ui_composite, vignette, dither, visualize";
+    return {};
+  }
+  c.stage = hdrc::find_stage(pipeline, stages.at(o->stage));
+  auto resolution = pipeline.resolve(c, o->width, o->height);
+  if (!resolution) {
+    ADD_FAILURE() << where << ": " << resolution.error().message;
+    return {};
+  }
+  return resolution->params;
+}
+
+Computed compute_ue58(const Block& b) {
+  namespace ue58 = hdrc::ref::ue58;
+  Ue58Options o;
+  const ParamBlock p = ue58_params(b, &o);
+  const Vec3 in = input_of(b);
+  if (o.stage == "vignette")  // the input is the screen position and height / width
+    return computed_from(ue58::vignette_named_values(p, in[0], in[1], in[2]));
+  if (o.stage == "ui_composite") return computed_from(ue58::ui_composite_named_values(p, in, o.ui));
+  if (o.stage == "visualize") {  // the input is the colour of every pixel of the view
+    hdrc::ResolvedCase rc;
+    rc.spec.stage = hdrc::find_stage(ue58::ue58_pipeline(), "ue58_visualize_hdr");
+    rc.params = p;
+    rc.input = hdrc::Image(o.width, o.height);
+    for (size_t i = 0; i < rc.input.pixel_count(); ++i)
+      for (int c = 0; c < 4; ++c) rc.input.data[i * 4 + c] = c < 3 ? in[c] : 1.0;
+    const auto values = ue58::visualize_named_values(rc);
+    EXPECT_FALSE(values.empty()) << b.file << ":" << b.line << ": the reference failed";
+    return computed_from(values);
+  }
+  ADD_FAILURE() << b.file << ":" << b.line << ": stage=" << o.stage
+                << " names no per-pixel values; valid: ui_composite, vignette, visualize";
+  return {};
+}
+
 // Unity URP: option `stage=` (color_grading, the default: the input is a scene colour; lut_texel:
 // the input is a lattice code), other NAME=VALUE settings (unity_urp_settings.h).
 Computed compute_unity_urp(const Block& b) {
@@ -372,9 +466,12 @@ Computed compute_constants(const Block& b) {
   } else if (b.pipeline == "ue55") {
     Ue55Options o;
     p = ue55_params(b, &o);
+  } else if (b.pipeline == "ue58") {
+    Ue58Options o;
+    p = ue58_params(b, &o);
   } else {
     ADD_FAILURE() << b.file << ":" << b.line << ": unknown pipeline '" << b.pipeline
-                  << "'; valid: operators, pq_grading, ue55";
+                  << "'; valid: operators, pq_grading, ue55, ue58";
     return c;
   }
   hdrc::for_each_param(p, [&](hdrc::FieldKind, const char* name, const auto& v) {
@@ -474,20 +571,23 @@ TEST(SpecPages, EveryWorkedPixelMatchesTheCode) {
       check_block(b, compute_ue55(b));
     else if (b.pipeline == "unity_urp")
       check_block(b, compute_unity_urp(b));
+    else if (b.pipeline == "ue58")
+      check_block(b, compute_ue58(b));
     else
       ADD_FAILURE() << b.file << ":" << b.line << ": unknown pipeline '" << b.pipeline
-                    << "'; valid: operators, pq_grading, film_tonemap, ue55, unity_urp";
+                    << "'; valid: operators, pq_grading, film_tonemap, ue55, unity_urp, ue58";
   }
   // operators: one per operator; pq_grading: HDR and SDR; film_tonemap: one; ue55: one per stage
   // and device path (docs/spec/ue55.md §15); unity_urp: each grading and tone-mapping mode, bake
-  // and lookup (docs/spec/unity_urp.md §9).
-  EXPECT_GE(pixels, 9 + 9 + 10);
+  // and lookup (docs/spec/unity_urp.md §9); ue58: the UI composite's five, VisualizeHDR's two and
+  // the Texture vignette's four (docs/spec/ue58.md §1, §3, §4).
+  EXPECT_GE(pixels, 9 + 9 + 10 + 5 + 2 + 4);
 }
 
 // Each pipeline page has at least one worked pixel, and links the shared semantics page.
 TEST(SpecPages, EveryPipelinePageHasAWorkedPixelAndLinksTheSemantics) {
   for (const char* page :
-       {"operators.md", "pq_grading.md", "film_tonemap.md", "ue55.md", "unity_urp.md"}) {
+       {"operators.md", "pq_grading.md", "film_tonemap.md", "ue55.md", "unity_urp.md", "ue58.md"}) {
     SCOPED_TRACE(page);
     ASSERT_TRUE(fs::exists(kSpecDir / page));
     int pixels = 0;

@@ -430,7 +430,7 @@ int main(int argc, char** argv) {
                   "r.HDR.EnableHDROutput=1 \\\n    --set r.HDR.Display.OutputDevice=3 --set "
                   "r.HDR.Display.ColorGamut=2\n") +
       kExitCodes);
-  probe->add_option("--set", probe_opts.set, "CVAR=VALUE (repeatable)");
+  probe->add_option("--set", probe_opts.set, "CVAR=VALUE (repeatable; ue55, ue58)");
   probe->add_option("--setting", probe_opts.setting,
                     "post-process setting NAME=VALUE or NAME=r,g,b,a (repeatable)");
   probe
@@ -448,12 +448,13 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   probe
       ->add_option("--ui", probe_opts.ui,
-                   "--stage ui_composite: the UI pixel over each back-buffer line, premultiplied "
-                   "sRGB-encoded r,g,b,a")
+                   "--stage ui_composite (ue58: ue58_ui_composite): the UI pixel over each "
+                   "back-buffer line, premultiplied sRGB-encoded r,g,b,a")
       ->capture_default_str();
   probe->add_flag("--json", probe_opts.json,
                   "print a JSON document instead of lines (ue55: the --stage value; operators, "
-                  "pq_grading: every named value of docs/spec/<pipeline>.md)");
+                  "pq_grading, unity_urp: every named value of docs/spec/<pipeline>.md; ue58: "
+                  "those of --stage ue58_ui_composite, with --set cvars and --ui)");
   probe->add_option("--cube", probe_opts.cube,
                     "a stage that takes a user LUT (docs/cases.md): the .cube file, sampled as the "
                     "engines sample a case's \"lut\"");

@@ -1,6 +1,7 @@
 #include "runner/probe.h"
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <charconv>
 #include <cmath>
@@ -151,6 +152,20 @@ std::optional<ref::Vec3> parse_rgb_line(const std::string& line) {
   return ref::Vec3{*r, *g, *bl};
 }
 
+// --ui r,g,b,a: the premultiplied UI pixel of a UI composite stage.
+Result<std::array<double, 4>> parse_ui_pixel(const std::string& text) {
+  std::array<double, 4> ui{0, 0, 0, 0};
+  std::stringstream list(text);
+  int n = 0;
+  for (std::string part; std::getline(list, part, ',');) {
+    const auto x = parse_number(part);
+    if (!x || n == 4) return Error{"--ui", text, "expected r,g,b,a (premultiplied)", ""};
+    ui[n++] = *x;
+  }
+  if (n != 4) return Error{"--ui", text, "expected r,g,b,a (premultiplied)", ""};
+  return ui;
+}
+
 // --setting NAME=VALUE (a number, r,g,b,a, or a named value) into `settings`.
 Status parse_probe_setting(const std::string& kv, SettingValues* settings) {
   const size_t eq = kv.find('=');
@@ -196,10 +211,25 @@ Status run_pipeline_probe(const Pipeline& pipeline, const ProbeOptions& o, std::
   }
   if (!c.stage)
     return Error{"--pipeline", std::string(pipeline.name), "no stage of it reads colours", ""};
-  if (!o.set.empty())
+  if (!o.set.empty() && pipeline.cvars().empty())
     return Error{
         "--set", o.set.front(), "pipeline " + std::string(pipeline.name) + " has no cvars",
         "--setting NAME=VALUE (hdrconform cvars --pipeline " + std::string(pipeline.name) + ")"};
+  // A pipeline with UE's cvars (ue58): --set CVAR=NUMBER as for UE 5.5.
+  for (const std::string& kv : o.set) {
+    const size_t eq = kv.find('=');
+    const auto value = eq == std::string::npos ? std::nullopt : parse_number(kv.substr(eq + 1));
+    if (!value) return Error{"--set", kv, "expected CVAR=NUMBER", ""};
+    if (Status st = c.cvars.set(kv.substr(0, eq), *value); !st)
+      return Error{"--set", kv, st.error().message, st.error().choices};
+  }
+  // A UI composite stage (ue58_ui_composite): --ui is the UI pixel over every colour.
+  std::array<double, 4> ui_pixel{0, 0, 0, 0};
+  if (c.stage->id == StageId::kUiComposite) {
+    const auto parsed_ui = parse_ui_pixel(o.ui);
+    if (!parsed_ui) return parsed_ui.error();
+    ui_pixel = *parsed_ui;
+  }
   if (o.json && !pipeline.named_values) {
     std::string named = "ue55";
     for (const Pipeline* p : pipeline_table())
@@ -253,9 +283,26 @@ Status run_pipeline_probe(const Pipeline& pipeline, const ProbeOptions& o, std::
     for (int k = 0; k < 3; ++k) px[k] = colours[i][k];
     px[3] = 1.0;
   }
+  if (c.stage->id == StageId::kUiComposite) {
+    rc.ui = Image(rc.input.width, 1);
+    for (int x = 0; x < rc.ui.width; ++x)
+      for (int k = 0; k < 4; ++k) rc.ui.px(x, 0)[k] = ui_pixel[k];
+  }
   auto resolution = pipeline.resolve(c, rc.input.width, 1);
   if (!resolution) return resolution.error();
   rc.params = resolution->params;
+  if (c.stage->id == StageId::kUiComposite) {
+    // As for UE 5.5's: HDR back buffers only, and the composite's own checks (its reference).
+    const std::vector<int>& devices = c.stage->devices;
+    if (std::find(devices.begin(), devices.end(), rc.params.output_device) == devices.end())
+      return Error{"--stage", std::string(c.stage->name),
+                   "the HDR UI composite runs on HDR back buffers only (output device " +
+                       std::to_string(rc.params.output_device) + ")",
+                   "r.HDR.Display.OutputDevice 3, 4 (PQ), 5, 6 (scRGB), with "
+                   "r.HDR.EnableHDROutput=1"};
+    if (o.json)  // the plain output's reference checks them below
+      if (auto checked = pipeline.reference(rc, false); !checked) return checked.error();
+  }
   rc.spec.lut = c.lut;
   if (c.stage->user_lut_slots > 1) {
     if (Status st = attach_user_luts(resolution->user_luts, &rc); !st) return st;
@@ -267,6 +314,11 @@ Status run_pipeline_probe(const Pipeline& pipeline, const ProbeOptions& o, std::
     // the reference's own stage functions (Pipeline::named_values); "out" is the value the plain
     // output prints.
     const std::vector<std::vector<NamedValue>> all = pipeline.named_values(rc, colours);
+    if (std::all_of(all.begin(), all.end(), [](const auto& v) { return v.empty(); }))
+      return Error{"--stage", std::string(c.stage->name),
+                   "docs/spec/" + std::string(pipeline.name) +
+                       ".md names no intermediate values of this stage",
+                   "plain \"R G B\" lines (without --json)"};
     nlohmann::ordered_json rows = nlohmann::ordered_json::array();
     for (size_t i = 0; i < colours.size() && i < all.size(); ++i) {
       const std::vector<NamedValue>& values = all[i];
@@ -328,17 +380,9 @@ Status run_probe(const ProbeOptions& o, std::istream& in, std::ostream& out) {
   auto resolution = ref::resolve(c, 1, 1);
   if (!resolution) return resolution.error();
   const ParamBlock& p = resolution->params;
-  ref::ui::Vec4 ui_pixel{0, 0, 0, 0};
-  {
-    std::stringstream list(o.ui);
-    int n = 0;
-    for (std::string part; std::getline(list, part, ',');) {
-      const auto x = parse_number(part);
-      if (!x || n == 4) return Error{"--ui", o.ui, "expected r,g,b,a (premultiplied)", ""};
-      ui_pixel[n++] = *x;
-    }
-    if (n != 4) return Error{"--ui", o.ui, "expected r,g,b,a (premultiplied)", ""};
-  }
+  const auto parsed_ui = parse_ui_pixel(o.ui);
+  if (!parsed_ui) return parsed_ui.error();
+  const ref::ui::Vec4 ui_pixel = *parsed_ui;
   const ref::ui::UiCompositeParams ui_params = ref::ui_composite_params(p);
   if (o.stage == "ui_composite") {
     if (p.output_device < 3 || p.output_device > 6)

@@ -8,6 +8,8 @@
 #include <nlohmann/json.hpp>
 #include <random>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "reference/ue/cpp/resolve.h"
 #include "reference/ue/tonemap.h"
@@ -142,6 +144,65 @@ TEST(ProbeJson, OperatorsPqGradingAndUnityUrpPrintTheSpecsNamedValues) {
     EXPECT_EQ(doc["rows"][1]["values"]["input"][0], "NaN");
     EXPECT_EQ(doc["rows"][1]["values"]["input"][2], "-Infinity");
   }
+}
+
+// probe --pipeline ue58 --stage ue58_ui_composite --json (docs/spec/ue58.md §1's worked pixels):
+// the UI pixel from --ui, cvars from --set; every step of the shader in order, "out" what the
+// plain output prints. Translucent white UI (1 at a = 0.5: 203 nits) over 100 nits in the gamma
+// blend, by hand with the host's float gammas (2.4f, 1.f / 2.4f): g(100) = 0.01^0.41666666 =
+// 0.146779933, g(203) = 0.0203^0.41666666 = 0.197146936, lerp 0.171963435, ^2.4f x 10000 =
+// 146.233406 nits. Refused: an SDR device, a stage the page names no values of.
+TEST(ProbeJson, Ue58UiCompositePrintsEveryStepOfTheShader) {
+  hdrc::ProbeOptions o;
+  o.pipeline = "ue58";
+  o.stage = "ue58_ui_composite";
+  o.set = {"r.HDR.EnableHDROutput=1", "r.HDR.Display.OutputDevice=3"};
+  o.ui = "0.5,0.5,0.5,0.5";
+  const std::string text = "0.508078422 0.508078422 0.508078422\n0.1 0.2 0.3\n";  // PQ(100 nits)
+  std::istringstream in(text);
+  std::ostringstream plain;
+  ASSERT_TRUE(hdrc::run_probe(o, in, plain).ok());
+  o.json = true;
+  std::istringstream in2(text);
+  std::ostringstream json_out;
+  const hdrc::Status st = hdrc::run_probe(o, in2, json_out);
+  ASSERT_TRUE(st.ok()) << st.error().to_string();
+  const auto doc = nlohmann::ordered_json::parse(json_out.str());
+  ASSERT_EQ(doc["rows"].size(), 2u);
+  const auto& v = doc["rows"][0]["values"];
+  std::vector<std::string> keys;
+  for (auto it = v.begin(); it != v.end(); ++it) keys.push_back(it.key());
+  EXPECT_EQ(keys,
+            (std::vector<std::string>{"input", "ui_unpremultiplied", "ui_linear", "ui", "ui_alpha",
+                                      "scene_nits", "ui_levelled", "blend_scene", "blend_ui",
+                                      "blend_lerp", "composed", "after_cvd", "out", "out_alpha"}));
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_NEAR(v["scene_nits"][k].get<double>(), 100.0, 1e-5);
+    EXPECT_NEAR(v["blend_scene"][k].get<double>(), 0.146779933, 1e-8);
+    EXPECT_NEAR(v["blend_ui"][k].get<double>(), 0.197146936, 1e-8);
+    EXPECT_NEAR(v["composed"][k].get<double>(), 146.233406, 1e-5);
+  }
+  EXPECT_EQ(v["out_alpha"], 0.5);
+  std::string from_json;
+  for (const auto& row : doc["rows"])
+    for (int k = 0; k < 3; ++k) {
+      if (k) from_json += " ";
+      from_json += hdrc::format_number(row["values"]["out"][k].get<double>());
+      if (k == 2) from_json += "\n";
+    }
+  EXPECT_EQ(from_json, plain.str());
+
+  std::ostringstream refused;
+  o.set = {};  // device 0: no HDR UI composite
+  std::istringstream in3(text);
+  hdrc::Status sdr = hdrc::run_probe(o, in3, refused);
+  ASSERT_FALSE(sdr.ok());
+  EXPECT_NE(sdr.error().to_string().find("HDR back buffers only"), std::string::npos);
+  o.stage = "ue58_dither";
+  std::istringstream in4(text);
+  hdrc::Status none = hdrc::run_probe(o, in4, refused);
+  ASSERT_FALSE(none.ok());
+  EXPECT_NE(none.error().to_string().find("names no intermediate values"), std::string::npos);
 }
 
 }  // namespace

@@ -189,7 +189,8 @@ Vignette ue55_vignette(const ParamBlock& p) {
   return v;
 }
 
-Vec3 vignette_mask(const Vignette& v, double pos_x, double pos_y, double aspect) {
+Vec3 vignette_mask(const Vignette& v, double pos_x, double pos_y, double aspect,
+                   VignetteTrace* trace) {
   // PostProcessCommon.ush (5.8) ComputeVignetteMask: Weight 1 for Intensity <= 0; cosine-fourth
   // law Square(rcp(|(V − (Centre − 0.5)) · Intensity|² + 1)); without USE_ADVANCED_VIGNETTE
   // every type is the cosine-fourth law. Advanced, not Texture (or Texture without
@@ -209,8 +210,8 @@ Vec3 vignette_mask(const Vignette& v, double pos_x, double pos_y, double aspect)
   if (v.intensity <= 0.0) {
   } else if (type == 1 && v.use_texture) {
     double u = 0, w = 0;
-    vignette_texture_uv(v, pos_x, pos_y, aspect, &u, &w);
-    weight = 1.0 + v.intensity * (vignette_texture_sample(v, u, w) - 1.0);
+    vignette_texture_uv(v, pos_x, pos_y, aspect, &u, &w, trace);
+    weight = 1.0 + v.intensity * (vignette_texture_sample(v, u, w, trace) - 1.0);
   } else if (type == 0) {
     vx = (vx - cx) * v.intensity;
     vy = (vy - cy) * v.intensity;
@@ -225,27 +226,44 @@ Vec3 vignette_mask(const Vignette& v, double pos_x, double pos_y, double aspect)
     const double w = d3d::pow(d3d::saturate(1.0 - distance), v.softness);
     weight = 1.0 + v.intensity * (w - 1.0);  // HLSL lerp(1, w, I) = 1 + I·(w − 1)
   }
+  if (trace) trace->weight = weight;
   Vec3 out;
   for (int c = 0; c < 3; ++c) out[c] = v.color[c] + weight * (1.0 - v.color[c]);
   return out;
 }
 
 void vignette_texture_uv(const Vignette& v, double pos_x, double pos_y, double aspect, double* u,
-                         double* w) {
+                         double* w, VignetteTrace* trace) {
   // PostProcessCommon.ush VignetteSpace (VIGNETTE_TYPE_TEXTURE) and ComputeVignetteMask's
   // SampleLevel coordinate.
   const double vx = pos_x * d3d::saturate(1.0 / aspect), vy = pos_y * d3d::saturate(aspect);
   *u = (v.inv_size[0] * vx - (v.center[0] - 0.5)) * 0.5 + 0.5;
   *w = (v.inv_size[1] * vy - (v.center[1] - 0.5)) * 0.5 + 0.5;
+  if (trace) {
+    trace->space[0] = vx;
+    trace->space[1] = vy;
+    trace->uv[0] = *u;
+    trace->uv[1] = *w;
+  }
 }
 
-double vignette_texture_sample(const Vignette& v, double u, double w) {
-  const LinearTap tx = linear_tap(u * v.tex_width - 0.5, v.tex_width);
-  const LinearTap ty = linear_tap(w * v.tex_height - 0.5, v.tex_height);
+double vignette_texture_sample(const Vignette& v, double u, double w, VignetteTrace* trace) {
+  const double cx = u * v.tex_width - 0.5, cy = w * v.tex_height - 0.5;
+  const LinearTap tx = linear_tap(cx, v.tex_width);
+  const LinearTap ty = linear_tap(cy, v.tex_height);
   auto at = [&](int x, int y) { return v.tex[static_cast<size_t>(y) * v.tex_width + x]; };
   const double top = at(tx.i0, ty.i0) + (at(tx.i1, ty.i0) - at(tx.i0, ty.i0)) * tx.f;
   const double bottom = at(tx.i0, ty.i1) + (at(tx.i1, ty.i1) - at(tx.i0, ty.i1)) * tx.f;
-  return top + (bottom - top) * ty.f;
+  const double sample = top + (bottom - top) * ty.f;
+  if (trace) {
+    trace->textured = true;
+    trace->texel[0] = cx;
+    trace->texel[1] = cy;
+    const double taps[4] = {at(tx.i0, ty.i0), at(tx.i1, ty.i0), at(tx.i0, ty.i1), at(tx.i1, ty.i1)};
+    std::copy(taps, taps + 4, trace->taps);
+    trace->sample = sample;
+  }
+  return sample;
 }
 
 Vec3 tonemap_final_linear(const ParamBlock& p, const Image& scene, const Image* bloom,

@@ -42,16 +42,31 @@ struct Vignette {
   std::vector<double> tex{1.0};
 };
 Vignette ue55_vignette(const ParamBlock& p);  // UE 5.5: p.vignette_intensity, the rest default
+// The steps of vignette_mask as computed (docs/spec/ue58.md §4's worked pixels): the texture
+// branch's V, UV, texel coordinate (UV · size − 0.5), the four taps (i0, j0), (i1, j0), (i0, j1),
+// (i1, j1) after clamp-to-edge and their bilinear sample (`textured` says the branch ran), and
+// every branch's weight.
+struct VignetteTrace {
+  bool textured = false;
+  double space[2] = {0, 0};
+  double uv[2] = {0, 0};
+  double texel[2] = {0, 0};
+  double taps[4] = {0, 0, 0, 0};
+  double sample = 0;
+  double weight = 1;
+};
 // ComputeVignetteMask(VignetteSpace(pos, type, aspect), ...) at screen position (pos_x, pos_y) in
 // [-1, 1] (y up), aspect = ViewportHeight / ViewportWidth.
-Vec3 vignette_mask(const Vignette& v, double pos_x, double pos_y, double aspect);
+Vec3 vignette_mask(const Vignette& v, double pos_x, double pos_y, double aspect,
+                   VignetteTrace* trace = nullptr);
 // The Texture branch's sample coordinate (InvSize · V − (Centre − 0.5)) · 0.5 + 0.5, V being
 // VignetteSpace's Texture variant Pos · (saturate(1 / AspectRatio), saturate(AspectRatio)).
 void vignette_texture_uv(const Vignette& v, double pos_x, double pos_y, double aspect, double* u,
-                         double* w);
+                         double* w, VignetteTrace* trace = nullptr);
 // The VignetteTexture's red channel sampled bilinearly with clamp-to-edge addressing at (u, w)
 // (AddTonemapPass's TStaticSamplerState<SF_Bilinear>: AM_Clamp on both axes; SampleLevel 0).
-double vignette_texture_sample(const Vignette& v, double u, double w);
+double vignette_texture_sample(const Vignette& v, double u, double w,
+                               VignetteTrace* trace = nullptr);
 
 // Steps 1-5 of TonemapCommonPS at pixel (x, y) of `scene` (UE 5.5 and 5.8 alike): colour fringe,
 // sharpen, FinalLinearColor = S · SceneColorTint · (exposure · VignetteMask) + Bloom · (exposure ·

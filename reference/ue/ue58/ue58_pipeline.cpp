@@ -21,6 +21,7 @@
 #include "reference/ue/tonemap.h"
 #include "reference/ue/ue55/ue55_pipeline.h"
 #include "reference/ue/ue58/ue58_combine_luts.h"
+#include "reference/ue/ue58/ue58_named_values.h"
 #include "reference/ue/ue58/ue58_tonemap.h"
 #include "reference/ue/ue58/ue58_ui_composite.h"
 
@@ -591,6 +592,10 @@ const Pipeline& ue58_pipeline() {
       &lattice,
       &encoding,
       &reference,
+      0,  // bytes and CPU time per pixel: not measured (runner/budget.h takes the dearest)
+      0,
+      // docs/spec/ue58.md's worked pixels' rows (reference/ue/ue58/ue58_named_values.h).
+      &named_values_of,
   };
   return pipeline;
 }

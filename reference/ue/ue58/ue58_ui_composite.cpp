@@ -60,52 +60,82 @@ Status validate(const UiComposite58Params& p) {
   return {};
 }
 
-ui::Vec4 compute_hdr_ui_color58(const ui::Vec4& ui, const UiComposite58Params& p) {
+ui::Vec4 compute_hdr_ui_color58(const ui::Vec4& ui, const UiComposite58Params& p,
+                                UiComposite58Trace* trace) {
   const double a = ui[3];
   // "Undo premultiplied alpha to apply in HDR blend space": (a > 0) ? rgb / a : 0.
   Vec3 c = a > 0.0 ? Vec3{ui[0] / a, ui[1] / a, ui[2] / a} : Vec3{0.0, 0.0, 0.0};
+  if (trace) trace->unpremultiplied = c;
   // LinearizeColor: pow(x, UICompositeEOTFGamma) (HLSL pow: NaN for a negative base) or
   // GammaCorrectionCommon.ush sRGBToLinear, which 5.8 has without the min-normal clamp (L16).
   for (double& v : c)
     v = p.eotf == 0 ? d3d::pow(v, p.eotf_gamma) : srgb_to_linear(v, MinNormalClamp::kOff);
+  if (trace) trace->linearized = c;
   const Vec3 rec2020 = ui::srgb_to_rec2020() * c;
   const double l = p.common.ui_luminance;
   return {rec2020[0] * l, rec2020[1] * l, rec2020[2] * l, a};
 }
 
-Vec3 compose_ui_and_scene58(Vec3 scene, ui::Vec4 ui, const UiComposite58Params& p) {
+Vec3 compose_ui_and_scene58(Vec3 scene, ui::Vec4 ui, const UiComposite58Params& p,
+                            UiComposite58Trace* trace) {
+  using Compose = UiComposite58Trace::Compose;
   const double a = ui[3];
   const double level = p.common.ui_level;
+  if (trace) trace->compose = Compose::kScene;
   if (!(a > 0.0)) return scene;  // a <= 0 or NaN: the scene as it is
   for (int c = 0; c < 3; ++c) ui[c] *= level;
-  if (!(a < 1.0)) return rgb(ui);  // opaque UI replaces the scene
+  if (trace) trace->ui_levelled = rgb(ui);
+  if (!(a < 1.0)) {  // opaque UI replaces the scene
+    if (trace) trace->compose = Compose::kOpaque;
+    return rgb(ui);
+  }
   if (p.blend != 0) {
     // Linear: UE 5.5's Reinhard under the UI, then "Composite in linear blend space".
     scene = ui::reinhard_under_ui(scene, a, level);
+    if (trace) {
+      trace->compose = Compose::kLinear;
+      trace->reinhard = scene;
+    }
     for (int c = 0; c < 3; ++c) scene[c] = lerp(scene[c], ui[c], a);
     return scene;
   }
   // Gamma: both to pow(saturate(x / UE_PQ_WHITE_NITS), 1 / gamma), lerp there, back to nits.
+  if (trace) trace->compose = Compose::kGamma;
   for (int c = 0; c < 3; ++c) {
     const double u = d3d::pow(d3d::saturate(ui[c] / kPqWhiteNits), p.blend_inv_gamma);
     const double s = d3d::pow(d3d::saturate(scene[c] / kPqWhiteNits), p.blend_inv_gamma);
-    scene[c] = d3d::pow(lerp(s, u, a), p.blend_gamma) * kPqWhiteNits;
+    const double mixed = lerp(s, u, a);
+    if (trace) {
+      trace->blend_scene[c] = s;
+      trace->blend_ui[c] = u;
+      trace->blend_lerp[c] = mixed;
+    }
+    scene[c] = d3d::pow(mixed, p.blend_gamma) * kPqWhiteNits;
   }
   return scene;
 }
 
 ui::Vec4 composite_pixel58(const ui::Vec4& scene, const ui::Vec4& ui, const UiComposite58Params& p,
-                           ui::UiCompositeTrace* trace) {
+                           UiComposite58Trace* trace) {
   const ui::BackBufferEncoding encoding = ui::back_buffer_encoding(p.common.output_device);
   if (p.common.composite_mode == 0) return ui::standard_blend(scene, ui, encoding);
-  const ui::Vec4 ui_nits = compute_hdr_ui_color58(ui, p);
+  const ui::Vec4 ui_nits = compute_hdr_ui_color58(ui, p, trace);
   const Vec3 scene_nits = ui::compute_hdr_scene_color(rgb(scene), encoding);
-  const Vec3 composed = compose_ui_and_scene58(scene_nits, ui_nits, p);
+  const Vec3 composed = compose_ui_and_scene58(scene_nits, ui_nits, p, trace);
   const Vec3 after_cvd = ui::apply_color_deficiency(composed, p.common.cvd);
   const Vec3 encoded = ui::encode_output(after_cvd, encoding);
   // "OutColor.w = UIColor.w" (5.5 wrote 1).
   const ui::Vec4 out{encoded[0], encoded[1], encoded[2], ui[3]};
-  if (trace) *trace = {ui_nits, scene_nits, composed, after_cvd, out};
+  if (trace) trace->pass = {ui_nits, scene_nits, composed, after_cvd, out};
+  return out;
+}
+
+ui::Vec4 composite_pixel58(const ui::Vec4& scene, const ui::Vec4& ui, const UiComposite58Params& p,
+                           ui::UiCompositeTrace* trace) {
+  if (!trace) return composite_pixel58(scene, ui, p, static_cast<UiComposite58Trace*>(nullptr));
+  UiComposite58Trace t;
+  const ui::Vec4 out = composite_pixel58(scene, ui, p, &t);
+  if (p.common.composite_mode != 0) *trace = t.pass;
   return out;
 }
 

@@ -52,18 +52,42 @@ UiComposite58Params ui_composite58_params(const ParamBlock& p);
 // and positive.
 Status validate(const UiComposite58Params& p);
 
-// ComputeHDRUIColor: un-premultiply (a > 0: rgb / a, else 0), LinearizeColor, sRGB_2_Rec2020 ·
-// UILuminance; alpha unchanged. Nits, Rec.2020, no longer premultiplied.
-ui::Vec4 compute_hdr_ui_color58(const ui::Vec4& ui, const UiComposite58Params& p);
+// The steps of one pixel through the shader, as computed (docs/spec/ue58.md §1's worked pixels;
+// reference/ue/ue58/ue58_named_values.h names them).
+struct UiComposite58Trace {
+  // ComputeHDRUIColor: the UI colour un-premultiplied, then LinearizeColor's value.
+  Vec3 unpremultiplied{};
+  Vec3 linearized{};
+  // ComposeUIAndScene's branch: the scene unchanged (a <= 0 or NaN), the UI replacing it (a >= 1),
+  // the gamma-space or the linear blend (0 < a < 1).
+  enum class Compose { kScene, kOpaque, kGamma, kLinear } compose = Compose::kScene;
+  Vec3 ui_levelled{};  // UI.rgb · UILevel (a > 0)
+  // Gamma blend: g(Scene), g(UI) (g(x) = pow(saturate(x / 10000), UICompositeBlendInvGamma)) and
+  // lerp(g(Scene), g(UI), a) before pow(·, UICompositeBlendGamma) · 10000.
+  Vec3 blend_scene{}, blend_ui{}, blend_lerp{};
+  Vec3 reinhard{};            // linear blend: the scene after 5.5's Reinhard under the UI
+  ui::UiCompositeTrace pass;  // UI in nits, scene in nits, composed, after CVD, output
+};
 
-// ComposeUIAndScene of 5.8 over nits (the UI from compute_hdr_ui_color58).
-Vec3 compose_ui_and_scene58(Vec3 scene, ui::Vec4 ui, const UiComposite58Params& p);
+// ComputeHDRUIColor: un-premultiply (a > 0: rgb / a, else 0), LinearizeColor, sRGB_2_Rec2020 ·
+// UILuminance; alpha unchanged. Nits, Rec.2020, no longer premultiplied. `trace`: the
+// un-premultiplied and linearized colours.
+ui::Vec4 compute_hdr_ui_color58(const ui::Vec4& ui, const UiComposite58Params& p,
+                                UiComposite58Trace* trace = nullptr);
+
+// ComposeUIAndScene of 5.8 over nits (the UI from compute_hdr_ui_color58). `trace`: the branch
+// taken and its steps.
+Vec3 compose_ui_and_scene58(Vec3 scene, ui::Vec4 ui, const UiComposite58Params& p,
+                            UiComposite58Trace* trace = nullptr);
 
 // One back-buffer pixel after the UI pass: mode != 0 the shader (alpha = the UI's alpha), mode 0
 // Slate's blend (ui::standard_blend). `trace` is filled for mode != 0 only (alpha of `output` as
 // written). Precondition: validate(p) is ok.
 ui::Vec4 composite_pixel58(const ui::Vec4& scene, const ui::Vec4& ui, const UiComposite58Params& p,
                            ui::UiCompositeTrace* trace = nullptr);
+// The same with every step of the shader (mode != 0 only).
+ui::Vec4 composite_pixel58(const ui::Vec4& scene, const ui::Vec4& ui, const UiComposite58Params& p,
+                           UiComposite58Trace* trace);
 
 // composite_pixel58 over whole images of equal size. Errors: invalid parameters, different sizes.
 Result<Image> composite_ui58(const Image& scene, const Image& ui, const UiComposite58Params& p);
