@@ -362,8 +362,8 @@ TEST(DitherPlanted, TenBitStepOnAnEightBitBackBufferFails) {
 // sin differs): the properties pass every case; the exact pattern (lavapipe's default judgement)
 // fails every dithered one.
 TEST(DitherPlanted, AnotherHashPassesThePropertiesAndFailsTheExactPattern) {
-  const std::string from = "precise float g = sin(a) * 493013.0;";
-  const std::string to = "precise float g = sin(a + 1e-3) * 493013.0;";
+  const std::string from = "precise float g = sin(a) * DITHER_GRAIN_SIN_SCALE;";
+  const std::string to = "precise float g = sin(a + 1e-3) * DITHER_GRAIN_SIN_SCALE;";
   const Outcome props = run_dither(from, to, true);
   ASSERT_EQ(props.verdict.size(), 75u) << props.out;
   for (const auto& [id, v] : props.verdict) EXPECT_EQ(v, "PASS") << id;

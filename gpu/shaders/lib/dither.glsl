@@ -15,13 +15,19 @@ vec2 dither_grain_uv(uvec2 pixel, ivec2 size, vec2 grain_random) {
   return grain_uv;
 }
 
+// GrainFromUV's two hash constants (PostProcessTonemap.usf, GrainFromUV: 543.31f and 493013.0f),
+// named so that the planted-constant sweep enumerates them (docs/constant-sweep.md); the shader's
+// arithmetic is the literals' (a const float folds to the same SPIR-V constant).
+const float DITHER_GRAIN_V_SCALE = 543.31;
+const float DITHER_GRAIN_SIN_SCALE = 493013.0;
+
 // GrainFromUV: the uniform grain frac(sin(u + v · 543.31) · 493013) in [0, 1). `precise` keeps
 // the multiply-adds unfused as the reference evaluates them; the hash multiplies sin's last-bit
 // differences by ~5e5, so a driver's sin that differs from the host's by one ulp changes the grain
 // (docs/precision.md).
 float dither_grain(vec2 grain_uv) {
-  precise float a = grain_uv.x + grain_uv.y * 543.31;
-  precise float g = sin(a) * 493013.0;
+  precise float a = grain_uv.x + grain_uv.y * DITHER_GRAIN_V_SCALE;
+  precise float g = sin(a) * DITHER_GRAIN_SIN_SCALE;
   return g - floor(g);  // HLSL frac
 }
 
