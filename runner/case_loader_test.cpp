@@ -518,11 +518,12 @@ TEST(CaseLoader, TheDefaultSuiteLoads) {
                                                   {"ue58/ui_composite_cvd", 4},
                                                   {"ue58/visualize_hdr", 6},
                                                   {"ue58/visualize_hdr_devices", 1},
+                                                  {"ue58/visualize_hdr_sdr", 2},
                                                   {"visualize/pre_exposure", 8},
                                                   {"visualize/visualize_hdr", 30},
                                                   {"visualize/working_color_space", 21}};
   EXPECT_EQ(per_file, expected);
-  EXPECT_EQ(loaded.cases.size(), 1838u);
+  EXPECT_EQ(loaded.cases.size(), 1840u);
   for (const auto& c : loaded.cases) EXPECT_NE(c.tolerance.source, "default") << c.id;
 }
 
