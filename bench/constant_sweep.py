@@ -441,6 +441,9 @@ PINNED = [
     # UE 5.8: a Tonemap case's measured overlay; 5.8's sRGB decode's isolating case.
     ("ue58.ACES_RAD_TO_DEG", 4, "ue58/tonemap_effects/dev0_shaper0_log_ramp"),
     ("ue58.UE58_SRGB_OFFSET", 4, "ue58/isolate/ui_srgb_offset/opaque_srgb_codes"),
+    # The eye-adaptation luminance's 1/3 on its isolating VisualizeHDR case's measured overlay
+    # (the floor, EA_LUMINANCE_MIN, is caught the same way on dev0_debug1, with more margin).
+    ("ue58.EA_ONE_THIRD", 4, "ue58/visualize_hdr_sdr/dev0_debug2_log_ramp"),
 ]
 
 
