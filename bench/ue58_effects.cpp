@@ -22,8 +22,6 @@ namespace hdrc::ue58fx {
 
 namespace {
 
-constexpr double kLut55Max = 1.05;  // PostProcessTonemap.usf (5.5): ColorLookupTable's * 1.05
-
 using KV = std::vector<std::pair<std::string, double>>;
 
 // A case of `stage` of UE 5.5's or 5.8's pipeline with these settings and cvars, resolved by the
