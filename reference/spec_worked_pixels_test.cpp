@@ -362,7 +362,9 @@ ParamBlock ue58_params(const Block& b, Ue58Options* o) {
   c.settings = pipeline.new_settings();
   Block settings = b;
   settings.options.clear();
-  for (const auto& [name, value] : b.options) {
+  for (const auto& option : b.options) {
+    const std::string& name = option.first;
+    const std::string& value = option.second;
     const bool is_setting = std::any_of(pipeline.settings().begin(), pipeline.settings().end(),
                                         [&](const hdrc::SettingInfo& i) { return i.name == name; });
     if (name == "stage") {
