@@ -188,6 +188,19 @@ Status parse_probe_setting(const std::string& kv, SettingValues* settings) {
   return {};
 }
 
+// --set CVAR=NUMBER (repeatable) into the case's cvars: a number, and a cvar of the pipeline's
+// table with a valid value, or the cvar table's error naming the choices.
+Status apply_set_cvars(const std::vector<std::string>& sets, Case* c) {
+  for (const std::string& kv : sets) {
+    const size_t eq = kv.find('=');
+    const auto value = eq == std::string::npos ? std::nullopt : parse_number(kv.substr(eq + 1));
+    if (!value) return Error{"--set", kv, "expected CVAR=NUMBER", ""};
+    if (Status st = c->cvars.set(kv.substr(0, eq), *value); !st)
+      return Error{"--set", kv, st.error().message, st.error().choices};
+  }
+  return {};
+}
+
 // probe for a pipeline other than UE 5.5: the colours as one row of pixels through the pipeline's
 // reference for the chosen stage.
 Status run_pipeline_probe(const Pipeline& pipeline, const ProbeOptions& o, std::istream& in,
@@ -216,13 +229,7 @@ Status run_pipeline_probe(const Pipeline& pipeline, const ProbeOptions& o, std::
         "--set", o.set.front(), "pipeline " + std::string(pipeline.name) + " has no cvars",
         "--setting NAME=VALUE (hdrconform cvars --pipeline " + std::string(pipeline.name) + ")"};
   // A pipeline with UE's cvars (ue58): --set CVAR=NUMBER as for UE 5.5.
-  for (const std::string& kv : o.set) {
-    const size_t eq = kv.find('=');
-    const auto value = eq == std::string::npos ? std::nullopt : parse_number(kv.substr(eq + 1));
-    if (!value) return Error{"--set", kv, "expected CVAR=NUMBER", ""};
-    if (Status st = c.cvars.set(kv.substr(0, eq), *value); !st)
-      return Error{"--set", kv, st.error().message, st.error().choices};
-  }
+  if (Status st = apply_set_cvars(o.set, &c); !st) return st;
   // A UI composite stage (ue58_ui_composite): --ui is the UI pixel over every colour.
   std::array<double, 4> ui_pixel{0, 0, 0, 0};
   if (c.stage->id == StageId::kUiComposite) {
@@ -363,13 +370,7 @@ Status run_probe(const ProbeOptions& o, std::istream& in, std::ostream& out) {
   Case c;
   c.id = "probe";
   c.stage = find_stage("tonemap");
-  for (const std::string& kv : o.set) {
-    const size_t eq = kv.find('=');
-    const auto value = eq == std::string::npos ? std::nullopt : parse_number(kv.substr(eq + 1));
-    if (!value) return Error{"--set", kv, "expected CVAR=NUMBER", ""};
-    if (Status st = c.cvars.set(kv.substr(0, eq), *value); !st)
-      return Error{"--set", kv, st.error().message, st.error().choices};
-  }
+  if (Status st = apply_set_cvars(o.set, &c); !st) return st;
   for (const std::string& kv : o.setting)
     if (Status st = parse_probe_setting(kv, &c.settings); !st) return st;
   if (o.lut != "analytic" && o.lut != "baked")
