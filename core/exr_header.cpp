@@ -79,6 +79,25 @@ Status check_exr_header(const std::string& path, size_t max_pixels) {
           return fail("the data window is " + std::to_string(w) + "x" + std::to_string(h) +
                       ", at most " + std::to_string(kMaxExrDimension) + " pixels wide and high" +
                       where);
+      } else if (type == "chlist") {
+        // OpenEXR reads a channel list by its structure (entries `name\0` + 16 bytes up to an
+        // empty name), not by the declared size, and reads the next attribute from where the list
+        // ends: walk it the same way, or a list declaring more bytes than it holds hides the
+        // attributes after it (a 16M-wide data window, found by fuzz/image_fuzzer) from this check.
+        const long long end = static_cast<long long>(in.tellg()) + size;
+        std::string channel;
+        for (int c = 0;; ++c) {
+          if (c > kMaxAttributes)
+            return fail("attribute '" + name + "' lists more than " +
+                        std::to_string(kMaxAttributes) + " channels" + where);
+          if (!read_name(in, max_name, &channel) || static_cast<long long>(in.tellg()) > end)
+            return fail("attribute '" + name + "' holds an unterminated channel name" + where);
+          if (channel.empty()) break;
+          unsigned char entry[16];
+          if (!in.read(reinterpret_cast<char*>(entry), 16) ||
+              static_cast<long long>(in.tellg()) > end)
+            return fail("attribute '" + name + "' ends inside channel '" + channel + "'" + where);
+        }
       } else if (name == "chunkCount" && type == "int" && size == 4) {
         // The offset table holds 8 bytes per chunk, and OpenEXR allocates it first.
         unsigned char v[4];

@@ -89,6 +89,29 @@ TEST(FuzzFound, AnExrDataWindowOrChunkCountBeyondTheLimitsIsRefused) {
                ("hdrc_fuzz_found_" + std::to_string(::getpid()) + "_" + n));
 }
 
+// A channel list declaring more bytes than its entries hold: OpenEXR reads the list by its
+// structure and the next attribute right after it, so a 16M-wide data window placed inside the
+// declared size reached OpenEXR's ZIP compressor (2 GB) while a walk by the declared size skipped
+// it (fuzz/image_fuzzer, 2026-11-27; the file is fuzz/corpus/image/oom_chlist_hides_window.exr).
+TEST(FuzzFound, AnExrChannelListIsWalkedAsOpenExrReadsIt) {
+  const std::string channel = std::string("R\0", 2) + le32(2) + std::string(4, '\0') + le32(1) +
+                              le32(1);  // FLOAT, pLinear + reserved, x/y sampling 1
+  const std::string wide = le32(0) + le32(0) + le32(16648450) + le32(0);
+  const std::string hidden = attribute("dataWindow", "box2i", 16, wide);
+  const std::string list = channel + '\0';
+  const std::string file =
+      kMagic +
+      attribute("channels", "chlist", static_cast<uint32_t>(list.size() + hidden.size()), list) +
+      hidden + '\0';
+  auto e = hdrc::check_exr_header(write_temp("chlist.exr", file).string());
+  ASSERT_FALSE(e.ok());
+  EXPECT_NE(e.error().to_string().find("the data window is 16648451x1, at most 65536 pixels wide"),
+            std::string::npos)
+      << e.error().to_string();
+  fs::remove(fs::temp_directory_path() /
+             ("hdrc_fuzz_found_" + std::to_string(::getpid()) + "_chlist.exr"));
+}
+
 // A valid EXR, and a file that is not EXR at all, pass the header check unchanged.
 TEST(FuzzFound, TheExrHeaderCheckPassesValidFiles) {
   hdrc::Image img(3, 2);
