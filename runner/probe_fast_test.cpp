@@ -73,6 +73,21 @@ TEST(ProbeFast, InputsTheFastParserLeavesBehaveAsBefore) {
   EXPECT_FALSE(st.ok());
 }
 
+// `text` through probe twice with options `o`: the plain lines, then (--json) the document.
+void probe_plain_and_json(hdrc::ProbeOptions o, const std::string& text, std::string* plain_text,
+                          nlohmann::ordered_json* doc) {
+  std::istringstream in(text);
+  std::ostringstream plain;
+  ASSERT_TRUE(hdrc::run_probe(o, in, plain).ok());
+  *plain_text = plain.str();
+  o.json = true;
+  std::istringstream in2(text);
+  std::ostringstream json_out;
+  const hdrc::Status st = hdrc::run_probe(o, in2, json_out);
+  ASSERT_TRUE(st.ok()) << st.error().to_string();
+  *doc = nlohmann::ordered_json::parse(json_out.str());
+}
+
 // probe --json for operators, pq_grading and unity_urp (Pipeline::named_values): one row per input
 // line with every named value of the pipeline's specification page (docs/spec/*.md, the worked
 // pixels' rows), whose "out" is what the plain output prints; non-finite values as strings. (A
@@ -104,15 +119,10 @@ TEST(ProbeJson, OperatorsPqGradingAndUnityUrpPrintTheSpecsNamedValues) {
     o.pipeline = r.pipeline;
     o.setting = r.setting;
     o.cube = r.cube;
-    std::istringstream in(text);
-    std::ostringstream plain;
-    ASSERT_TRUE(hdrc::run_probe(o, in, plain).ok());
-    o.json = true;
-    std::istringstream in2(text);
-    std::ostringstream json_out;
-    const hdrc::Status st = hdrc::run_probe(o, in2, json_out);
-    ASSERT_TRUE(st.ok()) << st.error().to_string();
-    const auto doc = nlohmann::ordered_json::parse(json_out.str());
+    std::string plain_text;
+    nlohmann::ordered_json doc;
+    probe_plain_and_json(o, text, &plain_text, &doc);
+    if (::testing::Test::HasFatalFailure()) return;
     ASSERT_EQ(doc["rows"].size(), 2u);
     EXPECT_EQ(doc["rows"][0]["line"], 1);
     EXPECT_EQ(doc["rows"][1]["line"], 3);
@@ -138,7 +148,6 @@ TEST(ProbeJson, OperatorsPqGradingAndUnityUrpPrintTheSpecsNamedValues) {
     }
     // The plain output prints NaN as "nan" or "-nan"; the JSON's "NaN" strings are compared as
     // "nan".
-    std::string plain_text = plain.str();
     for (size_t at; (at = plain_text.find("-nan")) != std::string::npos;) plain_text.erase(at, 1);
     EXPECT_EQ(from_json, plain_text);
     EXPECT_EQ(doc["rows"][1]["values"]["input"][0], "NaN");
@@ -159,15 +168,11 @@ TEST(ProbeJson, Ue58UiCompositePrintsEveryStepOfTheShader) {
   o.set = {"r.HDR.EnableHDROutput=1", "r.HDR.Display.OutputDevice=3"};
   o.ui = "0.5,0.5,0.5,0.5";
   const std::string text = "0.508078422 0.508078422 0.508078422\n0.1 0.2 0.3\n";  // PQ(100 nits)
-  std::istringstream in(text);
-  std::ostringstream plain;
-  ASSERT_TRUE(hdrc::run_probe(o, in, plain).ok());
-  o.json = true;
-  std::istringstream in2(text);
-  std::ostringstream json_out;
-  const hdrc::Status st = hdrc::run_probe(o, in2, json_out);
-  ASSERT_TRUE(st.ok()) << st.error().to_string();
-  const auto doc = nlohmann::ordered_json::parse(json_out.str());
+  std::string plain_text;
+  nlohmann::ordered_json doc;
+  probe_plain_and_json(o, text, &plain_text, &doc);
+  if (::testing::Test::HasFatalFailure()) return;
+  o.json = true;  // the refusals below are of --json
   ASSERT_EQ(doc["rows"].size(), 2u);
   const auto& v = doc["rows"][0]["values"];
   std::vector<std::string> keys;
@@ -190,7 +195,7 @@ TEST(ProbeJson, Ue58UiCompositePrintsEveryStepOfTheShader) {
       from_json += hdrc::format_number(row["values"]["out"][k].get<double>());
       if (k == 2) from_json += "\n";
     }
-  EXPECT_EQ(from_json, plain.str());
+  EXPECT_EQ(from_json, plain_text);
 
   std::ostringstream refused;
   o.set = {};  // device 0: no HDR UI composite
